@@ -1,0 +1,262 @@
+"""Elements of the fraction field Q(v1, ..., vk) as num/den over Z[v], kept in lowest terms."""
+from __future__ import annotations
+
+from enum import Enum
+from typing import Mapping, Sequence
+
+import flint
+import sympy
+
+from hkproof.algebra.ring import Rational, Ring, to_fmpq
+from hkproof.errors import ParseError, SingularPointError
+
+
+class Parity(str, Enum):
+    """Behaviour of a rational function under v -> -v (paper, Prop. "prop: even")."""
+    EVEN = "even"
+    ODD = "odd"
+    NEITHER = "neither"
+
+
+def _lowest_terms(num: flint.fmpz_mpoly, den: flint.fmpz_mpoly) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
+    if den.is_zero():
+        raise ZeroDivisionError("denominator is the zero polynomial")
+    if num.is_zero():
+        return num, den.context().constant(1)
+    g = num.gcd(den)
+    if not g.is_one():
+        num, den = num / g, den / g
+    return normalize_sign(num, den)
+
+
+def normalize_sign(num: flint.fmpz_mpoly, den: flint.fmpz_mpoly) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
+    """Fix the sign of num/den so that the last term of den (its constant term, if any) is positive."""
+    if den.coefficient(len(den) - 1) < 0:
+        return -num, -den
+    return num, den
+
+
+class Frac:
+    """A rational function num/den over Z[v]: gcd(num, den) = 1 and the last term of den positive."""
+
+    __slots__ = ("ring", "num", "den")
+
+    def __init__(self, ring: Ring, num: flint.fmpz_mpoly | int, den: flint.fmpz_mpoly | int = 1,
+                 *, reduced: bool = False):
+        self.ring = ring
+        if not isinstance(num, flint.fmpz_mpoly):
+            num = ring.constant(int(num))
+        if not isinstance(den, flint.fmpz_mpoly):
+            den = ring.constant(int(den))
+        if reduced:
+            self.num, self.den = num, den
+        else:
+            self.num, self.den = _lowest_terms(num, den)
+
+    # ---- construction ---------------------------------------------------------------------------
+    @classmethod
+    def parse(cls, ring: Ring, text: str | sympy.Expr) -> "Frac":
+        """Read a rational function from a string (sympy syntax) or a sympy expression."""
+        expr = ring.sympify(text)
+        num, den = sympy.fraction(sympy.together(expr))
+        p, dp = ring.poly_from_sympy(num)
+        q, dq = ring.poly_from_sympy(den)
+        if q.is_zero():
+            raise ParseError(f"{text!r} has a zero denominator")
+        return cls(ring, p * dq, q * dp)
+
+    @classmethod
+    def rational(cls, ring: Ring, value: Rational) -> "Frac":
+        v = to_fmpq(value)
+        return cls(ring, ring.constant(int(v.p)), ring.constant(int(v.q)))
+
+    # ---- arithmetic ----------------------------------------------------------------------------
+    def _coerce(self, other: "Frac | int") -> "Frac":
+        if isinstance(other, Frac):
+            if other.ring != self.ring:
+                raise ParseError(f"cannot combine elements of {self.ring} and {other.ring}")
+            return other
+        if isinstance(other, int):
+            return Frac(self.ring, other, reduced=True)
+        return NotImplemented
+
+    def __add__(self, other: "Frac | int") -> "Frac":
+        o = self._coerce(other)
+        if o is NotImplemented:
+            return o
+        if self.den == o.den:
+            return Frac(self.ring, self.num + o.num, self.den)
+        return Frac(self.ring, self.num * o.den + o.num * self.den, self.den * o.den)
+
+    __radd__ = __add__
+
+    def __neg__(self) -> "Frac":
+        return Frac(self.ring, -self.num, self.den, reduced=True)
+
+    def __sub__(self, other: "Frac | int") -> "Frac":
+        o = self._coerce(other)
+        if o is NotImplemented:
+            return o
+        return self + (-o)
+
+    def __rsub__(self, other: "Frac | int") -> "Frac":
+        return (-self) + other
+
+    def __mul__(self, other: "Frac | int") -> "Frac":
+        o = self._coerce(other)
+        if o is NotImplemented:
+            return o
+        return Frac(self.ring, self.num * o.num, self.den * o.den)
+
+    __rmul__ = __mul__
+
+    def inverse(self) -> "Frac":
+        if self.num.is_zero():
+            raise ZeroDivisionError("inverse of the zero rational function")
+        return Frac(self.ring, self.den, self.num)
+
+    def __truediv__(self, other: "Frac | int") -> "Frac":
+        o = self._coerce(other)
+        if o is NotImplemented:
+            return o
+        return self * o.inverse()
+
+    def __rtruediv__(self, other: "Frac | int") -> "Frac":
+        return self.inverse() * other
+
+    def __pow__(self, k: int) -> "Frac":
+        if k < 0:
+            return self.inverse() ** (-k)
+        return Frac(self.ring, self.num**k, self.den**k, reduced=True)
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, int):
+            other = Frac(self.ring, other)
+        if not isinstance(other, Frac) or other.ring != self.ring:
+            return NotImplemented
+        return self.num == other.num and self.den == other.den
+
+    def __hash__(self) -> int:
+        return hash((self.ring, str(self.num), str(self.den)))
+
+    def is_zero(self) -> bool:
+        return self.num.is_zero()
+
+    def is_polynomial(self) -> bool:
+        return self.den.is_constant()
+
+    # ---- structure ----------------------------------------------------------------------------
+    def variables(self) -> set[str]:
+        """Names of the variables that occur in num or den."""
+        used = set()
+        for p in (self.num, self.den):
+            for i, d in enumerate(p.degrees()):
+                if d:
+                    used.add(self.ring.names[i])
+        return used
+
+    def den_variables_in(self, names: Sequence[str]) -> set[str]:
+        """Those of `names` on which the denominator depends."""
+        degs = self.den.degrees()
+        return {n for n in names if degs[self.ring.index(n)] > 0}
+
+    def degrees_in(self, names: Sequence[str]) -> tuple[int, int]:
+        """(total degree of num, total degree of den) in the given variables only."""
+        idx = [self.ring.index(n) for n in names]
+        return tuple(max((sum(m[i] for i in idx) for m in p.monoms()), default=0)
+                     for p in (self.num, self.den))
+
+    def negate_variable(self, name: str) -> "Frac":
+        """The function with `name` replaced by its negative (eps -> -eps)."""
+        args = [(-g if n == name else g) for n, g in zip(self.ring.names, self.ring.gens())]
+        return Frac(self.ring, self.num.compose(*args), self.den.compose(*args))
+
+    def parity(self, name: str) -> Parity:
+        """Exact parity in one variable: even, odd or neither (lowest terms make this a polynomial test)."""
+        flipped = self.negate_variable(name)
+        if flipped == self:
+            return Parity.EVEN
+        if flipped == -self:
+            return Parity.ODD
+        return Parity.NEITHER
+
+    def is_even_in(self, name: str) -> bool:
+        """True iff f(..., -v, ...) = f(..., v, ...) exactly (Prop. "prop: even")."""
+        return self.parity(name) is Parity.EVEN
+
+    def derivative(self, name: str) -> "Frac":
+        i = self.ring.index(name)
+        return Frac(self.ring, self.num.derivative(i) * self.den - self.num * self.den.derivative(i),
+                    self.den * self.den)
+
+    def pullback(self, images: Sequence[flint.fmpz_mpoly], den: flint.fmpz_mpoly,
+                 moved: Sequence[str]) -> "Frac":
+        """self with moved[k] replaced by images[k]/den (a map with common denominator), in lowest terms."""
+        pn, dn = homogenized_compose(self.ring, self.num, moved, images, den)
+        pd, dd = homogenized_compose(self.ring, self.den, moved, images, den)
+        if dn > dd:
+            pd = pd * den ** (dn - dd)
+        elif dd > dn:
+            pn = pn * den ** (dd - dn)
+        return Frac(self.ring, pn, pd)
+
+    # ---- evaluation ---------------------------------------------------------------------------
+    def evaluate(self, values: Mapping[str, Rational]) -> flint.fmpq:
+        """The exact value at a point fixing every variable; SingularPointError where den vanishes."""
+        d = self.ring.evaluate(self.den, values)
+        if d == 0:
+            raise SingularPointError(f"the denominator {self.den} vanishes at {dict(values)}")
+        return self.ring.evaluate(self.num, values) / d
+
+    def specialize(self, values: Mapping[str, Rational], target: Ring) -> "Frac":
+        """The function with some variables fixed, as an element over the smaller ring `target`."""
+        p, a = self.ring.specialize_poly(self.num, values, target)
+        q, b = self.ring.specialize_poly(self.den, values, target)
+        if q.is_zero():
+            raise SingularPointError(f"the denominator {self.den} vanishes identically at {dict(values)}")
+        return Frac(target, p * int(b), q * int(a))
+
+    def to_ring(self, target: Ring) -> "Frac":
+        """The same function over a ring with more (or re-ordered) variables."""
+        return Frac(target, self.num.project_to_context(target.ctx),
+                    self.den.project_to_context(target.ctx), reduced=True)
+
+    # ---- output -------------------------------------------------------------------------------
+    def __str__(self) -> str:
+        """A string that sympy.sympify parses with the ring's own names."""
+        num = poly_str(self.num)
+        if self.den.is_one():
+            return num
+        return f"({num})/({poly_str(self.den)})"
+
+    __repr__ = __str__
+
+    def to_sympy(self) -> sympy.Expr:
+        return self.ring.to_sympy(self.num) / self.ring.to_sympy(self.den)
+
+    def _repr_latex_(self) -> str:
+        return f"${sympy.latex(self.to_sympy())}$"
+
+
+def poly_str(p: flint.fmpz_mpoly) -> str:
+    """A polynomial as a sympy-parsable string (python power syntax)."""
+    return str(p).replace("^", "**")
+
+
+def homogenized_compose(ring: Ring, p: flint.fmpz_mpoly, moved: Sequence[str],
+                        images: Sequence[flint.fmpz_mpoly], den: flint.fmpz_mpoly) -> tuple[flint.fmpz_mpoly, int]:
+    """(p(images/den) * den^d, d) with d the total degree of p in `moved`: one compose of homogenized p."""
+    idx = [ring.index(n) for n in moved]
+    if p.is_zero():
+        return p, 0
+    d = max(sum(m[i] for i in idx) for m in p.monoms())
+    hring = ring.extend(["_hom"])
+    data = {}
+    for m, c in p.to_dict().items():
+        data[m + (d - sum(m[i] for i in idx),)] = c
+    ph = hring.ctx.from_dict(data)
+    args = list(ring.gens())
+    for i, img in zip(idx, images):
+        args[i] = img
+    args.append(den)
+    return ph.compose(*args), d

@@ -1,0 +1,169 @@
+"""Exact linear algebra: fraction-free determinants and Cramer's rule over Z[v]; ranks and kernels over Q and Z/p."""
+from __future__ import annotations
+
+from typing import Sequence
+
+import flint
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.ring import Rational, Ring, to_fmpq
+from hkproof.errors import SingularSystemError
+
+PolyMatrix = Sequence[Sequence[flint.fmpz_mpoly]]
+
+LAPLACE_MAX = 8
+
+
+def det(matrix: PolyMatrix) -> flint.fmpz_mpoly:
+    """Determinant of a square polynomial matrix: memoized Laplace expansion (n <= 8) or Bareiss."""
+    n = len(matrix)
+    if any(len(row) != n for row in matrix):
+        raise ValueError("det needs a square matrix")
+    if n <= LAPLACE_MAX:
+        return _det_laplace(matrix)
+    return _det_bareiss(matrix)
+
+
+def _det_laplace(matrix: PolyMatrix) -> flint.fmpz_mpoly:
+    """Expansion along rows, memoizing the minor of the last rows on each column subset."""
+    n = len(matrix)
+    zero = matrix[0][0] - matrix[0][0]
+    minors: dict[int, flint.fmpz_mpoly] = {0: zero + 1}
+    # minors[mask] = det of rows n-|mask| .. n-1 restricted to the columns in mask
+    for size in range(1, n + 1):
+        row = matrix[n - size]
+        new: dict[int, flint.fmpz_mpoly] = {}
+        for mask, sub in minors.items():
+            if sub.is_zero():
+                continue
+            for j in range(n):
+                bit = 1 << j
+                if mask & bit or row[j].is_zero():
+                    continue
+                # sign: number of columns in mask smaller than j
+                sign = -1 if bin(mask & (bit - 1)).count("1") % 2 else 1
+                term = row[j] * sub
+                key = mask | bit
+                acc = new.get(key)
+                new[key] = (term if sign > 0 else -term) if acc is None else (acc + term if sign > 0 else acc - term)
+        minors = new
+    return minors.get((1 << n) - 1, zero)
+
+
+def _det_bareiss(matrix: PolyMatrix) -> flint.fmpz_mpoly:
+    """Fraction-free Gaussian elimination (Bareiss); every division is exact."""
+    a = [list(row) for row in matrix]
+    n = len(a)
+    one = a[0][0] - a[0][0] + 1
+    prev = one
+    sign = 1
+    for k in range(n - 1):
+        if a[k][k].is_zero():
+            swap = next((i for i in range(k + 1, n) if not a[i][k].is_zero()), None)
+            if swap is None:
+                return one - one
+            a[k], a[swap] = a[swap], a[k]
+            sign = -sign
+        for i in range(k + 1, n):
+            for j in range(k + 1, n):
+                a[i][j] = (a[i][j] * a[k][k] - a[i][k] * a[k][j]) / prev
+        prev = a[k][k]
+    return a[n - 1][n - 1] if sign > 0 else -a[n - 1][n - 1]
+
+
+def clear_row_denominators(row: Sequence[Frac]) -> list[flint.fmpz_mpoly]:
+    """Multiply a row of fractions by the lcm of its denominators: a polynomial row with the same kernel."""
+    lcm = row[0].den
+    for f in row[1:]:
+        g = lcm.gcd(f.den)
+        lcm = lcm * (f.den / g)
+    return [f.num * (lcm / f.den) for f in row]
+
+
+def cramer(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac]) -> tuple[list[Frac], flint.fmpz_mpoly]:
+    """Solve A c = b for square A over Q(v) by Cramer's rule, gcds cancelled once at the end.
+
+    Returns the solution (in lowest terms) and det of the fraction-free matrix; raises SingularSystemError
+    when that determinant vanishes identically.
+    """
+    n = len(rows)
+    ring: Ring = rhs[0].ring
+    polys = [clear_row_denominators(list(r) + [b]) for r, b in zip(rows, rhs)]
+    a = [p[:n] for p in polys]
+    b = [p[n] for p in polys]
+    d = det(a)
+    if d.is_zero():
+        raise SingularSystemError(
+            "the determinant of the linear system vanishes identically: its solution is not unique "
+            "(check that the basis functions are independent and the rows are not redundant)")
+    solution = []
+    for j in range(n):
+        aj = [[(b[i] if k == j else a[i][k]) for k in range(n)] for i in range(n)]
+        solution.append(Frac(ring, det(aj), d))
+    return solution, d
+
+
+def rank_over_fraction_field(rows: Sequence[Sequence[Frac]]) -> int:
+    """Exact rank over Q(v) of a matrix of rational functions (fraction-free elimination, rows cleared)."""
+    work = [clear_row_denominators(list(r)) for r in rows if r]
+    rank = 0
+    for col in range(len(work[0]) if work else 0):
+        pivot = next((r for r in range(rank, len(work)) if not work[r][col].is_zero()), None)
+        if pivot is None:
+            continue
+        work[rank], work[pivot] = work[pivot], work[rank]
+        p = work[rank]
+        for r in range(rank + 1, len(work)):
+            c = work[r][col]
+            if not c.is_zero():
+                work[r] = [a * p[col] - c * b for a, b in zip(work[r], p)]
+                g = _row_content(work[r])
+                if g is not None:
+                    work[r] = [a / g for a in work[r]]
+        rank += 1
+    return rank
+
+
+def _row_content(row: Sequence[flint.fmpz_mpoly]) -> flint.fmpz_mpoly | None:
+    g = None
+    for a in row:
+        if not a.is_zero():
+            g = a if g is None else g.gcd(a)
+    return None if g is None or g.is_constant() else g
+
+
+# ---- matrices of numbers --------------------------------------------------------------------------
+def q_matrix(rows: Sequence[Sequence[Rational]]) -> flint.fmpq_mat:
+    return flint.fmpq_mat([[to_fmpq(v) for v in r] for r in rows])
+
+
+def rank_q(rows: Sequence[Sequence[Rational]]) -> int:
+    """Exact rank over Q."""
+    if not rows:
+        return 0
+    return q_matrix(rows).rank()
+
+
+def nullspace_q(rows: Sequence[Sequence[Rational]]) -> list[list[flint.fmpq]]:
+    """A basis of the right kernel over Q, from the reduced row echelon form (pivot-free columns set to 1)."""
+    m = q_matrix(rows)
+    r, rank = m.rref()
+    ncols = m.ncols()
+    pivots = []
+    for i in range(rank):
+        pivots.append(next(j for j in range(ncols) if r[i, j] != 0))
+    basis = []
+    for free in (j for j in range(ncols) if j not in pivots):
+        v = [flint.fmpq(0)] * ncols
+        v[free] = flint.fmpq(1)
+        for i, pj in enumerate(pivots):
+            v[pj] = -r[i, free]
+        basis.append(v)
+    return basis
+
+
+def rank_mod_p(rows: Sequence[Sequence[int]], p: int) -> int:
+    """Rank over Z/p."""
+    if not rows:
+        return 0
+    return flint.nmod_mat([[int(v) % p for v in r] for r in rows], p).rank()

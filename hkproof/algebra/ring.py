@@ -1,0 +1,146 @@
+"""Polynomial rings Z[names] on python-flint, with parsing from strings and specialization."""
+from __future__ import annotations
+
+from fractions import Fraction
+from functools import lru_cache
+from typing import Iterable, Mapping, Sequence
+
+import flint
+import sympy
+
+from hkproof.errors import ParseError, UnknownSymbolError
+
+Rational = int | Fraction | flint.fmpq
+
+
+def to_fmpq(value: Rational | str) -> flint.fmpq:
+    """An exact rational from an int, a Fraction, an fmpq or a string such as '3/7'."""
+    if isinstance(value, flint.fmpq):
+        return value
+    if isinstance(value, flint.fmpz):
+        return flint.fmpq(value)
+    if isinstance(value, str):
+        value = Fraction(value)
+    if isinstance(value, bool) or not isinstance(value, (int, Fraction)):
+        raise ParseError(f"{value!r} is not an exact rational number (give an int, a fraction 'a/b' or a Fraction)")
+    value = Fraction(value)
+    return flint.fmpq(value.numerator, value.denominator)
+
+
+class Ring:
+    """The polynomial ring Z[v1, ..., vk] with named variables (degrevlex order); fractions live over it."""
+
+    def __init__(self, names: Sequence[str]):
+        names = tuple(names)
+        if len(set(names)) != len(names):
+            raise ParseError(f"repeated variable names in {names}")
+        if not names:
+            raise ParseError("a ring needs at least one variable")
+        self.names = names
+        self.ctx = flint.fmpz_mpoly_ctx.get(names, "degrevlex")
+        self.qctx = flint.fmpq_mpoly_ctx.get(names, "degrevlex")
+        self._symbols = {n: sympy.Symbol(n) for n in names}
+
+    def __repr__(self) -> str:
+        return f"Ring(Z[{', '.join(self.names)}])"
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Ring) and other.names == self.names
+
+    def __hash__(self) -> int:
+        return hash(self.names)
+
+    def gen(self, name: str) -> flint.fmpz_mpoly:
+        """The variable called `name` as a polynomial."""
+        if name not in self.names:
+            raise UnknownSymbolError(f"'{name}' is not a variable of {self}")
+        return self.ctx.gen(self.names.index(name))
+
+    def gens(self) -> tuple[flint.fmpz_mpoly, ...]:
+        return self.ctx.gens()
+
+    def constant(self, c: int) -> flint.fmpz_mpoly:
+        return self.ctx.constant(c)
+
+    def index(self, name: str) -> int:
+        return self.names.index(name)
+
+    # ---- conversion -------------------------------------------------------------------------
+    def poly_from_sympy(self, expr: sympy.Expr) -> tuple[flint.fmpz_mpoly, int]:
+        """(P, d) with expr = P/d, P with integer coefficients, d a positive integer."""
+        self.check_symbols(expr)
+        poly = sympy.Poly(sympy.expand(expr), *self._symbols.values(), domain="QQ")
+        terms = poly.terms()
+        den = 1
+        for _, c in terms:
+            den = sympy.ilcm(den, sympy.Rational(c).q)
+        data = {tuple(int(e) for e in m): int(sympy.Rational(c) * den) for m, c in terms}
+        return self.ctx.from_dict(data), int(den)
+
+    def check_symbols(self, expr: sympy.Expr) -> None:
+        unknown = {str(s) for s in expr.free_symbols} - set(self.names)
+        if unknown:
+            raise UnknownSymbolError(
+                f"unknown symbol(s) {sorted(unknown)}; the ring has variables {list(self.names)}")
+
+    def sympify(self, text: str | sympy.Expr) -> sympy.Expr:
+        """Parse a string into a sympy expression over this ring's names (no implicit multiplication)."""
+        if isinstance(text, sympy.Expr):
+            return text
+        try:
+            expr = sympy.sympify(text, locals=dict(self._symbols))
+        except (sympy.SympifyError, SyntaxError, TypeError) as exc:
+            raise ParseError(f"cannot read {text!r} as a formula: {exc}") from None
+        if not isinstance(expr, sympy.Expr):
+            raise ParseError(f"{text!r} is not an algebraic expression")
+        self.check_symbols(expr)
+        return expr
+
+    def to_sympy(self, p: flint.fmpz_mpoly) -> sympy.Expr:
+        syms = list(self._symbols.values())
+        return sympy.Add(*[sympy.Integer(int(c)) * sympy.Mul(*[s**e for s, e in zip(syms, m)])
+                           for m, c in p.to_dict().items()])
+
+    def to_q(self, p: flint.fmpz_mpoly) -> flint.fmpq_mpoly:
+        return flint.fmpq_mpoly(p, self.qctx)
+
+    # ---- smaller and larger rings -------------------------------------------------------------
+    def drop(self, names: Iterable[str]) -> "Ring":
+        names = set(names)
+        return get_ring(tuple(n for n in self.names if n not in names))
+
+    def extend(self, names: Iterable[str]) -> "Ring":
+        return get_ring(self.names + tuple(n for n in names if n not in self.names))
+
+    def project(self, p: flint.fmpz_mpoly, target: "Ring") -> flint.fmpz_mpoly:
+        """p, which must not involve variables missing from `target`, as an element of `target`."""
+        return p.project_to_context(target.ctx)
+
+    def specialize_poly(self, p: flint.fmpz_mpoly, values: Mapping[str, Rational],
+                        target: "Ring") -> tuple[flint.fmpz_mpoly, flint.fmpz]:
+        """(P, d) with p|values = P/d in `target` (the ring without the fixed names), d > 0 an integer."""
+        ints = {k: v for k, v in values.items() if isinstance(v, int) and not isinstance(v, bool)}
+        rest = {k: to_fmpq(v) for k, v in values.items() if k not in ints}
+        if ints:
+            p = p.subs(ints)
+        if not rest:
+            return p.project_to_context(target.ctx), flint.fmpz(1)
+        q = self.to_q(p).subs(rest).project_to_context(target.qctx)
+        den = flint.fmpz(1)
+        for c in q.coeffs():
+            den = den.lcm(c.q)
+        q = q * den
+        return target.ctx.from_dict({m: int(c.p) for m, c in q.to_dict().items()}), den
+
+    def evaluate(self, p: flint.fmpz_mpoly, values: Mapping[str, Rational]) -> flint.fmpq:
+        """p at a point that fixes every variable (exact rational)."""
+        missing = [n for n in self.names if n not in values]
+        if missing:
+            raise ParseError(f"no value given for {missing}")
+        return self.to_q(p)(*[to_fmpq(values[n]) for n in self.names])
+
+
+@lru_cache(maxsize=None)
+def get_ring(names: tuple[str, ...]) -> Ring:
+    """The Ring with these names, built once and shared."""
+    return Ring(names)

@@ -1,0 +1,75 @@
+"""The systems of the paper as data: every entry is built by the one QuadraticField constructor."""
+from __future__ import annotations
+
+from pathlib import Path
+
+from hkproof.dynamics.field import QuadraticField
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.errors import UnknownSystemError
+
+CLEBSCH_VARS = ("m1", "m2", "m3", "p1", "p2", "p3")
+
+# general flow (eq. "gcl"): m' = m x Cm + p x Bp, p' = p x Cm, c_i from eq. "c thru b"
+_C = {"c1": "(b2 - b3)/(w2 - w3)", "c2": "(b3 - b1)/(w3 - w1)", "c3": "(b1 - b2)/(w1 - w2)"}
+
+
+def _general_flow_rhs(b: dict[str, str], c: dict[str, str]) -> tuple[str, ...]:
+    def s(k: str) -> str:
+        return f"({b.get(k) or c.get(k)})"
+    return (
+        f"({s('c3')} - {s('c2')})*m2*m3 + ({s('b3')} - {s('b2')})*p2*p3",
+        f"({s('c1')} - {s('c3')})*m3*m1 + ({s('b1')} - {s('b3')})*p3*p1",
+        f"({s('c2')} - {s('c1')})*m1*m2 + ({s('b2')} - {s('b1')})*p1*p2",
+        f"{s('c3')}*m3*p2 - {s('c2')}*m2*p3",
+        f"{s('c1')}*m1*p3 - {s('c3')}*m3*p1",
+        f"{s('c2')}*m2*p1 - {s('c1')}*m1*p2",
+    )
+
+
+SYSTEMS: dict[str, QuadraticField] = {}
+
+
+def _register(f: QuadraticField) -> None:
+    SYSTEMS[f.name] = f
+
+
+_register(QuadraticField(
+    "lotka-volterra", ("x", "y"), (), ("x*(1 - y)", "y*(x - 1)"),
+    "Lotka-Volterra predator-prey system, eq. \"LV\" (section 2)"))
+_register(QuadraticField(
+    "euler-top", ("x1", "x2", "x3"), ("a1", "a2", "a3"), ("a1*x2*x3", "a2*x3*x1", "a3*x1*x2"),
+    "Euler top, eq. \"ET x\" (section 5); a_k stands for alpha_k"))
+_register(QuadraticField(
+    "clebsch", CLEBSCH_VARS, ("w1", "w2", "w3"),
+    _general_flow_rhs({"b1": "w1", "b2": "w2", "b3": "w3"}, {"c1": "1", "c2": "1", "c3": "1"}),
+    "Clebsch system, first flow (section 6); w_k stands for omega_k"))
+_register(QuadraticField(
+    "clebsch-flow2", CLEBSCH_VARS, ("w1", "w2", "w3"),
+    _general_flow_rhs({"b1": "-w2*w3", "b2": "-w3*w1", "b3": "-w1*w2"}, {"c1": "w1", "c2": "w2", "c3": "w3"}),
+    "Clebsch system, second flow (H = H2/2; eqs. \"Clebsch 2 b\", \"Clebsch 2 c\")"))
+_register(QuadraticField(
+    "clebsch-general", CLEBSCH_VARS, ("w1", "w2", "w3", "b1", "b2", "b3"),
+    _general_flow_rhs({"b1": "b1", "b2": "b2", "b3": "b3"}, _C),
+    "Clebsch system, general flow (eq. \"gcl\") with c_k from eq. \"c thru b\""))
+
+
+def get_system(name_or_path: str) -> QuadraticField:
+    """A catalogue system by name, or a user's system from a TOML file."""
+    if name_or_path in SYSTEMS:
+        return SYSTEMS[name_or_path]
+    path = Path(name_or_path)
+    if path.suffix == ".toml" or path.exists():
+        return QuadraticField.from_toml(path)
+    raise UnknownSystemError(
+        f"unknown system '{name_or_path}': use one of {sorted(SYSTEMS)} or the path of a TOML file")
+
+
+_MAPS: dict[QuadraticField, KahanMap] = {}
+
+
+def kahan_map(system: str | QuadraticField) -> KahanMap:
+    """The Kahan map of a system (catalogue name, TOML path or field); built once per field."""
+    field = get_system(system) if isinstance(system, str) else system
+    if field not in _MAPS:
+        _MAPS[field] = KahanMap(field)
+    return _MAPS[field]

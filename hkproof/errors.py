@@ -1,0 +1,33 @@
+"""Exceptions of hkproof: each message says what was wrong and what to do about it."""
+
+
+class HKProofError(Exception):
+    """Base class of every error hkproof raises on purpose."""
+
+
+class ParseError(HKProofError):
+    """An expression could not be read as a rational function in the ring's variables."""
+
+
+class UnknownSymbolError(ParseError):
+    """An expression uses a symbol that is neither a variable nor a parameter of the system."""
+
+
+class NotQuadraticError(HKProofError):
+    """A vector field is not of degree <= 2 in the phase variables (Kahan's scheme needs eq. "Kahan gen")."""
+
+
+class SingularPointError(HKProofError):
+    """The Kahan map is not defined at a point: det M(x, eps) = 0 there."""
+
+
+class SingularSystemError(HKProofError):
+    """A linear system has a determinant that vanishes identically, so it has no unique solution."""
+
+
+class UnknownSystemError(HKProofError):
+    """A system name is neither in the catalogue nor a readable TOML file."""
+
+
+class UnknownClaimError(HKProofError):
+    """A theorem id is not in the registry."""

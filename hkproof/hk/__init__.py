@@ -1,0 +1,1 @@
+"""The paper's method: integrals, reduced HK systems and Prop. "prop: even", functional independence."""

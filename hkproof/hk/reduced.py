@@ -1,0 +1,114 @@
+"""Reduced HK systems (recipes B, D, E) and the Proposition "prop: even" argument that makes them proofs."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+from hkproof.algebra.fraction import Frac, Parity
+from hkproof.algebra.linalg import cramer
+from hkproof.dynamics.field import EPS
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.errors import HKProofError
+from hkproof.proof.certificate import Certificate
+
+
+@dataclass
+class Relation:
+    """A linear relation sum coefficients[k] * a_k = rhs among the unknowns (recipe E).
+
+    `source` names what makes rhs an integral: 'constant', or the id of the claim that proved it.
+    """
+
+    coefficients: Sequence[Frac]
+    rhs: Frac
+    source: str = "constant"
+
+
+def hk_row(kmap: KahanMap, basis: Sequence[Frac], target: Frac, i: int) -> tuple[list[Frac], Frac]:
+    """Row i of eq. "smaller system": (phi_1, ..., phi_k) o f^i and the right-hand side phi_l o f^i."""
+    return [kmap.pullback(phi, i) for phi in basis], kmap.pullback(target, i)
+
+
+def solve_reduced_system(kmap: KahanMap, basis: Sequence[Frac], target: Frac, iterates: Sequence[int],
+                         relations: Sequence[Relation] = ()) -> list[Frac]:
+    """The unique solution a of (sum a_k phi_k) o f^i = phi_l o f^i (i in iterates) plus the relations."""
+    rows, rhs = [], []
+    for i in iterates:
+        r, b = hk_row(kmap, basis, target, i)
+        rows.append(r)
+        rhs.append(b)
+    for rel in relations:
+        rows.append(list(rel.coefficients))
+        rhs.append(rel.rhs)
+    if len(rows) != len(basis):
+        raise HKProofError(f"{len(rows)} equations for {len(basis)} unknowns: the reduced system must be square")
+    solution, _ = cramer(rows, rhs)
+    return solution
+
+
+def check_solution(kmap: KahanMap, basis: Sequence[Frac], target: Frac, iterates: Sequence[int],
+                   relations: Sequence[Relation], solution: Sequence[Frac]) -> bool:
+    """Substitute the solution back into every equation of the system (exactly)."""
+    for i in iterates:
+        r, b = hk_row(kmap, basis, target, i)
+        lhs = r[0] * solution[0]
+        for phi, a in zip(r[1:], solution[1:]):
+            lhs = lhs + phi * a
+        if lhs != b:
+            return False
+    for rel in relations:
+        lhs = rel.coefficients[0] * solution[0]
+        for c, a in zip(rel.coefficients[1:], solution[1:]):
+            lhs = lhs + c * a
+        if lhs != rel.rhs:
+            return False
+    return True
+
+
+def _non_symmetric_range(iterates: Sequence[int]) -> bool:
+    it = sorted(iterates)
+    consecutive = it == list(range(it[0], it[-1] + 1))
+    return consecutive and it[0] <= 0 <= it[-1] and it[0] != -it[-1]
+
+
+def prove_by_evenness(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], target: Frac,
+                      names: Sequence[str], iterates: Sequence[int] = (0, 1),
+                      relations: Sequence[Relation] = ()) -> list[Frac]:
+    """Prop. "prop: even" / recipe (D): solve, and check everything that makes the solution integrals.
+
+    Steps recorded: (1) unique solution (det not identically 0); (2) the rows come from a non-symmetric
+    range of iterates containing 0, relation coefficients are even in eps and their right-hand sides are
+    even integrals proven earlier; (3) every component is even in eps; (4) the solution satisfies the system.
+    Returns the solution (named `names` in the certificate's formulas).
+    """
+    ring = kmap.ring
+    with cert.step("reduced system: unique solution by Cramer's rule",
+                   f"recipe (B)/(E): rows i in {list(iterates)} + {len(relations)} relation(s); fraction-free det",
+                   ring) as s:
+        solution = solve_reduced_system(kmap, basis, target, iterates, relations)
+        s.note("det of the system is not identically zero")
+        for n, a in zip(names, solution):
+            cert.formula(n, a)
+    with cert.step("hypotheses of Prop. \"prop: even\"", "structure of the system", ring) as s:
+        s.require(_non_symmetric_range(iterates),
+                  f"iterates {list(iterates)} are not a non-symmetric consecutive range containing 0")
+        for k, rel in enumerate(relations):
+            for c in rel.coefficients:
+                s.require(c.is_even_in(EPS), f"relation {k + 1} has a coefficient {c} that is not even in eps")
+            s.require(rel.rhs.is_even_in(EPS), f"relation {k + 1} has a right-hand side that is not even in eps")
+            if rel.source == "constant":
+                s.require(not ({*rel.rhs.variables()} & set(kmap.variables)),
+                          f"relation {k + 1}: right-hand side {rel.rhs} depends on phase variables "
+                          "but no proof that it is an integral is cited")
+            else:
+                s.note(f"relation {k + 1}: right-hand side is an integral by {rel.source}")
+        s.note(f"rows from iterates {list(iterates)}: non-symmetric, contain 0")
+    with cert.step("solution is even in eps", "exact parity of each component in lowest terms", ring) as s:
+        for n, a in zip(names, solution):
+            par = a.parity(EPS)
+            s.require(par is Parity.EVEN, f"{n} is {par.value} in eps, not even: {a}")
+        s.note(f"{', '.join(names)} even in eps")
+    with cert.step("solution satisfies the system", "substitution back into every equation", ring) as s:
+        s.require(check_solution(kmap, basis, target, iterates, relations, solution),
+                  "the computed solution does not satisfy the system")
+    return solution

@@ -1,0 +1,165 @@
+"""Certificates: a proof is a list of checked steps, each with its method, ring, time and outcome."""
+from __future__ import annotations
+
+import time
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from typing import Iterator, Mapping
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.ring import Ring
+from hkproof.errors import HKProofError
+from hkproof.proof.status import Status
+
+
+class Refuted(Exception):
+    """Raised inside a step when the claim checked there is false."""
+
+
+class ProofStopped(Exception):
+    """A step did not verify; the remaining steps are not run."""
+
+
+def describe_ring(ring: Ring | str, fixed: Mapping[str, object] | None = None) -> str:
+    """'Q[x1, x2, eps, a1]' or 'Q[m1, ..., eps] with w1=1, w2=2' for a step's record."""
+    text = ring if isinstance(ring, str) else f"Q[{', '.join(ring.names)}]"
+    if fixed:
+        text += " with " + ", ".join(f"{k}={v}" for k, v in fixed.items())
+    return text
+
+
+@dataclass
+class Step:
+    """One checked step of a proof."""
+
+    name: str
+    method: str
+    ring: str
+    status: Status = Status.UNKNOWN
+    seconds: float = 0.0
+    detail: str = ""
+    points: int | None = None
+
+    def to_dict(self) -> dict:
+        return {"name": self.name, "method": self.method, "ring": self.ring, "status": self.status.label,
+                "seconds": round(self.seconds, 4), "detail": self.detail, "points": self.points}
+
+
+class StepRecorder:
+    """What a running step may do: require exact facts, lower its status to evidence, add detail."""
+
+    def __init__(self, step: Step, specialized: bool):
+        self.step = step
+        self.status = Status.VERIFIED_SPECIALIZED if specialized else Status.VERIFIED
+        self._details: list[str] = []
+
+    def require(self, condition: bool, message: str) -> None:
+        """The claim of this step holds iff `condition`; otherwise the step (and claim) is refuted."""
+        if not condition:
+            raise Refuted(message)
+
+    def require_equal(self, found: Frac, claimed: Frac, what: str) -> None:
+        """An exact identity of rational functions; the refutation shows the difference."""
+        if found != claimed:
+            raise Refuted(f"{what}: computed {found} differs from the claimed {claimed} "
+                          f"(difference {found - claimed})")
+
+    def evidence(self, status: Status, points: int | None = None) -> None:
+        """Mark this step as evidence only (numeric or sampled), never verified."""
+        self.status = min(self.status, status)
+        if points is not None:
+            self.step.points = points
+
+    def inconclusive(self, message: str) -> None:
+        """Stop this step as 'unknown': the method could not decide (not a refutation)."""
+        raise ProofStopped(message)
+
+    def note(self, text: str) -> None:
+        self._details.append(text)
+
+
+@dataclass
+class Certificate:
+    """The record of a claim's proof: steps, the formulas found, and corrections to the paper."""
+
+    claim_id: str
+    title: str
+    paper_ref: str
+    statement: str
+    steps: list[Step] = field(default_factory=list)
+    formulas: dict[str, str] = field(default_factory=dict)
+    corrections: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    error: str = ""
+
+    @property
+    def status(self) -> Status:
+        if self.error and not any(s.status is Status.REFUTED for s in self.steps):
+            return Status.UNKNOWN
+        if not self.steps:
+            return Status.UNKNOWN
+        return min(s.status for s in self.steps)
+
+    @property
+    def seconds(self) -> float:
+        return sum(s.seconds for s in self.steps)
+
+    @contextmanager
+    def step(self, name: str, method: str, ring: Ring | str,
+             fixed: Mapping[str, object] | None = None) -> Iterator[StepRecorder]:
+        """Run one step; a Refuted or HKProofError inside ends the proof with that outcome."""
+        record = Step(name, method, describe_ring(ring, fixed))
+        recorder = StepRecorder(record, specialized=bool(fixed))
+        self.steps.append(record)
+        start = time.perf_counter()
+        try:
+            yield recorder
+        except Refuted as exc:
+            record.status = Status.REFUTED
+            record.detail = str(exc)
+            raise ProofStopped(str(exc)) from None
+        except ProofStopped as exc:
+            record.status = Status.UNKNOWN
+            record.detail = str(exc)
+            raise
+        except (HKProofError, ZeroDivisionError) as exc:
+            record.status = Status.UNKNOWN
+            record.detail = f"{type(exc).__name__}: {exc}"
+            raise ProofStopped(record.detail) from None
+        else:
+            record.status = recorder.status
+            record.detail = "; ".join(recorder._details)
+        finally:
+            record.seconds = time.perf_counter() - start
+
+    def formula(self, name: str, value: Frac | str) -> None:
+        """Record a formula found (sympy-parsable, in the system's own names)."""
+        self.formulas[name] = str(value)
+
+    def correction(self, text: str) -> None:
+        """Record a place where the paper is wrong or imprecise, with the corrected statement."""
+        self.corrections.append(text)
+
+    def to_dict(self) -> dict:
+        return {"id": self.claim_id, "title": self.title, "paper_ref": self.paper_ref,
+                "statement": self.statement, "status": self.status.label,
+                "seconds": round(self.seconds, 4), "steps": [s.to_dict() for s in self.steps],
+                "formulas": dict(self.formulas), "corrections": list(self.corrections),
+                "notes": list(self.notes), "error": self.error}
+
+    def render(self) -> str:
+        """A readable certificate for the terminal."""
+        lines = [f"[{self.status.label}] {self.claim_id}: {self.title}  ({self.paper_ref}; {self.seconds:.3f} s)",
+                 f"    claim: {self.statement}"]
+        for s in self.steps:
+            pts = f", {s.points} points" if s.points else ""
+            lines.append(f"    - {s.status.label:<22} {s.name} [{s.method}; {s.ring}{pts}; {s.seconds:.3f} s]")
+            if s.detail:
+                lines.append(f"        {s.detail}")
+        for c in self.corrections:
+            lines.append(f"    ! paper correction: {c}")
+        for n in self.notes:
+            lines.append(f"    note: {n}")
+        if self.error:
+            lines.append(f"    stopped: {self.error}")
+        return "\n".join(lines)

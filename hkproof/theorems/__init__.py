@@ -1,0 +1,1 @@
+"""The paper's theorems, one module per section; importing a module registers its claims."""
