@@ -1,0 +1,120 @@
+"""Kernel-dimension profiles of a candidate HK-basis at a point: algorithm (N) with Theorem "Lem: dim K"."""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import flint
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.ring import Rational, Ring
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.errors import ParseError, SingularPointError
+from hkproof.experiments.arithmetics import Arithmetic, ExactQ
+from hkproof.experiments.scene import Scene, point_values
+
+HK_BASIS = "hk-basis"          # condition "fundamental finite" holds with d >= 1
+NO_BASIS = "no-hk-basis"       # X_[0,l-1](x) has full rank: K_Phi(x) = 0
+IRREGULAR = "irregular"        # ranks do not follow "fundamental finite" (special point or dependent functions)
+AMBIGUOUS = "ambiguous"        # the arithmetic cannot decide some rank
+SINGULAR = "singular"          # the orbit meets Delta = 0: the point is skipped
+
+
+def parse_basis(ring: Ring, text: str | Sequence[str]) -> list[Frac]:
+    """Phi from 'phi1, phi2, ...' (commas inside parentheses do not split) or from a list of strings."""
+    if isinstance(text, str):
+        parts, depth, start = [], 0, 0
+        for i, ch in enumerate(text):
+            depth += ch in "([" and 1 or (-1 if ch in ")]" else 0)
+            if ch == "," and depth == 0:
+                parts.append(text[start:i])
+                start = i + 1
+        parts.append(text[start:])
+    else:
+        parts = list(text)
+    parts = [p.strip() for p in parts if p.strip()]
+    if len(parts) < 2:
+        raise ParseError("a candidate HK-basis needs at least two functions")
+    return [Frac.parse(ring, p) for p in parts]
+
+
+def fundamental_finite(ranks: Sequence[int | None]) -> tuple[str, int | None]:
+    """Verdict and d from rank X_[0,s-1], s = 1..l: condition "fundamental finite" read off the ranks."""
+    l = len(ranks)
+    if any(r is None for r in ranks):
+        return AMBIGUOUS, None
+    d = l - ranks[-1]
+    expected = [min(s, l - d) for s in range(1, l + 1)]
+    if list(ranks) != expected:
+        return IRREGULAR, None
+    return (HK_BASIS, d) if d >= 1 else (NO_BASIS, 0)
+
+
+@dataclass
+class KernelProfile:
+    """dims[s-1] = dim ker X_[0,s-1](x) for s = 1..l (None: undecided), the verdict, d and K_Phi(x)."""
+
+    point: list[str]
+    verdict: str
+    dimension: int | None
+    dims: list[int | None] = field(default_factory=list)
+    kernel: list[list] | None = None
+    certainty: dict = field(default_factory=dict)
+    seconds: float = 0.0
+    reason: str = ""
+
+    def to_dict(self) -> dict:
+        return {"point": self.point, "verdict": self.verdict, "dimension": self.dimension, "dims": self.dims,
+                "kernel": self.kernel, "certainty": self.certainty, "seconds": round(self.seconds, 6),
+                "reason": self.reason}
+
+
+class ProfileProblem:
+    """A candidate basis Phi for the Kahan map in one scene, compiled once for many points."""
+
+    def __init__(self, scene: Scene, basis: Sequence[Frac]):
+        ring = scene.kmap.ring
+        for phi in basis:
+            if phi.ring != ring:
+                raise ParseError(f"{phi} is not a function on {ring}")
+        self.scene = scene
+        self.basis = list(basis)
+        self.compiled = [scene.compile(phi) for phi in basis]
+
+    @property
+    def kmap(self) -> KahanMap:
+        return self.scene.kmap
+
+    def profile(self, point: Sequence[Rational], arithmetic: Arithmetic | None = None, *,
+                with_kernel: bool = True) -> KernelProfile:
+        """Algorithm (N) at one point: ranks of X_[0,s-1], the verdict of Theorem "Lem: dim K", K_Phi(x)."""
+        arithmetic = arithmetic or ExactQ()
+        x = point_values(self.scene, point)
+        label = [str(v) for v in x]
+        start = time.perf_counter()
+        try:
+            raw = arithmetic.profile(self.scene, self.compiled, x)
+        except SingularPointError as exc:
+            return KernelProfile(label, SINGULAR, None, reason=str(exc), seconds=time.perf_counter() - start,
+                                 certainty={"arithmetic": arithmetic.name})
+        verdict, d = fundamental_finite(raw.ranks)
+        l = len(self.basis)
+        kernel = None
+        if with_kernel and verdict == HK_BASIS:
+            kernel = [[arithmetic.to_json(v) for v in vec] for vec in arithmetic.kernel(raw, d)]
+        dims = [None if r is None else l - r for r in raw.ranks]
+        return KernelProfile(label, verdict, d, dims, kernel, raw.certainty, time.perf_counter() - start)
+
+
+def kernel_vector(problem: ProfileProblem, point: Sequence[Rational]) -> list[flint.fmpq] | None:
+    """K_Phi(x) exactly with the last coordinate -1 when dim K_Phi(x) = 1 (recipe (B)); None otherwise."""
+    arithmetic = ExactQ()
+    try:
+        raw = arithmetic.profile(problem.scene, problem.compiled, point_values(problem.scene, point))
+    except SingularPointError:
+        return None
+    verdict, d = fundamental_finite(raw.ranks)
+    if verdict != HK_BASIS or d != 1:
+        return None
+    return arithmetic.kernel(raw, 1)[0]

@@ -1,0 +1,115 @@
+"""Algorithm (N) over many random points, in parallel through any concurrent.futures.Executor."""
+from __future__ import annotations
+
+import os
+import random
+from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
+from dataclasses import dataclass, field
+from fractions import Fraction
+from functools import lru_cache
+from typing import Mapping, Sequence
+
+from hkproof.algebra.ring import Rational
+from hkproof.dynamics.catalogue import kahan_map
+from hkproof.dynamics.field import QuadraticField
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.experiments.arithmetics import get_arithmetic
+from hkproof.experiments.points import random_point, random_values
+from hkproof.experiments.profiles import (AMBIGUOUS, HK_BASIS, IRREGULAR, NO_BASIS, SINGULAR, KernelProfile,
+                                          ProfileProblem, parse_basis)
+from hkproof.experiments.progress import Progress
+from hkproof.experiments.scene import make_scene
+from hkproof.proof.status import Status
+
+PARALLEL_MIN = 16   # fewer points than this run in the calling process (a process pool costs ~0.3 s to start)
+
+
+@dataclass
+class ScanResult:
+    """Profiles of Phi at many points and the dimension d they support (None: points disagree or undecided)."""
+
+    system: str
+    basis: list[str]
+    arithmetic: str
+    values: dict[str, str]
+    profiles: list[KernelProfile] = field(default_factory=list)
+
+    def count(self, verdict: str) -> int:
+        return sum(1 for p in self.profiles if p.verdict == verdict)
+
+    @property
+    def dimension(self) -> int | None:
+        """d if every decided point gives the same d and no point is irregular; else None."""
+        dims = {p.dimension for p in self.profiles if p.verdict in (HK_BASIS, NO_BASIS)}
+        if len(dims) != 1 or self.count(IRREGULAR):
+            return None
+        return dims.pop()
+
+    @property
+    def status(self) -> Status:
+        """Experiments give evidence only: exact over Q, or approximate (modular, float, mpmath)."""
+        if self.dimension is None:
+            return Status.UNKNOWN
+        return Status.EVIDENCE_EXACT if self.arithmetic == "exact" else Status.EVIDENCE_FLOAT
+
+    def to_dict(self) -> dict:
+        return {"system": self.system, "basis": self.basis, "arithmetic": self.arithmetic, "values": self.values,
+                "dimension": self.dimension, "status": self.status.label,
+                "counts": {v: self.count(v) for v in (HK_BASIS, NO_BASIS, IRREGULAR, AMBIGUOUS, SINGULAR)},
+                "points": [p.to_dict() for p in self.profiles]}
+
+
+def _field_spec(field: QuadraticField) -> tuple:
+    return field.name, field.variables, field.parameters, field.rhs_text, field.description
+
+
+@lru_cache(maxsize=8)
+def _problem(field_spec: tuple, basis: tuple[str, ...], values: tuple[tuple[str, str], ...]) -> ProfileProblem:
+    kmap = kahan_map(QuadraticField(*field_spec))
+    return ProfileProblem(make_scene(kmap, dict(values)), parse_basis(kmap.ring, list(basis)))
+
+
+def _profile_chunk(field_spec: tuple, basis: tuple[str, ...], values: tuple[tuple[str, str], ...],
+                   arithmetic: tuple, points: Sequence[Sequence[str]], with_kernel: bool) -> list[dict]:
+    """Worker: profiles of a chunk of points (everything passed as plain strings, so any executor can run it)."""
+    problem = _problem(field_spec, basis, values)
+    ar = get_arithmetic(arithmetic[0], digits=arithmetic[1], seed=arithmetic[2])
+    return [problem.profile([Fraction(v) for v in pt], ar, with_kernel=with_kernel).to_dict() for pt in points]
+
+
+def scan(system: str | KahanMap, basis: str | Sequence[str], *, points: int | Sequence[Sequence[Rational]] = 10,
+         values: Mapping[str, Rational] | None = None, arithmetic: str = "exact", digits: int = 50, seed: int = 0,
+         executor: Executor | None = None, progress: bool | None = False, with_kernel: bool = True,
+         chunk: int = 4) -> ScanResult:
+    """Algorithm (N): the kernel profile of Phi at `points` random points (or the given ones), eps and parameters
+    fixed to `values` (missing ones drawn at random once), in the chosen arithmetic."""
+    kmap = system if isinstance(system, KahanMap) else kahan_map(system)
+    rng = random.Random(seed)
+    scene_values = random_values(kmap, rng, values)
+    basis_texts = tuple(str(phi) for phi in parse_basis(kmap.ring, basis))
+    pts = [random_point(kmap, rng) for _ in range(points)] if isinstance(points, int) else list(points)
+    str_points = [[str(Fraction(str(v))) for v in pt] for pt in pts]
+    args = (_field_spec(kmap.field), basis_texts, tuple((k, str(v)) for k, v in scene_values.items()),
+            (arithmetic, digits, seed))
+    chunks = [str_points[i:i + chunk] for i in range(0, len(str_points), chunk)]
+    bar = Progress(len(str_points), enabled=progress)
+    results: dict[int, list[dict]] = {}
+    own = executor is None and len(str_points) >= PARALLEL_MIN
+    pool = ProcessPoolExecutor(max_workers=os.cpu_count() or 1) if own else executor
+    try:
+        if pool is None:
+            for i, c in enumerate(chunks):
+                results[i] = _profile_chunk(*args, c, with_kernel)
+                bar.update(len(c))
+        else:
+            futures = {pool.submit(_profile_chunk, *args, c, with_kernel): i for i, c in enumerate(chunks)}
+            for fut in as_completed(futures):
+                results[futures[fut]] = fut.result()
+                bar.update(len(results[futures[fut]]))
+    finally:
+        bar.close()
+        if own:
+            pool.shutdown()
+    profiles = [KernelProfile(**d) for i in range(len(chunks)) for d in results[i]]
+    return ScanResult(kmap.field.name, list(basis_texts), get_arithmetic(arithmetic, digits=digits).name,
+                      {k: str(v) for k, v in scene_values.items()}, profiles)
