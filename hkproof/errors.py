@@ -31,3 +31,7 @@ class UnknownSystemError(HKProofError):
 
 class UnknownClaimError(HKProofError):
     """A theorem id is not in the registry."""
+
+
+class DependentBasisError(ParseError):
+    """The functions of a candidate HK-basis are linearly dependent (Def. "Hirota mech" needs independence)."""

@@ -399,7 +399,7 @@ class Approximate(FieldArithmetic):
             worst_noise = max(worst_noise, noise)
             zero = [v for v in sigma if v <= self.gap * noise]
             big = [v for v in sigma if v >= self.gap**2 * noise]
-            if len(zero) + len(big) != len(sigma):
+            if len(zero) + len(big) != len(sigma) or self.gap**2 * noise >= 1:
                 ranks.append(None)
                 worst_gap = min(worst_gap, 1.0)
                 continue

@@ -1,6 +1,7 @@
 """Kernel-dimension profiles of a candidate HK-basis at a point: algorithm (N) with Theorem "Lem: dim K"."""
 from __future__ import annotations
 
+import random
 import time
 from dataclasses import dataclass, field
 from typing import Sequence
@@ -10,7 +11,8 @@ import flint
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational, Ring
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import ParseError, SingularPointError
+from hkproof.algebra.linalg import rank_q
+from hkproof.errors import DependentBasisError, ParseError, SingularPointError
 from hkproof.experiments.arithmetics import Arithmetic, ExactQ
 from hkproof.experiments.scene import Scene, point_values
 
@@ -81,6 +83,24 @@ class ProfileProblem:
         self.scene = scene
         self.basis = list(basis)
         self.compiled = [scene.compile(phi) for phi in basis]
+        self._check_independent()
+
+    def _check_independent(self) -> None:
+        """Phi must be linearly independent (Def. "Hirota mech"): full rank at l + 2 random points proves it."""
+        arithmetic = ExactQ()
+        prep = arithmetic.prepare(self.scene, self.compiled)
+        rng = random.Random(len(self.basis))
+        rows = []
+        for _ in range(len(self.basis) + 2):
+            point = [flint.fmpq(rng.randint(-99, 99), rng.randint(1, 99)) for _ in self.scene.variables]
+            try:
+                rows.append(arithmetic.basis_row(prep, point))
+            except ZeroDivisionError:
+                continue
+        if not rows or rank_q(rows) < len(self.basis):
+            raise DependentBasisError(
+                f"the functions ({', '.join(map(str, self.basis))}) are linearly dependent at {self.scene.fixed}: "
+                "drop the redundant ones (an HK-basis consists of independent functions)")
 
     @property
     def kmap(self) -> KahanMap:

@@ -1,0 +1,79 @@
+"""`hkproof scan SYSTEM --basis "phi1, phi2, ..."`: algorithm (N) at random points, in a chosen arithmetic."""
+from __future__ import annotations
+
+import argparse
+
+from hkproof.commands import Result, add_command
+from hkproof.dynamics.catalogue import SYSTEMS
+from hkproof.errors import ParseError
+from hkproof.experiments.profiles import HK_BASIS, SINGULAR, KernelProfile
+from hkproof.experiments.scan import ScanResult, scan
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = add_command(sub, "scan", "algorithm (N): kernel-dimension profiles of a candidate HK-basis at random points",
+                    run_scan)
+    add_scene_options(p)
+    p.add_argument("--points", type=int, default=10, help="number of random initial points (default 10)")
+    p.add_argument("--arithmetic", choices=["exact", "modular", "float", "mpmath"], default="exact",
+                   help="exact Q, mod large primes, float64 or mpmath (default exact)")
+    p.add_argument("--digits", type=int, default=50, help="decimal digits for --arithmetic mpmath (default 50)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+
+
+def add_scene_options(p: argparse.ArgumentParser) -> None:
+    """SYSTEM, --basis, --eps, --param and --seed: shared by scan and relations."""
+    p.add_argument("system", help=f"a catalogue name ({', '.join(SYSTEMS)}) or a TOML file")
+    p.add_argument("--basis", required=True, help='the candidate basis, e.g. "x1**2, x2**2, x3**2, 1"')
+    p.add_argument("--eps", help="a rational step size (default: random)")
+    p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                   help="fix a parameter to a rational (repeatable; the others are random)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the random points and values (default 0)")
+
+
+def scene_values(args: argparse.Namespace) -> dict[str, str]:
+    """The values fixed on the command line: --eps and every --param NAME=VALUE."""
+    values = {}
+    for item in args.param:
+        name, sep, value = item.partition("=")
+        if not sep:
+            raise ParseError(f"--param expects NAME=VALUE, got {item!r}")
+        values[name.strip()] = value.strip()
+    if args.eps is not None:
+        values["eps"] = args.eps
+    return values
+
+
+def run_scan(args: argparse.Namespace) -> Result:
+    result = scan(args.system, args.basis, points=args.points, values=scene_values(args) or None,
+                  arithmetic=args.arithmetic, digits=args.digits, seed=args.seed,
+                  progress=None if not args.no_progress and not args.json else False)
+    return Result(result.to_dict(), format_scan(result))
+
+
+def format_scan(result: ScanResult) -> str:
+    """One line per point and the dimension the points support."""
+    values = ", ".join(f"{k}={v}" for k, v in result.values.items())
+    lines = [f"Phi = ({', '.join(result.basis)}) for the Kahan map of {result.system} at {values}",
+             f"arithmetic: {result.arithmetic}; dims = dim ker X_[0,s-1](x) for s = 1..{len(result.basis)}"]
+    lines += [f"  {_format_point(p)}" for p in result.profiles]
+    skipped = result.count(SINGULAR)
+    d = result.dimension
+    tail = (f"dimension {d}" + (" (Phi is no HK-basis)" if d == 0 else "") if d is not None
+            else "dimension undecided (points disagree or the arithmetic cannot tell)")
+    counts = ", ".join(f"{v} {k}" for k, v in result.to_dict()["counts"].items() if v)
+    lines.append(f"{tail}; {counts}" + (f" ({skipped} orbits meet Delta = 0: skipped)" if skipped else "")
+                 + f"; status {result.status.label}")
+    return "\n".join(lines)
+
+
+def _format_point(p: KernelProfile) -> str:
+    head = f"({', '.join(p.point)})"
+    if p.verdict == SINGULAR:
+        return f"{head}: skipped, {p.reason}"
+    sure = p.certainty
+    how = (f"gap {sure['gap_ratio']:.1e}" if "gap_ratio" in sure else
+           f"primes agree: {len(sure.get('primes', []))}" if "primes" in sure else "exact")
+    dims = "[" + ", ".join("?" if v is None else str(v) for v in p.dims) + "]"
+    verdict = f"d = {p.dimension}" if p.verdict == HK_BASIS else p.verdict
+    return f"{head}: dims {dims} -> {verdict} ({how})"
