@@ -1,0 +1,263 @@
+"""Recipe (E): constant-coefficient linear relations among kernel coordinates, found exactly with symbolic
+coefficients (null spaces of exact samples, then polynomial interpolation in eps and the parameters)."""
+from __future__ import annotations
+
+import itertools
+import random
+from dataclasses import dataclass, field
+from typing import Mapping, Sequence
+
+import flint
+import sympy
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.linalg import nullspace_q, q_matrix
+from hkproof.algebra.ring import Rational, Ring, to_fmpq
+from hkproof.dynamics.field import EPS
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.errors import HKProofError
+from hkproof.experiments.points import random_point, random_rational
+from hkproof.experiments.profiles import ProfileProblem, kernel_vector, parse_basis
+from hkproof.experiments.scene import make_scene
+from hkproof.experiments.weights import Weights, scaling_weights
+
+
+class RelationSearchError(HKProofError):
+    """Relation finding could not proceed (no one-dimensional kernel, or not enough good samples)."""
+
+
+@dataclass
+class Relation:
+    """sum_k coefficients[k] * names[k] = rhs, coefficients in Q(eps, parameters) (recipe (E))."""
+
+    names: list[str]
+    coefficients: list[Frac]
+    rhs: Frac
+    checked: int = 0
+
+    def text(self) -> str:
+        lhs = sympy.Add(*[sympy.factor(c.to_sympy()) * sympy.Symbol(n)
+                          for n, c in zip(self.names, self.coefficients) if not c.is_zero()])
+        return f"{lhs} = {sympy.factor(self.rhs.to_sympy())}"
+
+    def to_dict(self) -> dict:
+        return {"relation": self.text(), "coefficients": {n: str(c) for n, c in zip(self.names, self.coefficients)},
+                "rhs": str(self.rhs), "checked_at_fresh_samples": self.checked}
+
+
+@dataclass
+class RelationSearch:
+    """The columns searched, the relations found and how they were found."""
+
+    names: list[str]
+    relations: list[Relation] = field(default_factory=list)
+    dimension: int = 0
+    normalized: list[str] = field(default_factory=list)
+    samples: int = 0
+    degree: int = 0
+    notes: list[str] = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        return {"columns": self.names, "dimension": self.dimension, "relations": [r.to_dict() for r in self.relations],
+                "normalized_to_one": self.normalized, "samples": self.samples, "degree": self.degree,
+                "notes": self.notes}
+
+
+class CoordinateSampler:
+    """Kernel coordinates of one or more HK-bases with d = 1 (last coordinate -1) at exact sample points."""
+
+    def __init__(self, kmap: KahanMap, bases: Sequence[Sequence[Frac]], rng: random.Random):
+        self.kmap = kmap
+        self.bases = [list(b) for b in bases]
+        self.rng = rng
+
+    @property
+    def width(self) -> int:
+        """Columns: the first l_b - 1 coordinates of each kernel, then the constant 1."""
+        return sum(len(b) - 1 for b in self.bases) + 1
+
+    def row(self, problems: Sequence[ProfileProblem]) -> list[flint.fmpq] | None:
+        """(c^(1)_1, ..., c^(1)_(l1-1), c^(2)_1, ..., 1) at a random point, or None at a bad point."""
+        point = random_point(self.kmap, self.rng, size=99)
+        out = []
+        for problem in problems:
+            c = kernel_vector(problem, point)
+            if c is None:
+                return None
+            out += c[:-1]
+        return out + [flint.fmpq(1)]
+
+    def relation_space(self, values: Mapping[str, Rational], extra: int = 2) -> list[list[flint.fmpq]] | None:
+        """Rows spanning the annihilator of the sampled coordinate vectors at these eps and parameter values."""
+        scene = make_scene(self.kmap, values)
+        problems = [ProfileProblem(scene, b) for b in self.bases]
+        rows: list[list[flint.fmpq]] = []
+        rank, stable, tries = 0, 0, 0
+        while stable < extra and tries < 4 * self.width + 8:
+            tries += 1
+            r = self.row(problems)
+            if r is None:
+                continue
+            rows.append(r)
+            new = q_matrix(rows).rank()
+            stable = stable + 1 if new == rank else 0
+            rank = new
+        if stable < extra:
+            return None
+        r, rank = q_matrix(rows).rref()
+        return [[r[i, j] for j in range(self.width)] for i in range(rank)]
+
+
+def _monomials(names: Sequence[str], degree: int) -> list[tuple[int, ...]]:
+    """Exponent vectors of total degree <= degree."""
+    out = []
+    for total in range(degree + 1):
+        for combo in itertools.combinations_with_replacement(range(len(names)), total):
+            e = [0] * len(names)
+            for i in combo:
+                e[i] += 1
+            out.append(tuple(e))
+    return out
+
+
+def _monomial_value(exps: Sequence[int], point: Sequence[flint.fmpq]) -> flint.fmpq:
+    v = flint.fmpq(1)
+    for x, e in zip(point, exps):
+        if e:
+            v *= x ** e
+    return v
+
+
+def find_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], *, names: Sequence[str] | None = None,
+                   values: Mapping[str, Rational] | None = None, max_degree: int = 6, checks: int = 3,
+                   seed: int = 0) -> RelationSearch:
+    """Recipe (E) exactly: sample the relation space at random rational eps/parameters (some set to 1 by
+    weighted homogeneity), interpolate polynomial relation vectors of rising degree, check them at fresh
+    samples and restore the normalized names."""
+    rng = random.Random(seed)
+    fixed = {k: to_fmpq(v) for k, v in (values or {}).items()}
+    parsed = [parse_basis(kmap.ring, b) if isinstance(b, str) else list(b) for b in bases]
+    names = list(names) if names else _default_names(parsed)
+    sampler = CoordinateSampler(kmap, parsed, rng)
+    if len(names) != sampler.width - 1:
+        raise RelationSearchError(f"{len(names)} names for {sampler.width - 1} kernel coordinates")
+    weights = scaling_weights(kmap, [phi for b in parsed for phi in b], list(fixed))
+    free = [n for n in (EPS,) + kmap.field.parameters if n not in fixed and n not in weights.normalized]
+    search = RelationSearch(names, normalized=list(weights.normalized))
+
+    def sample() -> tuple[list[flint.fmpq], list[list[flint.fmpq]]]:
+        for _ in range(20):
+            t = [to_fmpq(random_rational(rng, 30)) for _ in free]
+            vals = {**fixed, **{n: flint.fmpq(1) for n in weights.normalized}, **dict(zip(free, t))}
+            space = sampler.relation_space(vals)
+            if space is not None:
+                search.samples += 1
+                return t, space
+        raise RelationSearchError("no sample with a one-dimensional kernel: is every basis an HK-basis with d = 1?")
+
+    width = sampler.width
+    generic_t, generic_space = sample()
+    search.dimension = width - len(generic_space)
+    if search.dimension == 0:
+        return search
+    samples: list[tuple[list[flint.fmpq], list[list[flint.fmpq]]]] = []
+    found: list[list[dict[tuple[int, ...], flint.fmpq]]] = []   # per relation: per column {monomial: coef}
+    for degree in range(max_degree + 1):
+        monos = _monomials(free, degree)
+        unknowns = width * len(monos)
+        while sum(len(s) for _, s in samples) < unknowns + 8:
+            samples.append(sample())
+        equations = []
+        for t, space in samples:
+            mvals = [_monomial_value(m, t) for m in monos]
+            for row in space:
+                equations.append([row[k] * mv for k in range(width) for mv in mvals])
+        for vec in nullspace_q(equations):
+            candidate = [{m: vec[k * len(monos) + i] for i, m in enumerate(monos) if vec[k * len(monos) + i] != 0}
+                         for k in range(width)]
+            if _rank_at(found + [candidate], generic_t) > len(found):
+                found.append(candidate)
+        search.degree = degree
+        if len(found) == search.dimension:
+            break
+    else:
+        search.notes.append(f"only {len(found)} of {search.dimension} relations up to degree {max_degree}")
+    fresh = [sample() for _ in range(checks)]
+    for rel in found:
+        checked = sum(1 for t, space in fresh if all(
+            sum((row[k] * _eval(rel[k], t) for k in range(width)), flint.fmpq(0)) == 0 for row in space))
+        if checked != len(fresh):
+            search.notes.append("an interpolated relation failed a fresh check and was dropped")
+            continue
+        lifted = _restore(kmap, weights, free, rel, parsed, search)
+        search.relations.append(_as_relation(kmap.ring, names, lifted, checked))
+    return search
+
+
+def _default_names(bases: Sequence[Sequence[Frac]]) -> list[str]:
+    if len(bases) == 1:
+        return [f"c{k + 1}" for k in range(len(bases[0]) - 1)]
+    letters = "abcdefghijklmnopqrstuvwxyz"
+    return [f"{letters[i]}{k + 1}" for i, b in enumerate(bases) for k in range(len(b) - 1)]
+
+
+def _eval(poly: dict[tuple[int, ...], flint.fmpq], t: Sequence[flint.fmpq]) -> flint.fmpq:
+    return sum((c * _monomial_value(m, t) for m, c in poly.items()), flint.fmpq(0))
+
+
+def _rank_at(relations, t) -> int:
+    if not relations:
+        return 0
+    return q_matrix([[_eval(col, t) for col in rel] for rel in relations]).rank()
+
+
+def _column_weights(weights: Weights, bases: Sequence[Sequence[Frac]]) -> list[list[flint.fmpq]]:
+    """[c_k] = [phi_l] - [phi_k] for each kernel coordinate; the constant column has weight 0."""
+    out = []
+    for b in bases:
+        last = weights.of_frac(b[-1])
+        out += [[a - c for a, c in zip(last, weights.of_frac(phi))] for phi in b[:-1]]
+    return out + [[flint.fmpq(0)] * len(weights.basis)]
+
+
+def _restore(kmap: KahanMap, weights: Weights, free: Sequence[str], rel, bases, search: RelationSearch):
+    """Multiply each term by the monomial in the normalized names that makes the relation weighted homogeneous."""
+    ring = kmap.ring
+    offsets = _column_weights(weights, bases)
+    terms = [(k, dict(zip(free, m)), c) for k, col in enumerate(rel) for m, c in col.items()]
+    k0, e0, _ = terms[0]
+    target = [a + b for a, b in zip(weights.of_monomial(e0), offsets[k0])]
+    extra = []
+    for k, exps, _ in terms:
+        e = weights.restore(exps, offsets[k], target)
+        if e is None or any(v.q != 1 for v in e.values()):
+            search.notes.append("a relation is not weighted homogeneous: shown with "
+                                + ", ".join(f"{n} = 1" for n in weights.normalized))
+            extra = [{} for _ in terms]
+            break
+        extra.append(e)
+    shift = {n: min((e.get(n, 0) for e in extra), default=0) for n in weights.normalized}
+    den = flint.fmpz(1)
+    for _, _, c in terms:
+        den = den.lcm(c.q)
+    columns = [ring.ctx.from_dict({}) for _ in rel]
+    for (k, exps, c), e in zip(terms, extra):
+        mono = [0] * len(ring.names)
+        for n, v in exps.items():
+            mono[ring.index(n)] += v
+        for n, v in e.items():
+            mono[ring.index(n)] += int(v - shift[n])
+        columns[k] = columns[k] + ring.ctx.from_dict({tuple(mono): int(c * den)})
+    content = flint.fmpz(0)
+    for p in columns:
+        for c in p.coeffs():
+            content = content.gcd(c)
+    return [p / ring.ctx.constant(int(content)) if content > 1 else p for p in columns]
+
+
+def _as_relation(ring: Ring, names: Sequence[str], columns, checked: int) -> Relation:
+    """sum a_k c_k + a_0 = 0 shown as sum a_k c_k = -a_0, the first coefficient with a positive leading term."""
+    first = next(p for p in columns if not p.is_zero())
+    sign = -1 if first.coefficient(0) < 0 else 1
+    coefficients = [Frac(ring, sign * p) for p in columns[:-1]]
+    return Relation(list(names), coefficients, Frac(ring, -sign * columns[-1]), checked)

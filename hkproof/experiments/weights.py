@@ -1,0 +1,91 @@
+"""Scaling symmetries of a Kahan map: weights making eq. "Kahan gen" and a basis weighted homogeneous.
+
+If x_i -> l^w(x_i) x_i, eps -> l^w(eps) eps, a -> l^w(a) a maps the field to itself (up to the time scale
+carried by eps), then kernel coordinates and their relations (recipe (E)) are weighted homogeneous.  Parameters
+whose weights are independent can then be set to 1 while sampling and restored afterwards.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import flint
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.linalg import nullspace_q
+from hkproof.dynamics.field import EPS
+from hkproof.dynamics.kahan import KahanMap
+
+
+@dataclass(frozen=True)
+class Weights:
+    """A basis of the weight vectors (one integer weight per ring name) and the names that may be set to 1."""
+
+    names: tuple[str, ...]
+    basis: tuple[tuple[flint.fmpq, ...], ...]
+    normalized: tuple[str, ...]
+
+    def of_monomial(self, exponents: dict[str, int]) -> list[flint.fmpq]:
+        """The weight of a monomial under each basis vector."""
+        return [sum((w[self.names.index(n)] * e for n, e in exponents.items()), flint.fmpq(0)) for w in self.basis]
+
+    def of_frac(self, h: Frac) -> list[flint.fmpq]:
+        """Weight of a weighted-homogeneous h = num/den (its first monomials)."""
+        ring = h.ring
+        num = dict(zip(ring.names, h.num.monoms()[0]))
+        den = dict(zip(ring.names, h.den.monoms()[0]))
+        return [a - b for a, b in zip(self.of_monomial(num), self.of_monomial(den))]
+
+    def restore(self, exponents: dict[str, int], offset: Sequence[flint.fmpq],
+                target: Sequence[flint.fmpq]) -> dict[str, flint.fmpq] | None:
+        """Exponents of the normalized names making a monomial (with `offset` added) have weight `target`."""
+        if not self.normalized:
+            return {}
+        have = [a + b for a, b in zip(self.of_monomial(exponents), offset)]
+        rows = [[w[self.names.index(n)] for n in self.normalized] for w in self.basis]
+        rhs = [t - h for t, h in zip(target, have)]
+        system = flint.fmpq_mat([r + [b] for r, b in zip(rows, rhs)])
+        if system.rank() != len(self.normalized):
+            return None
+        r, rank = system.rref()
+        sol = {}
+        for i in range(rank):
+            j = next(j for j in range(len(self.normalized) + 1) if r[i, j] != 0)
+            if j == len(self.normalized):
+                return None
+            sol[self.normalized[j]] = r[i, len(self.normalized)]
+        return sol
+
+
+def _homogeneity_rows(ring_names: Sequence[str], h: flint.fmpz_mpoly) -> list[list[int]]:
+    monos = h.monoms()
+    return [[a - b for a, b in zip(m, monos[0])] for m in monos[1:]]
+
+
+def scaling_weights(kmap: KahanMap, functions: Sequence[Frac] = (), fixed: Sequence[str] = ()) -> Weights:
+    """All weights under which the field (with eps of the weight of time) and `functions` are homogeneous,
+    `fixed` names of weight 0; and a maximal set of eps and parameters that can be scaled to 1."""
+    ring = kmap.ring
+    names = ring.names
+    rows: list[list[int]] = []
+    for v, f in zip(kmap.variables, kmap.field.rhs):
+        rows += _homogeneity_rows(names, f.num) + _homogeneity_rows(names, f.den)
+        if not f.num.is_zero():
+            row = [a - b for a, b in zip(f.num.monoms()[0], f.den.monoms()[0])]
+            row[names.index(v)] -= 1
+            row[names.index(EPS)] += 1
+            rows.append(row)
+    for h in functions:
+        rows += _homogeneity_rows(names, h.num) + _homogeneity_rows(names, h.den)
+    for n in fixed:
+        rows.append([1 if m == n else 0 for m in names])
+    basis = nullspace_q(rows) if rows else [[flint.fmpq(1 if i == j else 0) for i in range(len(names))]
+                                            for j in range(len(names))]
+    normalized: list[str] = []
+    for n in (EPS,) + kmap.field.parameters:
+        if n in fixed:
+            continue
+        trial = normalized + [n]
+        if flint.fmpq_mat([[w[names.index(m)] for m in trial] for w in basis]).rank() == len(trial):
+            normalized = trial
+    return Weights(names, tuple(tuple(w) for w in basis), tuple(normalized))
