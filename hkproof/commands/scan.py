@@ -21,10 +21,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
 
 
-def add_scene_options(p: argparse.ArgumentParser) -> None:
+def add_scene_options(p: argparse.ArgumentParser, several_bases: bool = False) -> None:
     """SYSTEM, --basis, --eps, --param and --seed: shared by scan and relations."""
     p.add_argument("system", help=f"a catalogue name ({', '.join(SYSTEMS)}) or a TOML file")
-    p.add_argument("--basis", required=True, help='the candidate basis, e.g. "x1**2, x2**2, x3**2, 1"')
+    p.add_argument("--basis", required=True, action="append" if several_bases else "store",
+                   help='the candidate basis, e.g. "x1**2, x2**2, x3**2, 1"'
+                   + (" (repeat to relate the kernels of several bases)" if several_bases else ""))
     p.add_argument("--eps", help="a rational step size (default: random)")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                    help="fix a parameter to a rational (repeatable; the others are random)")

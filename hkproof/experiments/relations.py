@@ -34,11 +34,21 @@ class Relation:
     coefficients: list[Frac]
     rhs: Frac
     checked: int = 0
+    normalized_name: str | None = None   # the coordinate set to -1, when named: shown projectively
 
     def text(self) -> str:
         lhs = sympy.Add(*[sympy.factor(c.to_sympy()) * sympy.Symbol(n)
                           for n, c in zip(self.names, self.coefficients) if not c.is_zero()])
-        return f"{lhs} = {sympy.factor(self.rhs.to_sympy())}"
+        rhs = sympy.factor(self.rhs.to_sympy())
+        if self.normalized_name:
+            return f"{lhs + rhs * sympy.Symbol(self.normalized_name)} = 0"
+        return f"{lhs} = {rhs}"
+
+    def row_at(self, values: Mapping[str, Rational]) -> list[flint.fmpq]:
+        """(a_1, ..., a_m, -rhs) at given eps and parameters: the relation as a constant vector."""
+        ring = self.rhs.ring
+        at = {n: 0 for n in ring.names} | dict(values)
+        return [c.evaluate(at) for c in self.coefficients] + [-self.rhs.evaluate(at)]
 
     def to_dict(self) -> dict:
         return {"relation": self.text(), "coefficients": {n: str(c) for n, c in zip(self.names, self.coefficients)},
@@ -139,8 +149,12 @@ def find_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], *, nam
     parsed = [parse_basis(kmap.ring, b) if isinstance(b, str) else list(b) for b in bases]
     names = list(names) if names else _default_names(parsed)
     sampler = CoordinateSampler(kmap, parsed, rng)
+    normalized_name = None
+    if len(parsed) == 1 and len(names) == len(parsed[0]):
+        names, normalized_name = names[:-1], names[-1]
     if len(names) != sampler.width - 1:
-        raise RelationSearchError(f"{len(names)} names for {sampler.width - 1} kernel coordinates")
+        raise RelationSearchError(f"{len(names)} names for {sampler.width - 1} kernel coordinates "
+                                  "(name all but the last coordinate of each basis, which is -1)")
     weights = scaling_weights(kmap, [phi for b in parsed for phi in b], list(fixed))
     free = [n for n in (EPS,) + kmap.field.parameters if n not in fixed and n not in weights.normalized]
     search = RelationSearch(names, normalized=list(weights.normalized))
@@ -190,7 +204,7 @@ def find_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], *, nam
             search.notes.append("an interpolated relation failed a fresh check and was dropped")
             continue
         lifted = _restore(kmap, weights, free, rel, parsed, search)
-        search.relations.append(_as_relation(kmap.ring, names, lifted, checked))
+        search.relations.append(_as_relation(kmap.ring, names, lifted, checked, normalized_name))
     return search
 
 
@@ -255,9 +269,9 @@ def _restore(kmap: KahanMap, weights: Weights, free: Sequence[str], rel, bases, 
     return [p / ring.ctx.constant(int(content)) if content > 1 else p for p in columns]
 
 
-def _as_relation(ring: Ring, names: Sequence[str], columns, checked: int) -> Relation:
+def _as_relation(ring: Ring, names: Sequence[str], columns, checked: int, normalized_name: str | None) -> Relation:
     """sum a_k c_k + a_0 = 0 shown as sum a_k c_k = -a_0, the first coefficient with a positive leading term."""
     first = next(p for p in columns if not p.is_zero())
     sign = -1 if first.coefficient(0) < 0 else 1
     coefficients = [Frac(ring, sign * p) for p in columns[:-1]]
-    return Relation(list(names), coefficients, Frac(ring, -sign * columns[-1]), checked)
+    return Relation(list(names), coefficients, Frac(ring, -sign * columns[-1]), checked, normalized_name)

@@ -1,0 +1,108 @@
+"""Recipe (E): the relations of sections 5 and 6 recovered exactly, with eps and the parameters symbolic."""
+from __future__ import annotations
+
+import json
+from typing import Sequence
+
+import pytest
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.linalg import rank_over_fraction_field
+from hkproof.cli import main
+from hkproof.dynamics import kahan_map
+from hkproof.experiments.pslq import agreement, pslq_relations
+from hkproof.experiments.relations import find_relations
+
+PSI = "p1**2, p2**2, p3**2, m1*p1, m2*p2, m3*p3"
+FLOW2 = "p1**2, p2**2, p3**2, m1**2, m2**2, m3**2, 1"
+
+
+def spans(system: str, search, expected: Sequence[Sequence[str]]) -> bool:
+    """Every expected row (coefficients of the columns, then the constant) lies in the span of the found ones."""
+    ring = kahan_map(system).ring
+    found = [list(r.coefficients) + [-r.rhs] for r in search.relations]
+    rows = [[Frac.parse(ring, c) for c in row] for row in expected]
+    return rank_over_fraction_field(found + rows) == rank_over_fraction_field(found) == search.dimension
+
+
+def test_euler_top_relations_of_section_5():
+    """alpha1 c1 + alpha2 c2 = alpha3 and alpha1 d1 + alpha2 d2 = eps^2 alpha1 alpha2 alpha3."""
+    c = find_relations(kahan_map("euler-top"), ["x1**2, x2**2, x3**2"])
+    assert c.dimension == 1 and spans("euler-top", c, [["a1", "a2", "-a3"]])
+    d = find_relations(kahan_map("euler-top"), ["x1**2, x2**2, 1"])
+    assert d.dimension == 1 and spans("euler-top", d, [["a1", "a2", "-eps**2*a1*a2*a3"]])
+
+
+def test_clebsch_first_basis_relations():
+    """c1 - c2 = eps^2 (w1 - w2) and c2 - c3 = eps^2 (w2 - w3) (proof of Th. "dC basis 1")."""
+    search = find_relations(kahan_map("clebsch"), ["p1**2, p2**2, p3**2, 1"])
+    assert search.dimension == 2
+    assert spans("clebsch", search, [["1", "-1", "0", "-eps**2*(w1 - w2)"], ["0", "1", "-1", "-eps**2*(w2 - w3)"]])
+    assert all(r.checked == 3 for r in search.relations)
+
+
+def test_psi_relations():
+    """d1 = d2 = d3 (eq. "dC basis_2 rels 1") and eq. "dC basis 2 lin rel", shown as in the paper."""
+    search = find_relations(kahan_map("clebsch"), [PSI], names=["d1", "d2", "d3", "d7", "d8", "d9"])
+    assert search.dimension == 3
+    # columns d1, d2, d3, d7, d8 and the constant, which is -d9
+    assert spans("clebsch", search, [["1", "-1", "0", "0", "0", "0"], ["0", "1", "-1", "0", "0", "0"],
+                                     ["0", "0", "0", "w2 - w3", "w3 - w1", "-(w1 - w2)"]])
+    assert "d7*(w2 - w3) + d8*(-w1 + w3) + d9*(w1 - w2) = 0" in [r.text() for r in search.relations]
+
+
+def test_second_flow_five_relations():
+    """Eqs. "dCS2 linrel 1" to "dCS2 linrel 5" for the basis Phi_0 of the second flow."""
+    search = find_relations(kahan_map("clebsch-flow2"), [FLOW2])
+    assert search.dimension == 5
+    assert spans("clebsch-flow2", search, [
+        ["w1", "0", "0", "-w2*w3", "0", "0", "0"],
+        ["0", "w2", "0", "0", "-w3*w1", "0", "0"],
+        ["0", "0", "w3", "0", "0", "-w1*w2", "0"],
+        ["1", "-1", "0", "0", "0", "-(w1 - w2)", "-eps**2*w3**2*(w1 - w2)"],
+        ["-1", "0", "1", "0", "-(w3 - w1)", "0", "-eps**2*w2**2*(w3 - w1)"]])
+
+
+@pytest.mark.slow
+def test_rel18_nine_relations_among_three_bases():
+    """Eqs. "rel18_1" to "rel18_8": nine relations among alpha, beta, gamma (stretch goal)."""
+    common = "p1**2, p2**2, p3**2, m1**2, m2**2, m3**2, "
+    search = find_relations(kahan_map("clebsch"), [common + "m1*p1", common + "m2*p2", common + "m3*p3"])
+    assert search.dimension == 9 and len(search.relations) == 9
+    z = ["0"] * 6
+
+    def row(a, b, g, const="0"):
+        return a + b + g + [const]
+    expected = [
+        row(["0"] * 4 + ["w1 - w3", "-(w1 - w2)"], z, z),                       # rel18_1
+        row(z, ["0"] * 3 + ["w2 - w3", "0", "-(w2 - w1)"], z),                  # rel18_2
+        row(z, z, ["0"] * 3 + ["w3 - w2", "-(w3 - w1)", "0"]),                  # rel18_3
+        row(["0"] * 3 + ["1", "0", "0"], ["0"] * 4 + ["-1", "0"], z),           # rel18_4 (alpha4 = beta5)
+        row(["0"] * 3 + ["1", "0", "0"], z, ["0"] * 5 + ["-1"]),                # rel18_4 (alpha4 = gamma6)
+        # rel18_6: (a2 - a3 - w23 a4)/w23 = (b2 - b3 - w23 b4)/w31 = (g2 - g3 - w23 g4)/w12
+        row(["0", "(w3 - w1)", "-(w3 - w1)", "-(w2 - w3)*(w3 - w1)", "0", "0"],
+            ["0", "-(w2 - w3)", "(w2 - w3)", "(w2 - w3)**2", "0", "0"], z),
+        row(["0", "(w1 - w2)", "-(w1 - w2)", "-(w2 - w3)*(w1 - w2)", "0", "0"], z,
+            ["0", "-(w2 - w3)", "(w2 - w3)", "(w2 - w3)**2", "0", "0"]),
+        # rel18_8: (a3 - a1 - w31 a5)/w23 = (b3 - b1 - w31 b5)/w31 = (g3 - g1 - w31 g5)/w12
+        row(["-(w3 - w1)", "0", "(w3 - w1)", "0", "-(w3 - w1)**2", "0"],
+            ["(w2 - w3)", "0", "-(w2 - w3)", "0", "(w2 - w3)*(w3 - w1)", "0"], z),
+        row(["-(w1 - w2)", "0", "(w1 - w2)", "0", "-(w3 - w1)*(w1 - w2)", "0"], z,
+            ["(w2 - w3)", "0", "-(w2 - w3)", "0", "(w2 - w3)*(w3 - w1)", "0"]),
+    ]
+    assert spans("clebsch", search, expected)
+
+
+def test_pslq_agrees_with_exact_at_enough_digits():
+    values = {"eps": "1/10", "w1": "1/10", "w2": "1/5", "w3": "3/10"}
+    f = kahan_map("clebsch")
+    exact = find_relations(f, ["p1**2, p2**2, p3**2, 1"])
+    found = pslq_relations(f, ["p1**2, p2**2, p3**2, 1"], values, digits=30)
+    assert agreement(found, exact.relations, values) == (2, 2)
+
+
+def test_cli_relations_json(capsys):
+    code = main(["relations", "clebsch", "--basis", "p1**2, p2**2, p3**2, 1", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and out["dimension"] == 2 and len(out["relations"]) == 2
+    assert "c1 - c2 = eps**2*(w1 - w2)" in [r["relation"] for r in out["relations"]]
