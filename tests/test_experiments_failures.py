@@ -10,7 +10,7 @@ import numpy as np
 
 from hkproof.algebra.linalg import rank_q
 from hkproof.dynamics import kahan_map
-from hkproof.experiments import ExactQ, Float64, Modular, ProfileProblem, make_scene, parse_basis
+from hkproof.experiments import ExactQ, Float64, Modular, MPMath, ProfileProblem, make_scene, parse_basis
 from hkproof.experiments.arithmetics import ModP, UnluckyPrimeError
 from hkproof.experiments.points import near_singular_point, random_point
 from hkproof.experiments.profiles import AMBIGUOUS, SINGULAR
@@ -109,3 +109,19 @@ def test_pslq_at_a_single_rational_point_finds_a_spurious_relation():
         full = [rel[0], rel[1], 0, rel[2]]
         spurious += rank_q(exact + [full]) > rank_q(exact)
     assert spurious >= 1
+
+
+def test_a_tiny_true_singular_value_is_not_taken_for_zero():
+    """Near Delta = 0, f^2(x) comes back close to x: X has a singular value ~1e-27 that is not zero.
+    At 30 digits alone it looks like noise (a wrong d); the check at 60 digits makes the answer 'ambiguous'."""
+    problem = _problem("clebsch", {"eps": "1/10", "w1": "1/10", "w2": "1/5", "w3": "3/10"}, "p1**2, p2**2, p3**2, 1")
+    rng = random.Random(7)
+    unchecked_wrong = 0
+    for _ in range(3):
+        x = near_singular_point(problem.scene, rng, Fraction(1, 10**9))
+        exact = problem.profile(x, ExactQ(), with_kernel=False)
+        unchecked = problem.profile(x, MPMath(30, confirm="never"), with_kernel=False)
+        checked = problem.profile(x, MPMath(30), with_kernel=False)
+        unchecked_wrong += unchecked.dims != exact.dims and unchecked.verdict not in (AMBIGUOUS, SINGULAR)
+        assert checked.dims == exact.dims or checked.verdict in (AMBIGUOUS, SINGULAR)
+    assert unchecked_wrong >= 1

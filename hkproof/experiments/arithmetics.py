@@ -346,7 +346,14 @@ class Approximate(FieldArithmetic):
     The noise level nu of X (rows scaled to norm 1) is estimated from the rounding error carried along the
     orbit (first-order propagation through Df, plus cond(M) u at every solve).  Singular values <= G nu count
     as zero, >= G^2 nu as non-zero; one in between makes the rank "ambiguous" (None).
+
+    A tiny singular value that is not zero looks like noise at one precision.  So zeros are confirmed at a
+    higher precision (`confirmer`) when `confirm` is "always", or when it is "suspicious" and the orbit passes
+    close to Delta = 0 (cond M >= u^(-1/4)); prefixes whose ranks differ between the two precisions become
+    "ambiguous".  `confirm = "never"` shows what one precision alone would say.
     """
+
+    confirm = "suspicious"
 
     def __init__(self, unit_roundoff: float, gap: float = 100.0):
         super().__init__()
@@ -356,18 +363,31 @@ class Approximate(FieldArithmetic):
     def profile(self, scene, basis, point) -> RawProfile:
         prep = self.prepare(scene, basis)
         orbit = self.orbit(prep, point, len(basis) - 1)
-        errors = self.orbit_errors(prep, orbit)
+        errors, cond = self.orbit_errors(prep, orbit)
         degree = max(sum(e for _, e in exps) for num, den in prep.basis for _, exps in num + den)
         rows = [self.basis_row(prep, x) for x in orbit]
         row_err = [max(1, degree) * (e + self.u) for e in errors]
         ranks, certainty = self.prefix_ranks(rows, row_err)
         certainty["orbit_error"] = max(errors)
+        certainty["max_cond_M"] = cond
+        zeros = any(r is not None and r < s for s, r in enumerate(ranks, 1))
+        if zeros and (self.confirm == "always" or self.confirm == "suspicious" and cond >= self.u ** -0.25):
+            other = self.confirmer().profile(scene, basis, point).ranks
+            certainty["confirmed_with"] = self.confirmer().name
+            certainty["confirmation"] = "agree" if other == ranks else "disagree"
+            ranks = [a if a == b else None for a, b in zip(ranks, other)]
         return RawProfile(ranks, rows, {"arithmetic": self.name, **certainty})
 
-    def orbit_errors(self, prep: Prepared, orbit: Sequence[list[Number]]) -> list[float]:
-        """First-order relative error of each iterate: through Df = M^-1 (B - sum_k M_k x~ e_k^T), plus cond(M) u."""
+    @abstractmethod
+    def confirmer(self) -> "Approximate":
+        """The same computation at a higher precision, to confirm zero singular values."""
+
+    def orbit_errors(self, prep: Prepared, orbit: Sequence[list[Number]]) -> tuple[list[float], float]:
+        """First-order relative error of each iterate (through Df = M^-1 (B - sum_k M_k x~ e_k^T), plus cond(M) u)
+        and the largest cond(M) met on the orbit."""
         n = len(orbit[0])
         errors = [self.u]
+        worst = 1.0
         for x, y in zip(orbit, orbit[1:]):
             m = [[self.affine(e, x) for e in row] for row in prep.matrix]
             dm = [[0.0] * n for _ in range(n)]
@@ -382,7 +402,8 @@ class Approximate(FieldArithmetic):
             xn, yn = float(self.norm(x)), float(self.norm(y))
             rel = jac_norm * errors[-1] * (xn / yn if yn else math.inf) + cond * self.u
             errors.append(float(min(rel, 1.0)))
-        return errors
+            worst = max(worst, float(cond))
+        return errors, worst
 
     def prefix_ranks(self, rows, row_err=None) -> tuple[list[int | None], dict]:
         nrows, ncols = len(rows), len(rows[0])
@@ -458,11 +479,15 @@ class Float64(Approximate):
 
     name = "float"
 
-    def __init__(self, gap: float = 100.0):
+    def __init__(self, gap: float = 100.0, confirm: str = "suspicious"):
         super().__init__(float(np.finfo(float).eps) / 2, gap)
+        self.confirm = confirm
 
     def number(self, q: flint.fmpq) -> float:
         return float(q)
+
+    def confirmer(self) -> "MPMath":
+        return MPMath(32, confirm="never")
 
     def solve(self, m, b) -> list[float]:
         a = np.array(m, dtype=float)
@@ -492,10 +517,11 @@ class Float64(Approximate):
 class MPMath(Approximate):
     """mpmath at a chosen number of decimal digits (svd_r, lu_solve)."""
 
-    def __init__(self, dps: int = 50, gap: float | None = None):
+    def __init__(self, dps: int = 50, gap: float | None = None, confirm: str = "always"):
         super().__init__(10.0 ** (-dps), gap if gap is not None else 10.0 ** max(2, dps // 8))
         self.dps = dps
         self.name = f"mpmath({dps})"
+        self.confirm = confirm
 
     def profile(self, scene, basis, point) -> RawProfile:
         with mpmath.workdps(self.dps):
@@ -509,6 +535,9 @@ class MPMath(Approximate):
 
     def number(self, q: flint.fmpq) -> mpmath.mpf:
         return mpmath.mpf(int(q.p)) / int(q.q)
+
+    def confirmer(self) -> "MPMath":
+        return MPMath(2 * self.dps, confirm="never")
 
     def solve(self, m, b):
         a = mpmath.matrix(m)
