@@ -73,9 +73,15 @@ def profiles(n: int = 12) -> dict:
             out[cname][ar.name] = {"seconds_per_point": statistics.median(times), "right": right / n,
                                    "wrong": wrong / n, "undecided": undecided / n}
             print(cname, ar.name, out[cname][ar.name], flush=True)
+    plot_profiles(out)
+    return out
+
+
+def plot_profiles(out: dict) -> None:
     fig, ax = plt.subplots(figsize=(8, 5.5))
-    markers = dict(zip([a.name for a in arithmetics], "osD^vx"))
-    colors = dict(zip(classes, ["tab:green", "tab:blue", "tab:orange", "tab:red"]))
+    names = list(next(iter(out.values())))
+    markers = dict(zip(names, "osD^vx"))
+    colors = dict(zip(out, ["tab:green", "tab:blue", "tab:orange", "tab:red"]))
     for cname, row in out.items():
         for aname, r in row.items():
             ax.scatter(r["seconds_per_point"], r["right"] + 0.01 * list(markers).index(aname), marker=markers[aname],
@@ -88,13 +94,12 @@ def profiles(n: int = 12) -> dict:
         ax.scatter([], [], marker="s", color=c, label=cname)
     ax.set_xscale("log")
     ax.set_xlabel("median time per point [s] (Clebsch, one core)")
-    ax.set_ylabel("share of points with the exact profile (rest: 'ambiguous', never wrong unless marked)")
+    ax.set_ylabel("share of points with the exact profile")
     ax.set_ylim(-0.05, 1.1)
     ax.legend(fontsize=7, loc="center right")
-    ax.set_title("algorithm (N): speed against accuracy")
+    ax.set_title("algorithm (N): speed against accuracy\n(points not right are 'ambiguous' unless marked 'wrong')")
     fig.tight_layout()
     fig.savefig(FIGS / "experiments_profiles_speed_accuracy.png", dpi=110)
-    return out
 
 
 def _named(arithmetic, name: str):
@@ -102,7 +107,7 @@ def _named(arithmetic, name: str):
     return arithmetic
 
 
-def pslq(digit_list=(10, 15, 20, 30, 50)) -> dict:
+def pslq(digit_list=(6, 8, 10, 12, 15, 20, 30)) -> dict:
     """PSLQ at several precisions against exact relation finding (time, share of relations right)."""
     cases = {"clebsch Phi0": ("clebsch", PHI0), "clebsch Psi": ("clebsch", PSI),
              "flow2 Phi0": ("clebsch-flow2", FLOW2)}
@@ -229,6 +234,9 @@ def main() -> None:
     RESULTS.parent.mkdir(parents=True, exist_ok=True)
     results = json.loads(RESULTS.read_text()) if RESULTS.exists() else {}
     jobs = {"timing": timing, "profiles": profiles, "pslq": pslq, "orbits": orbits}
+    if sys.argv[1:] == ["replot"]:
+        plot_profiles(results["profiles"])
+        return
     for name in sys.argv[1:] or jobs:
         results[name] = jobs[name]()
         RESULTS.write_text(json.dumps(results, indent=1, default=float))

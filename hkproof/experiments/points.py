@@ -10,6 +10,7 @@ import numpy as np
 from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
+from hkproof.errors import ParseError
 from hkproof.experiments.arithmetics import Float64
 from hkproof.experiments.scene import Scene
 
@@ -22,8 +23,12 @@ def random_rational(rng: random.Random, size: int = 9) -> Fraction:
 def random_values(kmap: KahanMap, rng: random.Random, fixed: Mapping[str, Rational] | None = None,
                   size: int = 9) -> dict[str, Fraction]:
     """eps and the parameters: the given ones, the others random (distinct, non-zero, eps in (0, 1])."""
+    names = (EPS,) + kmap.field.parameters
+    unknown = sorted(set(fixed or {}) - set(names))
+    if unknown:
+        raise ParseError(f"{unknown} are not eps or parameters of {kmap.field.name} ({list(names)})")
     out: dict[str, Fraction] = {}
-    for name in (EPS,) + kmap.field.parameters:
+    for name in names:
         if fixed and name in fixed:
             out[name] = Fraction(str(to_fmpq(fixed[name])))
             continue

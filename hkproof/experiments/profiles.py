@@ -28,8 +28,11 @@ def parse_basis(ring: Ring, text: str | Sequence[str]) -> list[Frac]:
     if isinstance(text, str):
         parts, depth, start = [], 0, 0
         for i, ch in enumerate(text):
-            depth += ch in "([" and 1 or (-1 if ch in ")]" else 0)
-            if ch == "," and depth == 0:
+            if ch in "([":
+                depth += 1
+            elif ch in ")]":
+                depth -= 1
+            elif ch == "," and depth == 0:
                 parts.append(text[start:i])
                 start = i + 1
         parts.append(text[start:])

@@ -15,16 +15,17 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import rank_q
 from hkproof.algebra.ring import Rational
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import SingularPointError
-from hkproof.experiments.arithmetics import MPMath
-from hkproof.experiments.profiles import HK_BASIS, ProfileProblem, fundamental_finite, parse_basis
+from hkproof.experiments.profiles import ProfileProblem, kernel_vector, parse_basis
 from hkproof.experiments.relations import Relation
 from hkproof.experiments.scene import make_scene
 
 
 @dataclass
 class PSLQSearch:
-    """Integer relations confirmed at every point, the ones rejected as inconsistent, and the cost."""
+    """Integer relations confirmed at every point, the ones rejected as inconsistent, and the cost.
+
+    PSLQ runs on kernel coordinates rounded to `digits` digits (computed exactly first), so a failure at
+    low precision is the precision's and not that of an inaccurate kernel."""
 
     names: list[str]
     digits: int
@@ -46,18 +47,15 @@ def _real_point(kmap: KahanMap, rng: random.Random, digits: int) -> list[flint.f
     return [flint.fmpq(rng.getrandbits(bits) - (1 << (bits - 1)), 1 << (bits - 1)) for _ in kmap.variables]
 
 
-def _coordinates(problems: Sequence[ProfileProblem], arithmetic: MPMath, point) -> list | None:
-    """Kernel coordinates (last coordinate -1 dropped) of every basis at one point, or None if undecided."""
+def _coordinates(problems: Sequence[ProfileProblem], point) -> list | None:
+    """Kernel coordinates (last coordinate -1 dropped) of every basis at one point, exactly, then rounded to
+    the working precision: the data PSLQ sees is known to exactly that many digits."""
     out = []
     for problem in problems:
-        try:
-            raw = arithmetic.profile(problem.scene, problem.compiled, point)
-        except SingularPointError:
+        c = kernel_vector(problem, point)
+        if c is None:
             return None
-        verdict, d = fundamental_finite(raw.ranks)
-        if verdict != HK_BASIS or d != 1:
-            return None
-        out += arithmetic.kernel(raw, 1)[0][:-1]
+        out += [mpmath.mpf(int(v.p)) / int(v.q) for v in c[:-1]]
     return out + [mpmath.mpf(1)]
 
 
@@ -72,12 +70,11 @@ def pslq_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], values
     width = sum(len(b) - 1 for b in parsed) + 1
     names = list(names) if names else [f"c{k + 1}" for k in range(width - 1)]
     search = PSLQSearch(names, digits)
-    arithmetic = MPMath(digits)
     rng = random.Random(seed)
     samples = []
     with mpmath.workdps(digits):
         while len(samples) < points and search.undecided_points < 4 * points:
-            c = _coordinates(problems, arithmetic, _real_point(kmap, rng, digits))
+            c = _coordinates(problems, _real_point(kmap, rng, digits))
             if c is None:
                 search.undecided_points += 1
             else:
