@@ -1,0 +1,33 @@
+"""Linear relations among kernel coordinates written as text ('w1*e1 - w2*w3*e4 = 0'), as rows of recipe (E)."""
+from __future__ import annotations
+
+from typing import Sequence
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.linalg import rank_over_fraction_field
+from hkproof.algebra.ring import Ring
+from hkproof.errors import ParseError
+from hkproof.hk.reduced import Relation
+
+
+def parse_relation(ring: Ring, text: str, unknowns: Sequence[str]) -> Relation:
+    """'lhs = rhs', linear in the unknowns with coefficients in Q(ring), as sum coef_k a_k = rhs."""
+    if text.count("=") != 1:
+        raise ParseError(f"a relation needs exactly one '=': {text!r}")
+    lhs, rhs = text.split("=")
+    big = ring.extend(unknowns)
+    expr = Frac.parse(big, f"({lhs}) - ({rhs})")
+    zero = {u: 0 for u in unknowns}
+    coefficients = []
+    for u in unknowns:
+        d = expr.derivative(u)
+        if any(v in d.variables() for v in unknowns):
+            raise ParseError(f"the relation {text!r} is not linear in {list(unknowns)}")
+        coefficients.append(d.specialize(zero, ring))
+    constant = expr.specialize(zero, ring)
+    return Relation(coefficients, -constant)
+
+
+def relation_rank(relations: Sequence[Relation]) -> int:
+    """Rank over the fraction field of the augmented rows (coefficients | rhs)."""
+    return rank_over_fraction_field([list(r.coefficients) + [r.rhs] for r in relations])

@@ -1,0 +1,59 @@
+"""The general flow of the Clebsch system (eq. "gcl") and its reparametrization b_k = s + y w_k - z w_i w_j."""
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import Mapping
+
+import flint
+import sympy
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.ring import Ring
+from hkproof.dynamics.catalogue import CLEBSCH_VARS, get_system, kahan_map
+from hkproof.dynamics.field import QuadraticField
+from hkproof.dynamics.kahan import KahanMap
+
+GENERAL = "clebsch-general"
+# b = s (1,1,1) + y w + z (-w2 w3, -w3 w1, -w1 w2): c_k = y + z w_k by eq. "c thru b"; s drops out (p x p = 0)
+B_OF_YZ = {"b1": "s + y*w1 - z*w2*w3", "b2": "s + y*w2 - z*w3*w1", "b3": "s + y*w3 - z*w1*w2"}
+C_OF_YZ = ("(y + z*w1)", "(y + z*w2)", "(y + z*w3)")
+CYCLIC = ((0, 1, 2), (1, 2, 0), (2, 0, 1))
+
+
+@lru_cache(maxsize=None)
+def yz_map() -> KahanMap:
+    """Kahan map of the general flow in the parameters (w, y, z): the catalogue field with b = B_OF_YZ, s = 0."""
+    general = get_system(GENERAL)
+    subs = {sympy.Symbol(k): sympy.sympify(v.replace("s + ", "")) for k, v in B_OF_YZ.items()}
+    rhs = tuple(str(sympy.factor(sympy.sympify(t).subs(subs))) for t in general.rhs_text)
+    return kahan_map(QuadraticField("clebsch-general-yz", CLEBSCH_VARS, ("w1", "w2", "w3", "y", "z"), rhs,
+                                    "general Clebsch flow with b_k = y w_k - z w_i w_j (c_k = y + z w_k)"))
+
+
+def compose_params(source: Ring, p: flint.fmpz_mpoly, images: Mapping[str, str], target: Ring) -> flint.fmpz_mpoly:
+    """p with parameters replaced by polynomials (given as text in `target`'s names), as an element of `target`."""
+    args = []
+    for n in source.names:
+        if n in images:
+            img = Frac.parse(target, images[n])
+            if not img.is_polynomial() or not img.den.is_one():
+                raise ValueError(f"{n} -> {images[n]} is not a polynomial with integer coefficients")
+            args.append(img.num)
+        else:
+            args.append(target.gen(n))
+    return p.compose(*args, ctx=target.ctx)
+
+
+def map_components_under(kmap: KahanMap, images: Mapping[str, str], target: Ring) -> list[Frac]:
+    """The explicit components N_j / Delta of `kmap` with parameters replaced by polynomials, in lowest terms."""
+    nums, delta = kmap.explicit
+    den = compose_params(kmap.ring, delta, images, target)
+    return [Frac(target, compose_params(kmap.ring, n, images, target), den) for n in nums]
+
+
+def e_names() -> tuple[str, ...]:
+    """Kernel coordinates of Phi0 = (p1^2, p2^2, p3^2, m1^2, m2^2, m3^2, 1), normalized by e7 = -1."""
+    return tuple(f"e{k}" for k in range(1, 7))
+
+
+PHI0 = ("p1**2", "p2**2", "p3**2", "m1**2", "m2**2", "m3**2")
