@@ -17,7 +17,7 @@ from hkproof.hk.linear_relations import parse_relation, relation_rank
 from hkproof.hk.recipe_g import WHAT_IT_PROVES, recipe_g
 from hkproof.hk.reduced import Relation
 from hkproof.proof.certificate import Certificate, ProofStopped
-from hkproof.proof.registry import claim
+from hkproof.proof.registry import claim, require_proven
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import H, named
 from hkproof.theorems._common import parse_matrix
@@ -206,16 +206,30 @@ def prove_second_flow(cert: Certificate, claimed: Mapping[str, str]) -> None:
             g = e[3 + i] / Frac.parse(r, f"w{i + 1}")
             s.require_equal(g, named(f, claimed[f"g{k + 1}"], {**known, "L0": l0}), f"e{i + 4}/w{i + 1}, explicit")
         cert.formula("L", big_l)
+    _continuous_limit(cert, f, claimed, known, big_l)
     with cert.step("L is an integral (substitution)", "L(N/Delta) - L = 0 in Q(x, eps, w)", r) as s:
         s.require(check_integral(f, big_l).verdict == "verified", "L o f != L")
-    with cert.step("L is an integral (recipe (G))", "Delta^k delta = sum lambda_i E_i, checked by expansion",
-                   f.field.tilde_ring) as s:
+        s.note("confirmed independently by recipe (G) in flow-second-recipe-g")
+    _kernel_lower_bound(cert, f, e, "L")
+    _kernel_rank_bound(cert, f, e)
+
+
+@claim("flow-second-recipe-g", GROUP, "Second flow: L is an integral by recipe (G), with a cofactor certificate",
+       "sec. 6, theorem on the second flow; sec. 4, recipe (G)",
+       "delta = L_num(x~) L_den(x) - L_num(x) L_den(x~) satisfies det M^2 delta = sum lambda_i E_i in "
+       "Z[x, x~, eps, w] with explicit cofactors, so L o f = L where det M != 0.",
+       claimed={"L": SECOND["L"]})
+def prove_second_flow_recipe_g(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    f = kahan_map(FLOW2)
+    big_l = named(f, claimed["L"], {k: Frac.parse(f.ring, v) for k, v in E_PAPER.items()})
+    theorem = require_proven(cert, "flow-second-theorem")
+    with cert.step("L is the L of the second-flow theorem", "exact comparison", f.ring) as s:
+        s.require_equal(big_l, Frac.parse(f.ring, theorem.formulas["L"]), "L")
+    with cert.step("L is an integral (recipe (G))", "elimination of x~ with adj M; Delta^k delta = sum lambda_i E_i "
+                   "checked by expansion", f.field.tilde_ring) as s:
         res = recipe_g(f, big_l)
         s.require(res.verdict == "verified", "delta(x, x~) for L is not in the Kahan ideal (times det M^k)")
         s.note(f"det M^{res.power} delta = sum lambda_i E_i with {res.cofactor_terms} cofactor terms; {WHAT_IT_PROVES}")
-    _kernel_lower_bound(cert, f, e, "L")
-    _kernel_rank_bound(cert, f, e)
-    _continuous_limit(cert, f, claimed, known, big_l)
 
 
 def _continuous_limit(cert: Certificate, f: KahanMap, claimed: Mapping[str, str], known: dict[str, Frac],

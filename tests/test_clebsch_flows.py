@@ -1,0 +1,51 @@
+"""The Clebsch flows (end of sec. 6): general map, second-flow theorem, Phi0 for every flow, conjecture evidence."""
+from __future__ import annotations
+
+import pytest
+
+from hkproof.proof.registry import get_claim, proven
+from hkproof.proof.status import Status
+from hkproof.theorems.s6c_clebsch_flows import GENERAL_CLAIM, SECOND, conjecture_evidence
+
+
+def test_second_flow_verified_with_correction():
+    cert = proven("flow-second-theorem")
+    assert cert.status is Status.VERIFIED, cert.render()
+    assert any("w_j w_k E_i (not w_j w_k E_j)" in c for c in cert.corrections)
+
+
+@pytest.mark.parametrize("key,text", [
+    ("L", SECOND["L"].replace("1 + eps**2*w1*", "1 + 2*eps**2*w1*")),          # L with a changed coefficient
+    ("rel4", "e1 - e2 - (w1 - w2)*e6 = 2*eps**2*w3**2*(w1 - w2)"),              # a relation with a wrong coefficient
+    ("rel6", "e2 - e3 - (w2 - w3)*e4 = eps**2*w2**2*(w2 - w3)"),                # sixth relation not a consequence
+    ("b_of_L0", "w_j*w_k*E_k"),                                                 # the corrected index must be E_i
+])
+def test_second_flow_perturbed_refuted(key, text):
+    cert = get_claim("flow-second-theorem").prove({key: text})
+    assert cert.status is not Status.VERIFIED
+
+
+@pytest.mark.parametrize("key,text", [("flow2_b", "[-w2*w3, -w3*w1, -w1*w3]"), ("flow1_c", "[1, 1, 2]")])
+def test_general_map_perturbed_refuted(key, text):
+    assert get_claim("flow-general-map").prove({key: text}).status is not Status.VERIFIED
+
+
+def test_conjecture_is_evidence_only():
+    cert = conjecture_evidence(sets=2, per=3)
+    assert cert.status is Status.EVIDENCE_EXACT, cert.render()
+    assert cert.steps[0].points == 6
+
+
+@pytest.mark.slow
+def test_general_phi0_verified():
+    cert = get_claim("flow-general-phi0").prove()
+    assert cert.status is Status.VERIFIED, cert.render()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("key,text", [
+    ("D", GENERAL_CLAIM["D"].replace("z + eps**2", "z + 2*eps**2")),
+    ("rel4", "e1 - e2 - (w1 - w2)*e6 = eps**2*c3*(w1 - w2)"),
+])
+def test_general_phi0_perturbed_refuted(key, text):
+    assert get_claim("flow-general-phi0").prove({key: text}).status is not Status.VERIFIED
