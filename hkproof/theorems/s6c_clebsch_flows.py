@@ -331,8 +331,11 @@ def prove_general_phi0(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.require(check_integral(f, big_l).verdict == "verified", "L o f != L")
     _kernel_lower_bound(cert, f, e, "L")
     _kernel_rank_bound(cert, f, e)
-    with cert.step("L(x, 0) = A / z is an integral of the continuous flow", "Lie derivative along eq. \"gcl\"", r) as s:
+    with cert.step("L(x, 0) = A / z is an integral of the continuous flow", "Lie derivative along eq. \"gcl\"; "
+                   "A = sum_k E_k c_i c_j I_k (eq. \"Clebsch I\")", r) as s:
         s.require(lie_derivative(f.field, a_poly).is_zero(), "A is not an integral of the continuous general flow")
+        combo = named(f, " + ".join(_cyc("E_i*c_j*c_k*I_i").values()), known)
+        s.require_equal(a_poly, combo, "A = sum_k E_k c_i c_j I_k")
     flow2 = kahan_map(FLOW2)
     with cert.step("(y, z) = (0, 1): the second-flow L", "specialization, exact", flow2.ring) as s:
         s.require_equal(big_l.specialize({"y": 0, "z": 1}, flow2.ring),
