@@ -11,7 +11,7 @@ import numpy as np
 from hkproof.algebra.linalg import rank_q
 from hkproof.dynamics import kahan_map
 from hkproof.experiments import ExactQ, Float64, Modular, MPMath, ProfileProblem, make_scene, parse_basis
-from hkproof.experiments.arithmetics import ModP, UnluckyPrimeError
+from hkproof.experiments.modular import ModP, UnluckyPrimeError
 from hkproof.experiments.points import near_singular_point, random_point
 from hkproof.experiments.profiles import AMBIGUOUS, SINGULAR
 from hkproof.experiments.pslq import agreement, pslq_relations

@@ -1,5 +1,8 @@
 """Experiments that know their accuracy: algorithm (N) in four arithmetics and relation finding (recipe (E))."""
-from hkproof.experiments.arithmetics import ExactQ, Float64, Modular, MPMath, get_arithmetic
+from hkproof.experiments.approximate import Float64, MPMath
+from hkproof.experiments.arithmetics import ExactQ
+from hkproof.experiments.choice import get_arithmetic
+from hkproof.experiments.modular import Modular
 from hkproof.experiments.profiles import KernelProfile, ProfileProblem, fundamental_finite, parse_basis
 from hkproof.experiments.scan import ScanResult, scan
 from hkproof.experiments.scene import Scene, make_scene

@@ -8,7 +8,7 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.experiments.arithmetics import Float64
+from hkproof.experiments.approximate import Float64
 from hkproof.experiments.profiles import HK_BASIS, ProfileProblem
 from hkproof.experiments.scene import make_scene
 

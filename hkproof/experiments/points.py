@@ -11,7 +11,7 @@ from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ParseError
-from hkproof.experiments.arithmetics import Float64
+from hkproof.experiments.approximate import Float64
 from hkproof.experiments.scene import Scene
 
 

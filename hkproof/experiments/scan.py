@@ -13,7 +13,7 @@ from hkproof.algebra.ring import Rational
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.experiments.arithmetics import get_arithmetic
+from hkproof.experiments.choice import get_arithmetic
 from hkproof.experiments.points import random_point, random_values
 from hkproof.experiments.profiles import (AMBIGUOUS, HK_BASIS, IRREGULAR, NO_BASIS, SINGULAR, KernelProfile,
                                           ProfileProblem, parse_basis)
