@@ -94,6 +94,10 @@ class CoordinateSampler:
             c = kernel_vector(problem, point)
             if c is None:
                 return None
+            if c[-1] != -1:
+                raise RelationSearchError(
+                    f"the last coordinate of K_Phi vanishes for ({', '.join(map(str, problem.basis))}): "
+                    "put last a function whose coefficient is not zero (recipe (B) sets it to -1)")
             out += c[:-1]
         return out + [flint.fmpq(1)]
 
@@ -174,28 +178,11 @@ def find_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], *, nam
     search.dimension = width - len(generic_space)
     if search.dimension == 0:
         return search
-    samples: list[tuple[list[flint.fmpq], list[list[flint.fmpq]]]] = []
-    found: list[list[dict[tuple[int, ...], flint.fmpq]]] = []   # per relation: per column {monomial: coef}
-    for degree in range(max_degree + 1):
-        monos = _monomials(free, degree)
-        unknowns = width * len(monos)
-        while sum(len(s) for _, s in samples) < unknowns + 8:
-            samples.append(sample())
-        equations = []
-        for t, space in samples:
-            mvals = [_monomial_value(m, t) for m in monos]
-            for row in space:
-                equations.append([row[k] * mv for k in range(width) for mv in mvals])
-        for vec in nullspace_q(equations):
-            candidate = [{m: vec[k * len(monos) + i] for i, m in enumerate(monos) if vec[k * len(monos) + i] != 0}
-                         for k in range(width)]
-            if _rank_at(found + [candidate], generic_t) > len(found):
-                found.append(candidate)
-        search.degree = degree
-        if len(found) == search.dimension:
-            break
-    else:
+    fit = _Interpolation(sample, free, width, generic_t)
+    found, search.degree = fit.relations(range(width), [], search.dimension, max_degree)
+    if len(found) < search.dimension:
         search.notes.append(f"only {len(found)} of {search.dimension} relations up to degree {max_degree}")
+    found = _sparsest(fit, found, max_degree)
     fresh = [sample() for _ in range(checks)]
     for rel in found:
         checked = sum(1 for t, space in fresh if all(
@@ -206,6 +193,73 @@ def find_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], *, nam
         lifted = _restore(kmap, weights, free, rel, parsed, search)
         search.relations.append(_as_relation(kmap.ring, names, lifted, checked, normalized_name))
     return search
+
+
+Polynomial = dict[tuple[int, ...], flint.fmpq]      # {exponents of the free parameters: coefficient}
+
+
+class _Interpolation:
+    """Polynomial relation vectors in the free parameters that lie in the sampled relation spaces."""
+
+    def __init__(self, sample, free: Sequence[str], width: int, generic_t: Sequence[flint.fmpq]):
+        self.sample = sample
+        self.free = list(free)
+        self.width = width
+        self.generic_t = generic_t
+        self.samples: list[tuple[list[flint.fmpq], list[list[flint.fmpq]]]] = []
+
+    def relations(self, columns: Sequence[int], found: list[list[Polynomial]], target: int,
+                  max_degree: int) -> tuple[list[list[Polynomial]], int]:
+        """Add relations supported on `columns`, of rising degree (fewest terms first), until `target` are
+        independent."""
+        columns = list(columns)
+        found = list(found)
+        for degree in range(max_degree + 1):
+            monos = _monomials(self.free, degree)
+            while sum(len(s) for _, s in self.samples) < len(columns) * len(monos) + 8:
+                self.samples.append(self.sample())
+            equations = []
+            for t, space in self.samples:
+                mvals = [_monomial_value(m, t) for m in monos]
+                for row in space:
+                    equations.append([row[k] * mv for k in columns for mv in mvals])
+            for vec in sorted(nullspace_q(equations), key=lambda v: sum(1 for c in v if c != 0)):
+                candidate: list[Polynomial] = [{} for _ in range(self.width)]
+                for ci, k in enumerate(columns):
+                    candidate[k] = {m: vec[ci * len(monos) + i] for i, m in enumerate(monos)
+                                    if vec[ci * len(monos) + i] != 0}
+                if _rank_at(found + [candidate], self.generic_t) > len(found):
+                    found.append(candidate)
+                if len(found) == target:
+                    return found, degree
+        return found, max_degree
+
+    def value(self, relation: list[Polynomial]) -> list[flint.fmpq]:
+        return [_eval(col, self.generic_t) for col in relation]
+
+
+def _sparsest(fit: _Interpolation, found: list[list[Polynomial]], max_degree: int,
+              max_support: int = 4) -> list[list[Polynomial]]:
+    """The same relation space spanned by the simplest relations: every support of at most `max_support`
+    columns that carries a relation (seen at a generic sample) is fitted alone, and the fits are taken by
+    lowest degree, then fewest columns, while they add to the span; `found` completes the span if needed."""
+    if not found:
+        return found
+    values = [fit.value(r) for r in found]
+    candidates = []
+    for size in range(2, max_support + 1):
+        for support in itertools.combinations(range(fit.width), size):
+            outside = [j for j in range(fit.width) if j not in support]
+            if outside and not nullspace_q([[v[j] for v in values] for j in outside]):
+                continue
+            rel, degree = fit.relations(support, [], 1, max_degree)
+            if rel:
+                candidates.append((degree, size, rel[0]))
+    chosen: list[list[Polynomial]] = []
+    for _, _, rel in sorted(candidates, key=lambda c: c[:2]) + [(0, 0, r) for r in found]:
+        if len(chosen) < len(found) and _rank_at(chosen + [rel], fit.generic_t) > len(chosen):
+            chosen.append(rel)
+    return chosen
 
 
 def _default_names(bases: Sequence[Sequence[Frac]]) -> list[str]:
