@@ -7,6 +7,7 @@ from fractions import Fraction
 import flint
 import mpmath
 import numpy as np
+import pytest
 
 from hkproof.algebra.linalg import rank_q
 from hkproof.dynamics import kahan_map
@@ -125,3 +126,21 @@ def test_a_tiny_true_singular_value_is_not_taken_for_zero():
         unchecked_wrong += unchecked.dims != exact.dims and unchecked.verdict not in (AMBIGUOUS, SINGULAR)
         assert checked.dims == exact.dims or checked.verdict in (AMBIGUOUS, SINGULAR)
     assert unchecked_wrong >= 1
+
+
+@pytest.mark.slow
+def test_float_paths_are_never_wrong_on_hard_points():
+    """Large eps, long orbits and points near Delta = 0: right or 'ambiguous', never a wrong profile."""
+    f = kahan_map("clebsch")
+    rng = random.Random(5)
+    cases = [({"eps": "1", "w1": "1/10", "w2": "1/5", "w3": "3/10"},
+              "p1**2, p2**2, p3**2, m1**2, m2**2, m3**2, m1*p1, m2*p2, m3*p3, 1", False),
+             ({"eps": "1/10", "w1": "1/10", "w2": "1/5", "w3": "3/10"}, "p1**2, p2**2, p3**2, 1", True)]
+    for values, basis, near in cases:
+        problem = _problem("clebsch", values, basis)
+        for _ in range(8):
+            x = near_singular_point(problem.scene, rng, Fraction(1, 10**9)) if near else random_point(f, rng)
+            exact = problem.profile(x, ExactQ(), with_kernel=False).dims
+            for arithmetic in (Float64(), MPMath(30), MPMath(60)):
+                p = problem.profile(x, arithmetic, with_kernel=False)
+                assert p.dims == exact or p.verdict in (AMBIGUOUS, SINGULAR), (arithmetic.name, x)
