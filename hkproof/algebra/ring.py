@@ -93,6 +93,8 @@ class Ring:
             raise ParseError(f"cannot read {text!r} as a formula: {exc}") from None
         if not isinstance(expr, sympy.Expr):
             raise ParseError(f"{text!r} is not an algebraic expression")
+        if expr.has(sympy.zoo, sympy.nan, sympy.oo):
+            raise ParseError(f"{text!r} is undefined (division by zero)")
         self.check_symbols(expr)
         return expr
 

@@ -96,6 +96,14 @@ class KahanMap:
         nums, delta = self.explicit
         return tuple(self.negate_eps(p) for p in nums), self.negate_eps(delta)
 
+    def equations_reversible(self) -> bool:
+        """E(x~, x, -eps) = -E(x, x~, eps) for every equation: the symmetry behind f^-1(x, eps) = f(x, -eps)."""
+        t = self.field.tilde_ring
+        swap = {v: w for v, w in zip(self.variables, self.field.tilde_variables)}
+        swap.update({w: v for v, w in swap.items()})
+        args = [(-g if n == EPS else t.gen(swap[n]) if n in swap else g) for n, g in zip(t.names, t.gens())]
+        return all(e.compose(*args) == -e for e in self.equations)
+
     def pullback(self, h: Frac, power: int = 1) -> Frac:
         """h o f^power, in lowest terms; negative powers use f^-1(x, eps) = f(x, -eps)."""
         if h.ring != self.ring:

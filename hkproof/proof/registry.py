@@ -6,7 +6,7 @@ import pkgutil
 from dataclasses import dataclass, field
 from typing import Callable, Iterable, Mapping
 
-from hkproof.errors import UnknownClaimError
+from hkproof.errors import HKProofError, UnknownClaimError
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 
@@ -37,6 +37,8 @@ class Claim:
             self.prover(cert, {**self.claimed, **(overrides or {})})
         except ProofStopped as exc:
             cert.error = str(exc)
+        except HKProofError as exc:
+            cert.error = f"{type(exc).__name__}: {exc}"
         return cert
 
 

@@ -91,6 +91,8 @@ def prove_et_explicit(cert: Certificate, claimed: Mapping[str, str]) -> None:
 def prove_et_reversibility(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(GROUP)
     r = f.ring
+    with cert.step("E(x~, x, -eps) = -E(x, x~, eps)", "symmetry of the Kahan equations", f.field.tilde_ring) as s:
+        s.require(f.equations_reversible(), "the equations are not symmetric under x <-> x~, eps -> -eps")
     with cert.step("f(., -eps) o f(., eps) = id", "composition by homogenized compose", r) as s:
         nums, delta = f.explicit
         inv_nums, inv_delta = f.inverse_explicit
@@ -223,6 +225,6 @@ def prove_et_full(cert: Certificate, claimed: Mapping[str, str]) -> None:
                 rank = rank_over_fraction_field([vectors[names[a]], vectors[names[b]]])
                 s.require(rank == 2, f"{names[a]} and {names[b]} are not independent")
         s.require(rank_over_fraction_field(list(vectors.values())) == 2, "the four null-spaces span more than 2")
-        s.require(int(claimed["dimension"]) == 2, f"claimed dimension {claimed['dimension']}, found 2")
+        s.require(parse(f, claimed["dimension"]) == 2, f"claimed dimension {claimed['dimension']}, found 2")
         s.note("any two of the four 1-dimensional null-spaces are independent and all four span a 2-dimensional "
                "space; with the upper bound, dim K_Phi = 2 and K_Phi0 lies in K_Phi1 + K_Phi2")
