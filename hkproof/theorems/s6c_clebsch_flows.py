@@ -12,10 +12,11 @@ from hkproof.algebra.linalg import cramer, rank_over_fraction_field
 from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.experiments.scan import scan
+from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.integrals import check_integral, lie_derivative
 from hkproof.hk.linear_relations import parse_relation, relation_rank
 from hkproof.hk.recipe_g import WHAT_IT_PROVES, recipe_g
-from hkproof.hk.reduced import Relation
+from hkproof.hk.reduced import Relation, prove_by_evenness
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.registry import claim, require_proven
 from hkproof.proof.status import Status
@@ -414,3 +415,69 @@ def _profile_evidence(cert: Certificate, sets: int, per: int) -> None:
         s.evidence(Status.EVIDENCE_EXACT, points=total)
         s.note(f"{sets} random parameter sets x {per} points: profiles with d as claimed at "
                + ", ".join(f"{k}: {v}" for k, v in counts.items()) + f" points; direct sum checked at {total} points")
+
+
+# ---------------------------------------------------------------- towards the conjecture: Theta for every flow ---
+THETA_RELATION = ("(w2 - w3)*c1*(eps**2*L - c1)*g1 + (w3 - w1)*c2*(eps**2*L - c2)*g2 "
+                  "+ (w1 - w2)*c3*(eps**2*L - c3)*g3 = 0")
+THETA_W = {"w1": 2, "w2": -3, "w3": 5}
+
+
+def theta_all_flows(w: Mapping[str, int] = THETA_W, relation: str = THETA_RELATION) -> Certificate:
+    """Theta = (p^2, m^2, H4) for every flow (y, z, eps symbolic, w fixed): g_k integrals by Prop. "prop: even".
+
+    Outside the registry: its status is verified(specialized), and the registry's claims must be fully verified.
+    """
+    cert = Certificate("flow-theta", "Theta = (p^2, m^2, H4) is an HK-basis of every flow; a second integral",
+                       "sec. 6, Th. \"dC Theta\" and the conjecture after eq. \"dC2 map\"",
+                       "With w fixed and y, z, eps symbolic: (g1, g2, g3) from (sum g_k I_k) o f^i = H4 o f^i, "
+                       "i = 0, 1, and the relation " + relation + " (L = L_b of flow-general-phi0) are even in "
+                       "eps, hence integrals; with g4..g6 by eq. \"Theta rels\" they span K_Theta (dim 1); L_b, g1, "
+                       "g2 are functionally independent.")
+    try:
+        _theta(cert, w, relation)
+    except ProofStopped as exc:
+        cert.error = str(exc)
+    return cert
+
+
+def _theta(cert: Certificate, w: Mapping[str, int], relation: str) -> None:
+    """The steps of theta_all_flows."""
+    g = yz_map()
+    f = kahan_map(g.field.specialize(w))
+    r = f.ring
+    with cert.step("w fixed", "specialization of the (y, z) family; L_b from flow-general-phi0 (proven with w "
+                   "symbolic, so it specializes)", r, fixed=w) as s:
+        known = {k: named(g, v, {}) for k, v in GENERAL_NAMES.items() if k.startswith("c")}
+        known.update({k: named(g, v, known) for k, v in GENERAL_NAMES.items() if k.startswith("E")})
+        big_l = named(g, GENERAL_CLAIM["A"], known) / named(g, GENERAL_CLAIM["D"], known)
+        s.require(big_l.is_even_in("eps"), "L_b is not even in eps")
+        lhs = relation.split("=")[0]
+        coefficients = [named(g, _substitute_c(lhs), {"L": big_l, **{n: Frac(g.ring, int(n == k)) for n in
+                                                                       ("g1", "g2", "g3")}}).specialize(w, r)
+                        for k in ("g1", "g2", "g3")]
+        s.note("relation coefficients are polynomials in L_b (an even integral) with constant coefficients")
+    rel = Relation(coefficients, Frac(r, 0), source="flow-general-phi0 (L_b is an even integral)")
+    basis = [named(g, i).specialize(w, r) for i in ("I1", "I2", "I3")]
+    sol = prove_by_evenness(cert, f, basis, named(g, "H4").specialize(w, r), ("g1", "g2", "g3"), (0, 1), [rel])
+    with cert.step("K_Theta = [g1 : ... : g6 : -1], dim 1", "g4..g6 by eq. \"Theta rels\"; exact rank of X_[0,6] "
+                   "at a rational point", r, fixed=w) as s:
+        gs = dict(zip(("g1", "g2", "g3"), sol))
+        wv = [Frac(r, w[f"w{k}"]) for k in (1, 2, 3)]
+        full = sol + [(gs["g2"] - gs["g3"]) / (wv[1] - wv[2]), (gs["g3"] - gs["g1"]) / (wv[2] - wv[0]),
+                      (gs["g1"] - gs["g2"]) / (wv[0] - wv[1])]
+        mono = [Frac.parse(r, phi) for phi in PHI0]
+        s.require_equal(sum((a * m for a, m in zip(full, mono)), Frac(r, 0)),
+                        sum((a * b for a, b in zip(sol, basis)), Frac(r, 0)), "sum g_k phi_k = sum g_k I_k")
+        point = {k: v for k, v in RANK_POINT.items() if k in r.names}
+        orbit = f.orbit_exact(point, 6)
+        h4 = named(g, "H4").specialize(w, r)
+        rows = [[m.evaluate({**point, **x}) for m in mono] + [h4.evaluate({**point, **x})] for x in orbit]
+        s.require(flint.fmpq_mat(rows).rank() == 6, "rank X_[0,6] != 6 for Theta at the sample point")
+    with cert.step("L_b, g1, g2 functionally independent", "exact Jacobian rank at a rational point", r,
+                   fixed=w) as s:
+        point = {k: v for k, v in RANK_POINT.items() if k in r.names}
+        funcs = [big_l.specialize(w, r), sol[0], sol[1]]
+        s.require(jacobian_rank_at(funcs, f.variables, point) == 3, "L_b, g1, g2 are dependent at the point")
+        s.note(f"rank of the Jacobian of (L_b, g1, g2, g3): {jacobian_rank_at(funcs + sol[2:], f.variables, point)}; "
+               "full rank at one point proves independence over Q(eps, y, z) (w fixed)")
