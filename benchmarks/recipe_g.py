@@ -121,7 +121,8 @@ def write_markdown(rows: list[dict], path: Path, gb_seconds: float) -> None:
 
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--full", action="store_true", help="also recipe (G) for the general flow with w, y, z symbolic (slow, large)")
+    parser.add_argument("--full", action="store_true",
+                        help="also recipe (G) for the general flow with w, y, z symbolic (slow, large)")
     parser.add_argument("--gb-seconds", type=float, default=60.0)
     parser.add_argument("--out", default=str(Path(__file__).resolve().parents[1] / "docs" / "performance-recipe-g.md"))
     args = parser.parse_args()

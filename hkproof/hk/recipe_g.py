@@ -19,10 +19,10 @@ import flint
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.groebner import MembershipCertificate, groebner_basis, in_ideal
 from hkproof.algebra.linalg import det
-from hkproof.algebra.ring import Ring
 from hkproof.dynamics.kahan import KahanMap
 
-WHAT_IT_PROVES = ("Delta^k * delta = sum_i lambda_i E_i in Z[x, x~, eps, params] (checked by expansion), Delta = det M; "
+WHAT_IT_PROVES = ("Delta^k * delta = sum_i lambda_i E_i in Z[x, x~, eps, params] (checked by expansion), "
+                  "Delta = det M; "
                   "hence on the open set Delta(x) != 0, where x~ = f(x) is the unique solution of the Kahan equations, "
                   "p(f(x)) q(x) = p(x) q(f(x)), i.e. c o f = c wherever q(x) q(f(x)) != 0")
 
@@ -53,7 +53,8 @@ def adjugate_data(kmap: KahanMap) -> tuple[list[list[flint.fmpz_mpoly]], flint.f
     return adj, delta, nums
 
 
-def _split_by_tilde_degree(t: Ring, p: flint.fmpz_mpoly, tilde_idx: list[int]) -> int:
+def _tilde_degree(p: flint.fmpz_mpoly, tilde_idx: list[int]) -> int:
+    """Total degree of p in the x~ variables."""
     return max((sum(mon[i] for i in tilde_idx) for mon in p.monoms()), default=0)
 
 
@@ -67,12 +68,11 @@ def eliminate(kmap: KahanMap, target: flint.fmpz_mpoly) -> tuple[MembershipCerti
     adj, delta, nums = adjugate_data(kmap)
     tilde = list(kmap.field.tilde_variables)
     tidx = [t.index(v) for v in tilde]
-    d = _split_by_tilde_degree(t, target, tidx)
+    d = _tilde_degree(target, tidx)
     # H(x, u, D): target with x~_j -> u_j and each monomial homogenized by D up to degree d; extra names u_j, v_j, D
     s = t.extend([f"_u{j}" for j in range(n)] + [f"_v{j}" for j in range(n)] + ["_D"])
     u = [s.gen(f"_u{j}") for j in range(n)]
     v = [s.gen(f"_v{j}") for j in range(n)]
-    big_d = s.gen("_D")
     data = {}
     width = len(s.names)
     for mon, coef in target.to_dict().items():

@@ -170,7 +170,8 @@ def _kernel_rank_bound(cert: Certificate, kmap: KahanMap, e: Sequence[Frac]) -> 
 def _kernel_lower_bound(cert: Certificate, kmap: KahanMap, e: Sequence[Frac], integral: str) -> None:
     """(e, -1) is in K_Phi0(x): the e_k are integrals and (sum e_k phi_k)(x) = 1, so the same holds along the orbit."""
     r = kmap.ring
-    with cert.step("(e, -1) lies in K_Phi0(x)", f"e_k are functions of the integral {integral}; row i = 0 holds", r) as s:
+    with cert.step("(e, -1) lies in K_Phi0(x)", f"e_k are functions of the integral {integral}; row i = 0 holds",
+                   r) as s:
         total = sum((a * Frac.parse(r, phi) for a, phi in zip(e, PHI0)), Frac(r, 0))
         s.require(total == 1, f"sum e_k phi_k = {total}, not 1")
         s.note(f"e o f = e (functions of {integral}), so (sum e_k phi_k) o f^i = 1 for every i: a non-zero kernel "
@@ -244,7 +245,8 @@ def _continuous_limit(cert: Certificate, f: KahanMap, claimed: Mapping[str, str]
         hs = [Frac.parse(r, H[k]) for k in ("H1", "H2", "H3")]
         coeffs = parse_matrix(f, "[[-2*w1*w2*w3, w1*w2 + w2*w3 + w3*w1, 2*w1*w2*w3*(w1 + w2 + w3)]]")[0]
         combo = sum((a * h for a, h in zip(coeffs, hs)), Frac(r, 0))
-        s.require_equal(l0, combo, "L(x, 0) = -2 w1 w2 w3 H1 + (w1 w2 + w2 w3 + w3 w1) H2 + 2 w1 w2 w3 (w1 + w2 + w3) H3")
+        s.require_equal(l0, combo, "L(x, 0) = -2 w1 w2 w3 H1 + (w1 w2 + w2 w3 + w3 w1) H2 "
+                                   "+ 2 w1 w2 w3 (w1 + w2 + w3) H3")
         s.require(lie_derivative(get_system(FLOW2), l0).is_zero(), "L(x, 0) is not an integral of the second flow")
         cert.formula("L(x,0)", "-2*w1*w2*w3*H1 + (w1*w2 + w2*w3 + w3*w1)*H2 + 2*w1*w2*w3*(w1 + w2 + w3)*H3")
     with cert.step("w_j E_i - w_i E_j = (w_i - w_j) E_k", "exact, all six permutations (i, j, k)", r) as s:
@@ -253,7 +255,8 @@ def _continuous_limit(cert: Certificate, f: KahanMap, claimed: Mapping[str, str]
     with cert.step("eq. \"c thru b\" for the coefficients of L(x, 0)", "exact; printed and corrected b_i", r) as s:
         def holds(b_text: str) -> bool:
             bs = {f"b{i}": named(f, _ijk(b_text, i, j, k), known) for i, j, k in ((1, 2, 3), (2, 3, 1), (3, 1, 2))}
-            cs = {i: named(f, _ijk(claimed["c_of_L0"], i, j, k), known) for i, j, k in ((1, 2, 3), (2, 3, 1), (3, 1, 2))}
+            cs = {i: named(f, _ijk(claimed["c_of_L0"], i, j, k), known)
+                  for i, j, k in ((1, 2, 3), (2, 3, 1), (3, 1, 2))}
             return all(cs[i] == named(f, C_THRU_B[f"c{i}"], bs) for i in (1, 2, 3))
         corrected = claimed["b_of_L0"].replace("E_j", "E_i")     # the one wrong index of the printed b_i
         readings = (claimed["b_of_L0"], claimed["b_of_L0"].replace("E_j", "E_k"))    # (i, j, k) cyclic or not
@@ -371,8 +374,8 @@ def _embedded(kernel: Sequence[Sequence[str]], slots: Sequence[int]) -> list[fli
     return v
 
 
-EVIDENCE_STATEMENT = ("For random b, w, eps and random points, exact kernel profiles (algorithm (N) over Q) give dim K = 4 "
-                      "for the 10-function basis, dim 1 for Phi0 = (p^2, m^2, 1) and Phi_k = (p^2, m^2, m_k p_k), and "
+EVIDENCE_STATEMENT = ("For random b, w, eps and random points, exact kernel profiles (algorithm (N) over Q) give "
+                      "dim K = 4 for the 10-function basis, dim 1 for Phi0 = (p^2, m^2, 1) and Phi_k = (p^2, m^2, m_k p_k), and "
                       "the four null-spaces embedded in Q^10 are independent and span K_Phi. Evidence, not proof.")
 DIMENSIONS = {"Phi": 4, "Phi0": 1, "Phi1": 1, "Phi2": 1, "Phi3": 1}
 
