@@ -151,7 +151,7 @@ class Frac:
         used = set()
         for p in (self.num, self.den):
             for i, d in enumerate(p.degrees()):
-                if d:
+                if d > 0:
                     used.add(self.ring.names[i])
         return used
 

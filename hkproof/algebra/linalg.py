@@ -25,29 +25,53 @@ def det(matrix: PolyMatrix) -> flint.fmpz_mpoly:
 
 
 def _det_laplace(matrix: PolyMatrix) -> flint.fmpz_mpoly:
-    """Expansion along rows, memoizing the minor of the last rows on each column subset."""
+    """Determinant by memoized Laplace expansion (the one maximal minor of a square matrix)."""
     n = len(matrix)
-    zero = matrix[0][0] - matrix[0][0]
-    minors: dict[int, flint.fmpz_mpoly] = {0: zero + 1}
-    # minors[mask] = det of rows n-|mask| .. n-1 restricted to the columns in mask
+    return maximal_minors(matrix).get((1 << n) - 1, matrix[0][0] - matrix[0][0])
+
+
+def maximal_minors(matrix: PolyMatrix) -> dict[int, flint.fmpz_mpoly]:
+    """All non-zero n x n minors of an n x m matrix (m >= n), keyed by the bit mask of their columns.
+
+    Expansion along rows from the bottom, memoizing the minor of the last rows on each column subset, so
+    that the minors share their sub-minors (one pass gives det M and every Cramer numerator of [M | b]).
+    """
+    n, m = len(matrix), len(matrix[0])
+    one = matrix[0][0] - matrix[0][0] + 1
+    minors: dict[int, flint.fmpz_mpoly] = {0: one}
     for size in range(1, n + 1):
         row = matrix[n - size]
         new: dict[int, flint.fmpz_mpoly] = {}
         for mask, sub in minors.items():
-            if sub.is_zero():
-                continue
-            for j in range(n):
+            for j in range(m):
                 bit = 1 << j
                 if mask & bit or row[j].is_zero():
                     continue
-                # sign: number of columns in mask smaller than j
-                sign = -1 if bin(mask & (bit - 1)).count("1") % 2 else 1
                 term = row[j] * sub
+                if bin(mask & (bit - 1)).count("1") % 2:  # sign: columns of mask before j
+                    term = -term
                 key = mask | bit
                 acc = new.get(key)
-                new[key] = (term if sign > 0 else -term) if acc is None else (acc + term if sign > 0 else acc - term)
-        minors = new
-    return minors.get((1 << n) - 1, zero)
+                new[key] = term if acc is None else acc + term
+        minors = {k: v for k, v in new.items() if not v.is_zero()}
+    return minors
+
+
+def cramer_polynomials(a: PolyMatrix, b: Sequence[flint.fmpz_mpoly]) -> tuple[flint.fmpz_mpoly, list[flint.fmpz_mpoly]]:
+    """(det A, [det A_j]) with A_j = A with column j replaced by b: Cramer's rule, fraction-free."""
+    n = len(a)
+    if n > LAPLACE_MAX:
+        return _det_bareiss(a), [_det_bareiss([[(b[i] if k == j else a[i][k]) for k in range(n)] for i in range(n)])
+                                 for j in range(n)]
+    zero = b[0] - b[0]
+    minors = maximal_minors([list(row) + [bi] for row, bi in zip(a, b)])
+    full = (1 << n) - 1
+    nums = []
+    for j in range(n):
+        # columns {0..n-1} without j, then b last: moving b to position j passes n - 1 - j columns
+        minor = minors.get((full & ~(1 << j)) | (1 << n), zero)
+        nums.append(-minor if (n - 1 - j) % 2 else minor)
+    return minors.get(full, zero), nums
 
 
 def _det_bareiss(matrix: PolyMatrix) -> flint.fmpz_mpoly:
@@ -80,26 +104,26 @@ def clear_row_denominators(row: Sequence[Frac]) -> list[flint.fmpz_mpoly]:
     return [f.num * (lcm / f.den) for f in row]
 
 
-def cramer(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac]) -> tuple[list[Frac], flint.fmpz_mpoly]:
+def cramer(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac],
+           columns: Sequence[int] | None = None) -> tuple[list[Frac], flint.fmpz_mpoly]:
     """Solve A c = b for square A over Q(v) by Cramer's rule, gcds cancelled once at the end.
 
-    Returns the solution (in lowest terms) and det of the fraction-free matrix; raises SingularSystemError
-    when that determinant vanishes identically.
+    Returns the solution (in lowest terms; only the components in `columns` if given) and det of the
+    fraction-free matrix; raises SingularSystemError when that determinant vanishes identically.
     """
     n = len(rows)
     ring: Ring = rhs[0].ring
     polys = [clear_row_denominators(list(r) + [b]) for r, b in zip(rows, rhs)]
     a = [p[:n] for p in polys]
     b = [p[n] for p in polys]
-    d = det(a)
+    d, nums = cramer_polynomials(a, b)
     if d.is_zero():
         raise SingularSystemError(
             "the determinant of the linear system vanishes identically: its solution is not unique "
             "(check that the basis functions are independent and the rows are not redundant)")
     solution = []
-    for j in range(n):
-        aj = [[(b[i] if k == j else a[i][k]) for k in range(n)] for i in range(n)]
-        solution.append(Frac(ring, det(aj), d))
+    for j in (range(n) if columns is None else columns):
+        solution.append(Frac(ring, nums[j], d))
     return solution, d
 
 

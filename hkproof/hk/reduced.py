@@ -2,10 +2,13 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Mapping, Sequence
+
+import flint
 
 from hkproof.algebra.fraction import Frac, Parity
 from hkproof.algebra.linalg import cramer
+from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
@@ -51,18 +54,89 @@ def check_solution(kmap: KahanMap, basis: Sequence[Frac], target: Frac, iterates
     """Substitute the solution back into every equation of the system (exactly)."""
     for i in iterates:
         r, b = hk_row(kmap, basis, target, i)
-        lhs = r[0] * solution[0]
-        for phi, a in zip(r[1:], solution[1:]):
-            lhs = lhs + phi * a
-        if lhs != b:
+        if not linear_combination_equals(r, solution, b):
             return False
-    for rel in relations:
-        lhs = rel.coefficients[0] * solution[0]
-        for c, a in zip(rel.coefficients[1:], solution[1:]):
-            lhs = lhs + c * a
-        if lhs != rel.rhs:
-            return False
-    return True
+    return all(linear_combination_equals(rel.coefficients, solution, rel.rhs) for rel in relations)
+
+
+def linear_combination_equals(coefficients: Sequence[Frac], values: Sequence[Frac], rhs: Frac) -> bool:
+    """sum c_k v_k == rhs exactly: one common denominator lcm(c dens) lcm(v dens), no gcd of big numerators."""
+    lc, lv = _lcm([c.den for c in coefficients]), _lcm([v.den for v in values])
+    common = lc * lv
+    g = rhs.den.gcd(common)
+    extra = rhs.den / g
+    total = -rhs.num * (common / g)
+    for c, v in zip(coefficients, values):
+        total += c.num * v.num * (lc / c.den) * (lv / v.den) * extra
+    return total.is_zero()
+
+
+def _lcm(polys: Sequence[flint.fmpz_mpoly]) -> flint.fmpz_mpoly:
+    out = polys[0]
+    for p in polys[1:]:
+        out = out * (p / out.gcd(p))
+    return out
+
+
+def _prop_even_checks(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], target: Frac, names: Sequence[str],
+                      iterates: Sequence[int], relations: Sequence[Relation], solution: Sequence[Frac]) -> None:
+    """Checks (2)-(4) of Prop. "prop: even": hypotheses on the rows, evenness, substitution back."""
+    ring = kmap.ring
+    with cert.step("hypotheses of Prop. \"prop: even\"", "structure of the system", ring) as s:
+        s.require(_non_symmetric_range(iterates),
+                  f"iterates {list(iterates)} are not a non-symmetric consecutive range containing 0")
+        for k, rel in enumerate(relations):
+            for c in rel.coefficients:
+                s.require(c.is_even_in(EPS), f"relation {k + 1} has a coefficient {c} that is not even in eps")
+            s.require(rel.rhs.is_even_in(EPS), f"relation {k + 1} has a right-hand side that is not even in eps")
+            if rel.source == "constant":
+                s.require(not ({*rel.rhs.variables()} & set(kmap.variables)),
+                          f"relation {k + 1}: right-hand side {rel.rhs} depends on phase variables "
+                          "but no proof that it is an integral is cited")
+            else:
+                s.note(f"relation {k + 1}: right-hand side is an integral by {rel.source}")
+        s.note(f"rows from iterates {list(iterates)}: non-symmetric, contain 0")
+    with cert.step("solution is even in eps", "exact parity of each component in lowest terms", ring) as s:
+        for n, a in zip(names, solution):
+            par = a.parity(EPS)
+            s.require(par is Parity.EVEN, f"{n} is {par.value} in eps, not even: {a}")
+        s.note(f"{', '.join(names)} even in eps")
+    with cert.step("solution satisfies the system", "substitution back into every equation", ring) as s:
+        s.require(check_solution(kmap, basis, target, iterates, relations, solution),
+                  "the computed solution does not satisfy the system")
+
+
+def verify_by_evenness(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], target: Frac,
+                       names: Sequence[str], candidate: Sequence[Frac], point: Mapping[str, Rational],
+                       iterates: Sequence[int] = (0, 1), relations: Sequence[Relation] = ()) -> list[Frac]:
+    """Prop. "prop: even" for a candidate solution found by any means (e.g. one Cramer component and symmetry).
+
+    Uniqueness is proven by a non-zero value of the system's determinant at one rational point (so the
+    determinant is not identically 0); then the same checks as `prove_by_evenness`, including substitution,
+    make the candidate the unique solution and its components integrals.
+    """
+    ring = kmap.ring
+    with cert.step("reduced system: unique solution (det not identically 0)",
+                   f"exact det of the system at a rational point; rows i in {list(iterates)} + "
+                   f"{len(relations)} relation(s)", ring) as s:
+        orbit = _orbit_points(kmap, point, iterates)
+        rows = [[phi.evaluate(orbit[i]) for phi in basis] for i in iterates]
+        rows += [[c.evaluate(point) for c in rel.coefficients] for rel in relations]
+        value = flint.fmpq_mat(rows).det()
+        s.require(value != 0, f"the determinant vanishes at {dict(point)}: choose another point")
+        s.note(f"det = {value} != 0 at the point, so the system has at most one solution")
+        for n, a in zip(names, candidate):
+            cert.formula(n, a)
+    _prop_even_checks(cert, kmap, basis, target, names, iterates, relations, list(candidate))
+    return list(candidate)
+
+
+def _orbit_points(kmap: KahanMap, point: Mapping[str, Rational], iterates: Sequence[int]) -> dict[int, dict]:
+    """The exact points f^i(x), i in iterates, with the parameters of `point` (f^-1(x, eps) = f(x, -eps))."""
+    fixed = {k: v for k, v in point.items() if k not in kmap.variables}
+    forward = kmap.orbit_exact(point, max(max(iterates), 0))
+    backward = kmap.orbit_exact({**point, EPS: -to_fmpq(point[EPS])}, max(-min(iterates), 0))
+    return {i: {**fixed, **(forward[i] if i >= 0 else backward[-i])} for i in iterates}
 
 
 def _non_symmetric_range(iterates: Sequence[int]) -> bool:
@@ -89,26 +163,5 @@ def prove_by_evenness(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], 
         s.note("det of the system is not identically zero")
         for n, a in zip(names, solution):
             cert.formula(n, a)
-    with cert.step("hypotheses of Prop. \"prop: even\"", "structure of the system", ring) as s:
-        s.require(_non_symmetric_range(iterates),
-                  f"iterates {list(iterates)} are not a non-symmetric consecutive range containing 0")
-        for k, rel in enumerate(relations):
-            for c in rel.coefficients:
-                s.require(c.is_even_in(EPS), f"relation {k + 1} has a coefficient {c} that is not even in eps")
-            s.require(rel.rhs.is_even_in(EPS), f"relation {k + 1} has a right-hand side that is not even in eps")
-            if rel.source == "constant":
-                s.require(not ({*rel.rhs.variables()} & set(kmap.variables)),
-                          f"relation {k + 1}: right-hand side {rel.rhs} depends on phase variables "
-                          "but no proof that it is an integral is cited")
-            else:
-                s.note(f"relation {k + 1}: right-hand side is an integral by {rel.source}")
-        s.note(f"rows from iterates {list(iterates)}: non-symmetric, contain 0")
-    with cert.step("solution is even in eps", "exact parity of each component in lowest terms", ring) as s:
-        for n, a in zip(names, solution):
-            par = a.parity(EPS)
-            s.require(par is Parity.EVEN, f"{n} is {par.value} in eps, not even: {a}")
-        s.note(f"{', '.join(names)} even in eps")
-    with cert.step("solution satisfies the system", "substitution back into every equation", ring) as s:
-        s.require(check_solution(kmap, basis, target, iterates, relations, solution),
-                  "the computed solution does not satisfy the system")
+    _prop_even_checks(cert, kmap, basis, target, names, iterates, relations, solution)
     return solution
