@@ -1,0 +1,56 @@
+"""Exact Taylor expansions of rational functions in one variable (the step size eps), and weighted degrees."""
+from __future__ import annotations
+
+from typing import Sequence
+
+import flint
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.ring import Ring
+
+
+def coefficients_in(ring: Ring, p: flint.fmpz_mpoly, name: str) -> list[flint.fmpz_mpoly]:
+    """[p_0, p_1, ...] with p = sum_k p_k name^k, each p_k free of `name` (same ring)."""
+    i = ring.index(name)
+    parts: dict[int, dict] = {}
+    for m, c in p.to_dict().items():
+        k = m[i]
+        parts.setdefault(k, {})[m[:i] + (0,) + m[i + 1:]] = c
+    top = max(parts, default=-1)
+    return [ring.ctx.from_dict(parts.get(k, {})) for k in range(top + 1)]
+
+
+def taylor(h: Frac, name: str, order: int) -> list[Frac]:
+    """[c_0, ..., c_order] with h = sum c_k name^k + O(name^(order+1)); c_k exact, free of `name`.
+
+    The denominator of h must not vanish at name = 0 (power series division by its constant term).
+    """
+    ring = h.ring
+    a = coefficients_in(ring, h.num, name)
+    b = coefficients_in(ring, h.den, name)
+    if not b or b[0].is_zero():
+        raise ZeroDivisionError(f"the denominator of h vanishes at {name} = 0: no Taylor expansion there")
+    b0 = Frac(ring, b[0])
+    out: list[Frac] = []
+    for k in range(order + 1):
+        acc = Frac(ring, a[k]) if k < len(a) else Frac(ring, 0)
+        for j in range(1, min(k, len(b) - 1) + 1):
+            if not b[j].is_zero():
+                acc = acc - Frac(ring, b[j]) * out[k - j]
+        out.append(acc / b0)
+    return out
+
+
+def weighted_degrees(ring: Ring, p: flint.fmpz_mpoly, weights: dict[str, int]) -> set[int]:
+    """The set of weighted degrees sum_v weights[v] * deg_v of the terms of p (one value: weighted homogeneous)."""
+    idx = [(ring.index(n), w) for n, w in weights.items()]
+    return {sum(m[i] * w for i, w in idx) for m in p.monoms()}
+
+
+def support_stats(ring: Ring, p: flint.fmpz_mpoly, names: Sequence[str]) -> dict[str, object]:
+    """Size of p as a polynomial in `names` (coefficients in the other variables): degrees, monomials, terms."""
+    idx = [ring.index(n) for n in names]
+    monomials = {tuple(m[i] for i in idx) for m in p.monoms()}
+    return {"degree": max((sum(m) for m in monomials), default=0),
+            "degrees": {n: max((m[k] for m in monomials), default=0) for k, n in enumerate(names)},
+            "monomials": len(monomials), "terms": len(p)}

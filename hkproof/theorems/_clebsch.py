@@ -1,0 +1,129 @@
+"""Shared data of section 6: the Clebsch integrals (eqs. "Clebsch H1" ... "Clebsch I") and the cyclic symmetry."""
+from __future__ import annotations
+
+import re
+from functools import lru_cache
+
+import flint
+import sympy
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.ring import Ring
+from hkproof.dynamics.catalogue import CLEBSCH_VARS
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.errors import ParseError, UnknownSymbolError
+from hkproof.proof.certificate import Certificate
+
+SYSTEM = "clebsch"
+X = CLEBSCH_VARS
+H = {
+    "H1": "m1**2 + m2**2 + m3**2 + w1*p1**2 + w2*p2**2 + w3*p3**2",
+    "H2": "w1*m1**2 + w2*m2**2 + w3*m3**2 - w2*w3*p1**2 - w3*w1*p2**2 - w1*w2*p3**2",
+    "H3": "p1**2 + p2**2 + p3**2",
+    "H4": "m1*p1 + m2*p2 + m3*p3",
+}
+I = {
+    "I1": "p1**2 + m2**2/(w1 - w3) + m3**2/(w1 - w2)",
+    "I2": "p2**2 + m1**2/(w2 - w3) + m3**2/(w2 - w1)",
+    "I3": "p3**2 + m1**2/(w3 - w2) + m2**2/(w3 - w1)",
+}
+PHI_MAX = ("p1**2", "p2**2", "p3**2", "m1**2", "m2**2", "m3**2", "m1*p1", "m2*p2", "m3*p3", "1")
+
+_CYCLE = {"m1": "m2", "m2": "m3", "m3": "m1", "p1": "p2", "p2": "p3", "p3": "p1", "w1": "w2", "w2": "w3",
+          "w3": "w1", "d7": "d8", "d8": "d9", "d9": "d7", "g1": "g2", "g2": "g3", "g3": "g1"}
+
+
+def cycled(text: str, times: int = 1) -> str:
+    """The formula with every index shifted cyclically 1 -> 2 -> 3 -> 1, `times` times."""
+    for _ in range(times % 3):
+        text = re.sub(r"\b(m[123]|p[123]|w[123]|d[789]|g[123])\b", lambda m: _CYCLE[m.group(1)], text)
+    return text
+
+
+def shift(ring: Ring, p: flint.fmpz_mpoly) -> flint.fmpz_mpoly:
+    """p with every index shifted cyclically (the renaming of `cycled`, done by one compose)."""
+    args = [ring.gen(_CYCLE[n]) if n in _CYCLE else g for n, g in zip(ring.names, ring.gens())]
+    return p.compose(*args)
+
+
+_FOUND: dict[str, Frac] = {}
+
+
+def record(cert: Certificate, name: str, value: Frac) -> None:
+    """cert.formula(name, value), keeping the exact value so that later proofs need not re-parse its string."""
+    cert.formula(name, value)
+    _FOUND[cert.formulas[name]] = value
+
+
+def recall(cert: Certificate, name: str, ring: Ring) -> Frac:
+    """A formula of an earlier certificate as an exact element of `ring` (parsed only if not kept)."""
+    text = cert.formulas[name]
+    return _FOUND[text] if text in _FOUND and _FOUND[text].ring == ring else Frac.parse(ring, text)
+
+
+def shift_frac(h: Frac) -> Frac:
+    """The rational function with every index shifted cyclically."""
+    return Frac(h.ring, shift(h.ring, h.num), shift(h.ring, h.den))
+
+
+def number(text: str) -> sympy.Rational:
+    """A claimed count or degree, read exactly (so that '(6) + 1/7' is a different number, not an error)."""
+    try:
+        value = sympy.sympify(text)
+    except (sympy.SympifyError, SyntaxError, TypeError) as exc:
+        raise ParseError(f"cannot read {text!r} as a number: {exc}") from None
+    if not value.is_Rational:
+        raise ParseError(f"{text!r} is not a rational number")
+    return value
+
+
+def substitute(text: str, values: dict[str, str]) -> str:
+    """Replace whole-word names in a formula by parenthesized formulas (H1 -> (m1**2 + ...))."""
+    pattern = r"\b(" + "|".join(re.escape(k) for k in sorted(values, key=len, reverse=True)) + r")\b"
+    return re.sub(pattern, lambda m: f"({values[m.group(1)]})", text)
+
+
+def named(kmap: KahanMap, text: str, values: dict[str, str | Frac] | None = None) -> Frac:
+    """A formula in the map's ring, with H1..H4, I1..I3 (and `values`) as known functions.
+
+    The formula is read by sympy but evaluated with exact Frac arithmetic (no sympy expansion of big terms).
+    """
+    ring = kmap.ring
+    known = {**_integrals(ring), **{k: (v if isinstance(v, Frac) else Frac.parse(ring, v))
+                                    for k, v in (values or {}).items()}}
+    names = {n: sympy.Symbol(n) for n in (*ring.names, *known)}
+    try:
+        expr = sympy.sympify(text, locals=names)
+    except (sympy.SympifyError, SyntaxError, TypeError) as exc:
+        raise ParseError(f"cannot read {text!r} as a formula: {exc}") from None
+    return _evaluate(ring, expr, known)
+
+
+@lru_cache(maxsize=None)
+def _integrals(ring: Ring) -> dict[str, Frac]:
+    """H1..H4 and I1..I3 as elements of Q(ring), parsed once."""
+    return {k: Frac.parse(ring, v) for k, v in {**H, **I}.items()}
+
+
+def _evaluate(ring: Ring, expr: sympy.Expr, known: dict[str, Frac]) -> Frac:
+    """A sympy expression tree evaluated in Q(ring) with symbols bound to `known` or to ring variables."""
+    if expr.is_Symbol:
+        name = str(expr)
+        if name in known:
+            return known[name]
+        if name not in ring.names:
+            raise UnknownSymbolError(f"unknown symbol '{name}' (variables {list(ring.names)}, known {sorted(known)})")
+        return Frac(ring, ring.gen(name))
+    if expr.is_Rational:
+        return Frac(ring, int(expr.p), int(expr.q))
+    args = [_evaluate(ring, a, known) for a in expr.args] if not expr.is_Pow else None
+    if expr.is_Add:
+        return sum(args[1:], args[0])
+    if expr.is_Mul:
+        out = args[0]
+        for a in args[1:]:
+            out = out * a
+        return out
+    if expr.is_Pow and expr.exp.is_Integer:
+        return _evaluate(ring, expr.base, known) ** int(expr.exp)
+    raise ParseError(f"{expr} is not a rational expression")
