@@ -1,4 +1,4 @@
-"""Section 6, part I: the discrete Clebsch map, Table "f2", Th. "dC basis 1", "dC basis 2", "dC Theta" and the kernels."""
+"""Section 6, part I: the discrete Clebsch map, Table "f2", Th. "dC basis 1", "dC basis 2", "dC Theta", kernels."""
 from __future__ import annotations
 
 import pytest
@@ -15,10 +15,11 @@ from hkproof.theorems.s6a_clebsch_kernels import POINTS, _kernel_evidence, kerne
 from tests.conftest import THEOREM_RESULTS
 
 FAST = ["dc-continuous-integrals", "dc-map-equations", "dc-explicit-map", "dc-map-symmetries", "dc-reversibility",
-        "dc-complexity", "dc-basis1-relations", "dc-basis1-even", "dc-basis2", "dc-basis2-independence", "dc-theta"]
+        "dc-complexity", "dc-basis1-relations", "dc-basis1-even", "dc-basis2", "dc-basis2-independence"]
+SLOW = ["dc-theta", "dc-max-basis-bounds", "dc-f2-plain", "dc-f2-reduced"]
 
 
-@pytest.mark.parametrize("claim_id", FAST)
+@pytest.mark.parametrize("claim_id", FAST + [pytest.param(c, marks=pytest.mark.slow) for c in SLOW])
 def test_verified(claim_id):
     cert = proven(claim_id)
     THEOREM_RESULTS.append((claim_id, cert.status.label, cert.seconds))
@@ -82,9 +83,8 @@ def test_taylor_of_a_quotient():
         taylor(Frac(f.ring, 1) / named(f, "eps*m1"), "eps", 1)
 
 
-def test_max_basis_bounds_verified():
-    cert = proven("dc-max-basis-bounds")
-    assert cert.status is Status.VERIFIED, cert.render()
+@pytest.mark.slow
+def test_max_basis_bounds_refuted_when_perturbed():
     assert get_claim("dc-max-basis-bounds").prove({"upper": "3"}).status is Status.REFUTED
 
 
@@ -101,20 +101,13 @@ def test_kernel_profile_perturbed_refuted():
     assert cert.status is Status.REFUTED
 
 
+@pytest.mark.slow
 def test_theta_dependence_is_evidence_only():
     cert = theta_dependence_evidence()
     assert cert.status is Status.EVIDENCE_EXACT, cert.render()
     bad = Certificate("x", "x", "x", "x")
     with pytest.raises(ProofStopped):
         _theta_dependence(bad, rank=4)
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("claim_id", ["dc-f2-plain", "dc-f2-reduced"])
-def test_f2_verified_with_corrections(claim_id):
-    cert = proven(claim_id)
-    THEOREM_RESULTS.append((claim_id, cert.status.label, cert.seconds))
-    assert cert.status is Status.VERIFIED, cert.render()
 
 
 @pytest.mark.slow

@@ -17,7 +17,7 @@ from hkproof.hk.expansion import coefficients_in, taylor
 from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals, prove_by_evenness, verify_by_evenness
 from hkproof.proof.certificate import Certificate, ProofStopped
-from hkproof.proof.registry import claim, proven, require_proven
+from hkproof.proof.registry import claim, require_proven
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import SYSTEM, X, cycled, named, recall, record, shift_frac
 
@@ -32,13 +32,9 @@ def _functions(f, texts) -> list[Frac]:
     return [named(f, t) for t in texts]
 
 
-def _formulas(cert_id: str, f) -> dict[str, Frac]:
-    """The formulas of an earlier (verified) certificate, read back in the map's ring."""
-    return {k: Frac.parse(f.ring, v) for k, v in proven(cert_id).formulas.items()}
-
-
 # ---- Th. "dC basis 1" ------------------------------------------------------------------------------------------
-@claim("dc-basis1-relations", GROUP, "Th. \"dC basis 1\" by recipe (E): K_Phi0 = [c1 : c2 : c3 : -1] and the integral J",
+@claim("dc-basis1-relations", GROUP,
+       "Th. \"dC basis 1\" by recipe (E): K_Phi0 = [c1 : c2 : c3 : -1] and the integral J",
        "sec. 6.4, Th. \"dC basis 1\", eqs. \"dC ans1 res\", \"dC C1\" (first route of the proof)",
        "With the two relations c1 - c2 = eps^2 (w1 - w2), c2 - c3 = eps^2 (w2 - w3), the system "
        "sum c_k p_k^2 = 1 gives the printed c_k = 1/J + eps^2 w_k; J is an integral because the cross-multiplied "
@@ -171,7 +167,8 @@ def prove_basis2(cert: Certificate, claimed: Mapping[str, str]) -> None:
         common = det(matrix + [[c.num for c in rel.coefficients]]) / d[0].den
         factors = [(Frac(r, q), e) for q, e in common.factor()[1]]
         s.note("det = (denominator of d_k) x " + " x ".join(
-            f"[eps-degree {len(coefficients_in(r, q.num, EPS)) - 1}, {q.parity(EPS).value}]" + (f"^{e}" if e > 1 else "")
+            f"[eps-degree {len(coefficients_in(r, q.num, EPS)) - 1}, {q.parity(EPS).value}]"
+            + (f"^{e}" if e > 1 else "")
             for q, e in factors) + " (up to a constant): the non-even factors cancel ('miraculous cancellation')")
     with cert.step("the printed relation row of eq. \"dC ansatz_2_final\"", "exact evaluation at the solution", r) as s:
         printed = _relation(f, PRINTED_ROW, names)
@@ -186,7 +183,7 @@ def prove_basis2(cert: Certificate, claimed: Mapping[str, str]) -> None:
         delta = Frac(r, d[0].den)
         lead = Frac(r, coefficients_in(r, delta.num, EPS)[0])
         scale = lead / h4
-        s.require(not scale.variables() & set(X), f"the eps^0 part of the denominator is not a multiple of H4")
+        s.require(not scale.variables() & set(X), "the eps^0 part of the denominator is not a multiple of H4")
         delta = delta / scale
         pieces = {}
         for k, dk in zip(names, d):
@@ -279,7 +276,8 @@ G4_PRINTED = "2*H4**2 - H3*H1 + w_k*H3**2"
        claimed={"additional": "(w2 - w3)*g1 + (w3 - w1)*g2 + (w1 - w2)*g3 = (w2 - w3)*(w3 - w1)*(d8 - d7)/2",
                 "rhs_forms": "(w3 - w1)*(w1 - w2)*(d9 - d8)/2 = (w1 - w2)*(w2 - w3)*(d7 - d9)/2",
                 "g_4": G4_PRINTED,
-                "g4": "(g2 - g3)/(w2 - w3)", "g5": "(g3 - g1)/(w3 - w1)", "g6": "(g1 - g2)/(w1 - w2)"})
+                "g4": "(g2 - g3)/(w2 - w3)", "g5": "(g3 - g1)/(w3 - w1)", "g6": "(g1 - g2)/(w1 - w2)"},
+       slow=True)
 def prove_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring

@@ -3,9 +3,7 @@ from __future__ import annotations
 
 from typing import Mapping
 
-import flint
-
-from hkproof.algebra.fraction import Frac
+from hkproof.algebra.fraction import Frac, homogenized_compose
 from hkproof.algebra.linalg import det
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
@@ -14,7 +12,6 @@ from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.integrals import lie_derivative
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.registry import claim
-from hkproof.algebra.fraction import homogenized_compose
 from hkproof.theorems._clebsch import H, SYSTEM, X, cycled, named, number, shift
 from hkproof.theorems._common import parse, parse_matrix
 
@@ -57,7 +54,8 @@ def prove_continuous(cert: Certificate, claimed: Mapping[str, str]) -> None:
     hs = {k: named(f, claimed[k]) for k in H}
     with cert.step("H1, H2, H3, H4 are quadratic integrals", "Lie derivative along the flow is 0; degrees", r) as s:
         for k, h in hs.items():
-            s.require(h.is_polynomial() and weighted_degrees(r, h.num, {v: 1 for v in X}) == {2}, f"{k} = {h} is not a quadratic form")
+            quadratic = h.is_polynomial() and weighted_degrees(r, h.num, {v: 1 for v in X}) == {2}
+            s.require(quadratic, f"{k} = {h} is not a quadratic form")
             s.require(lie_derivative(field, h).is_zero(), f"{k} = {h} is not an integral of the Clebsch flow")
     with cert.step("H1..H4 functionally independent", "exact Jacobian rank 4 at a rational point", r) as s:
         rank = jacobian_rank_at(list(hs.values()), X, sample_point(r.names))
