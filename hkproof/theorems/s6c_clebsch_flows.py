@@ -431,56 +431,78 @@ def theta_all_flows(w: Mapping[str, int] = THETA_W, relation: str = THETA_RELATI
 
     Outside the registry: its status is verified(specialized), and the registry's claims must be fully verified.
     """
-    cert = Certificate("flow-theta", "Theta = (p^2, m^2, H4) is an HK-basis of every flow; a second integral",
+    cert = Certificate("flow-theta", "Theta = (p^2, m^2, H4) is an HK-basis of every flow; three integrals",
                        "sec. 6, Th. \"dC Theta\" and the conjecture after eq. \"dC2 map\"",
                        "With w fixed and y, z, eps symbolic: (g1, g2, g3) from (sum g_k I_k) o f^i = H4 o f^i, "
                        "i = 0, 1, and the relation " + relation + " (L = L_b of flow-general-phi0) are even in "
                        "eps, hence integrals; with g4..g6 by eq. \"Theta rels\" they span K_Theta (dim 1); L_b, g1, "
                        "g2 are functionally independent.")
+    g = yz_map()
     try:
-        _theta(cert, w, relation)
+        _theta(cert, g, C_OF_YZ, _general_l(g), relation, w)
     except ProofStopped as exc:
         cert.error = str(exc)
     return cert
 
 
-def _theta(cert: Certificate, w: Mapping[str, int], relation: str) -> None:
-    """The steps of theta_all_flows."""
-    g = yz_map()
-    f = kahan_map(g.field.specialize(w))
+@claim("flow-second-theta", GROUP, "Second flow: Theta = (p^2, m^2, H4) is an HK-basis; L, g1, g2 independent",
+       "sec. 6, Th. \"dC Theta\" for the second flow; eqs. \"Theta rels\", \"clebsch_ansatz_3a\"",
+       "For the second flow (w, eps symbolic): (g1, g2, g3) from (sum g_k I_k) o f^i = H4 o f^i, i = 0, 1, and the "
+       "relation with coefficients in the integral L are even in eps, hence integrals (Prop. \"prop: even\"); "
+       "[g1 : ... : g6 : -1] with eq. \"Theta rels\" spans K_Theta (dim 1); L, g1, g2 are functionally independent.",
+       claimed={"relation": THETA_RELATION}, slow=True)
+def prove_second_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    f = kahan_map(FLOW2)
+    big_l = named(f, SECOND["L"], {k: Frac.parse(f.ring, v) for k, v in E_PAPER.items()})
+    _theta(cert, f, ("w1", "w2", "w3"), big_l, claimed["relation"], {})
+
+
+def _general_l(g: KahanMap) -> Frac:
+    """L_b = A/D of flow-general-phi0 in the (w, y, z) family."""
+    known = {k: named(g, v, {}) for k, v in GENERAL_NAMES.items() if k.startswith("c")}
+    known.update({k: named(g, v, known) for k, v in GENERAL_NAMES.items() if k.startswith("E")})
+    return named(g, GENERAL_CLAIM["A"], known) / named(g, GENERAL_CLAIM["D"], known)
+
+
+def _theta(cert: Certificate, source: KahanMap, c_of: Sequence[str], big_l: Frac, relation: str,
+           fixed: Mapping[str, int]) -> None:
+    """Th. "dC Theta" for a flow: rows i = 0, 1 of eq. "clebsch_ansatz_3a" plus a relation in L, Prop. "prop: even"."""
+    f = kahan_map(source.field.specialize(fixed)) if fixed else source
     r = f.ring
-    with cert.step("w fixed", "specialization of the (y, z) family; L_b from flow-general-phi0 (proven with w "
-                   "symbolic, so it specializes)", r, fixed=w) as s:
-        known = {k: named(g, v, {}) for k, v in GENERAL_NAMES.items() if k.startswith("c")}
-        known.update({k: named(g, v, known) for k, v in GENERAL_NAMES.items() if k.startswith("E")})
-        big_l = named(g, GENERAL_CLAIM["A"], known) / named(g, GENERAL_CLAIM["D"], known)
-        s.require(big_l.is_even_in("eps"), "L_b is not even in eps")
-        lhs = relation.split("=")[0]
-        coefficients = [named(g, _substitute_c(lhs), {"L": big_l, **{n: Frac(g.ring, int(n == k)) for n in
-                                                                       ("g1", "g2", "g3")}}).specialize(w, r)
+    with cert.step("the relation in L", "coefficients polynomials in L (an even integral); parameters "
+                   + ("fixed" if fixed else "symbolic"), r, fixed=fixed or None) as s:
+        s.require(big_l.is_even_in("eps"), "L is not even in eps")
+        lhs = re.sub(r"\bc([123])\b", lambda m: c_of[int(m.group(1)) - 1], relation.split("=")[0])
+        unit = {n: Frac(source.ring, 0) for n in ("g1", "g2", "g3")}
+        coefficients = [named(source, lhs, {"L": big_l, **unit, k: Frac(source.ring, 1)}).specialize(fixed, r)
                         for k in ("g1", "g2", "g3")]
-        s.note("relation coefficients are polynomials in L_b (an even integral) with constant coefficients")
-    rel = Relation(coefficients, Frac(r, 0), source="flow-general-phi0 (L_b is an even integral)")
-    basis = [named(g, i).specialize(w, r) for i in ("I1", "I2", "I3")]
-    sol = prove_by_evenness(cert, f, basis, named(g, "H4").specialize(w, r), ("g1", "g2", "g3"), (0, 1), [rel])
-    with cert.step("K_Theta = [g1 : ... : g6 : -1], dim 1", "g4..g6 by eq. \"Theta rels\"; exact rank of X_[0,6] "
-                   "at a rational point", r, fixed=w) as s:
-        gs = dict(zip(("g1", "g2", "g3"), sol))
-        wv = [Frac(r, w[f"w{k}"]) for k in (1, 2, 3)]
-        full = sol + [(gs["g2"] - gs["g3"]) / (wv[1] - wv[2]), (gs["g3"] - gs["g1"]) / (wv[2] - wv[0]),
-                      (gs["g1"] - gs["g2"]) / (wv[0] - wv[1])]
-        mono = [Frac.parse(r, phi) for phi in PHI0]
-        s.require_equal(sum((a * m for a, m in zip(full, mono)), Frac(r, 0)),
-                        sum((a * b for a, b in zip(sol, basis)), Frac(r, 0)), "sum g_k phi_k = sum g_k I_k")
+        s.require(named(source, relation.split("=")[1], {"L": big_l}).is_zero(), "the relation is not homogeneous")
+    rel = Relation(coefficients, Frac(r, 0), source="L is an even integral (flow-general-phi0 / flow-second-theorem)")
+    basis = [named(source, i).specialize(fixed, r) for i in ("I1", "I2", "I3")]
+    h4 = named(source, "H4").specialize(fixed, r)
+    sol = prove_by_evenness(cert, f, basis, h4, ("g1", "g2", "g3"), (0, 1), [rel])
+    with cert.step("K_Theta = [g1 : ... : g6 : -1], dim 1", "eq. \"Theta rels\" expands sum g_k I_k in monomials "
+                   "(identity for symbolic g_k); exact rank of X_[0,6] at a rational point", r, fixed=fixed or None) as s:
+        sym = r.extend(["g1", "g2", "g3"])
+        gk = [Frac.parse(sym, n) for n in ("g1", "g2", "g3")]
+        wk = [named(source, n).specialize(fixed, r).to_ring(sym) for n in ("w1", "w2", "w3")]
+        full = gk + [(gk[1] - gk[2]) / (wk[1] - wk[2]), (gk[2] - gk[0]) / (wk[2] - wk[0]),
+                     (gk[0] - gk[1]) / (wk[0] - wk[1])]
+        mono = [Frac.parse(sym, phi) for phi in PHI0]
+        s.require_equal(sum((a * m for a, m in zip(full, mono)), Frac(sym, 0)),
+                        sum((a * b.to_ring(sym) for a, b in zip(gk, basis)), Frac(sym, 0)), "sum g_k phi_k")
         point = {k: v for k, v in RANK_POINT.items() if k in r.names}
-        orbit = f.orbit_exact(point, 6)
-        h4 = named(g, "H4").specialize(w, r)
-        rows = [[m.evaluate({**point, **x}) for m in mono] + [h4.evaluate({**point, **x})] for x in orbit]
+        rows = [[Frac.parse(r, phi).evaluate({**point, **x}) for phi in PHI0] + [h4.evaluate({**point, **x})]
+                for x in f.orbit_exact(point, 6)]
         s.require(flint.fmpq_mat(rows).rank() == 6, "rank X_[0,6] != 6 for Theta at the sample point")
-    with cert.step("L_b, g1, g2 functionally independent", "exact Jacobian rank at a rational point", r,
-                   fixed=w) as s:
+    with cert.step("L, g1, g2 functionally independent", "exact Jacobian rank at a rational point (parameters and "
+                   "eps set first, then derivatives in x)", r, fixed=fixed or None) as s:
         point = {k: v for k, v in RANK_POINT.items() if k in r.names}
-        funcs = [big_l.specialize(w, r), sol[0], sol[1]]
-        s.require(jacobian_rank_at(funcs, f.variables, point) == 3, "L_b, g1, g2 are dependent at the point")
-        s.note(f"rank of the Jacobian of (L_b, g1, g2, g3): {jacobian_rank_at(funcs + sol[2:], f.variables, point)}; "
-               "full rank at one point proves independence over Q(eps, y, z) (w fixed)")
+        params = {k: v for k, v in point.items() if k not in f.variables}
+        small = r.drop(params)
+        funcs = [h.specialize(params, small) for h in [big_l.specialize(fixed, r), *sol]]
+        xs = {k: point[k] for k in f.variables}
+        rank = jacobian_rank_at(funcs[:3], f.variables, xs)
+        s.require(rank == 3, f"L, g1, g2 have Jacobian rank {rank} at the point")
+        s.note(f"rank of the Jacobian of (L, g1, g2, g3): {jacobian_rank_at(funcs, f.variables, xs)}; full rank at one "
+               "point proves independence over the field of the symbolic parameters")
