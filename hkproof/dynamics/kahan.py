@@ -7,7 +7,7 @@ from typing import Mapping, Sequence
 import flint
 
 from hkproof.algebra.fraction import Frac, homogenized_compose, normalize_sign
-from hkproof.algebra.linalg import det
+from hkproof.algebra.linalg import cramer_polynomials
 from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import EPS, QuadraticField
 from hkproof.errors import ParseError, SingularPointError
@@ -58,9 +58,7 @@ class KahanMap:
     def explicit(self) -> tuple[tuple[flint.fmpz_mpoly, ...], flint.fmpz_mpoly]:
         """(N, Delta): f = N / Delta by Cramer's rule, with the gcd of all of N and Delta cancelled."""
         m, b = self.matrix
-        n = len(b)
-        delta = det(m)
-        nums = [det([[(b[i] if k == j else m[i][k]) for k in range(n)] for i in range(n)]) for j in range(n)]
+        delta, nums = cramer_polynomials(m, b)
         g = delta
         for p in nums:
             g = g.gcd(p)
