@@ -72,8 +72,8 @@ def _compare_table(cert: Certificate, s, found: dict[str, str], claimed: str, pr
        "For the plain composition p~~_k = P_k(N, Delta)/Delta_h(N, Delta), m~~_k = M_k(N, Delta)/(Delta "
        "Delta_h(N, Delta)) (homogenized numerators of f evaluated at f), the degrees in (m, p) are the rows of "
        "`table` (deg, deg_p1, deg_p2, deg_p3, deg_m1, deg_m2, deg_m3); the p1-numerator has `p1_monomials` "
-       "monomials in (m, p) and `p1_terms` terms in (m, p, eps, w). The paper prints the table PRINTED_TABLE "
-       "and the counts 64 056 and 1 647 595.",
+       "monomials in (m, p) and `p1_terms` terms in (m, p, eps, w). The paper prints the rows "
+       f"{PRINTED_TABLE} and the counts 64 056 and 1 647 595.",
        claimed={"table": "26 24 24 24 12 12 12; 27 25 24 24 12 12 12; 27 24 25 24 12 12 12; 27 24 24 25 12 12 12; "
                          "32 28 28 28 15 14 14; 32 28 28 28 14 15 14; 32 28 28 28 14 14 15",
                 "p1_monomials": "64059", "p1_terms": "1647594"},
