@@ -90,9 +90,10 @@ def _prop_even_checks(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], 
                 s.require(c.is_even_in(EPS), f"relation {k + 1} has a coefficient {c} that is not even in eps")
             s.require(rel.rhs.is_even_in(EPS), f"relation {k + 1} has a right-hand side that is not even in eps")
             if rel.source == "constant":
-                s.require(not ({*rel.rhs.variables()} & set(kmap.variables)),
-                          f"relation {k + 1}: right-hand side {rel.rhs} depends on phase variables "
-                          "but no proof that it is an integral is cited")
+                for part in (*rel.coefficients, rel.rhs):
+                    s.require(not (part.variables() & set(kmap.variables)),
+                              f"relation {k + 1}: {part} depends on phase variables "
+                              "but no proof that it is an integral is cited")
             else:
                 s.note(f"relation {k + 1}: right-hand side is an integral by {rel.source}")
         s.note(f"rows from iterates {list(iterates)}: non-symmetric, contain 0")

@@ -1,0 +1,58 @@
+"""Prop. "prop: even" as implemented: each hypothesis, when broken, keeps the verdict from being 'verified'."""
+from __future__ import annotations
+
+from hkproof.algebra import Frac
+from hkproof.dynamics import kahan_map
+from hkproof.hk.reduced import Relation, prove_by_evenness
+from hkproof.proof.certificate import Certificate, ProofStopped
+from hkproof.proof.status import Status
+
+F = kahan_map("euler-top")
+R = F.ring
+
+
+def run(basis, target, iterates=(0, 1), relations=()) -> Certificate:
+    cert = Certificate("test", "test", "-", "-")
+    try:
+        prove_by_evenness(cert, F, [Frac.parse(R, b) for b in basis], Frac.parse(R, target),
+                          [f"a{k}" for k in range(len(basis))], iterates, relations)
+    except ProofStopped as exc:
+        cert.error = str(exc)
+    return cert
+
+
+def test_true_basis_is_verified():
+    assert run(["x1**2", "x2**2"], "1").status is Status.VERIFIED
+
+
+def test_symmetric_range_is_not_enough():
+    cert = run(["x1**2", "x2**2", "x1*x2"], "1", iterates=(-1, 0, 1))
+    assert cert.status is Status.REFUTED and "non-symmetric" in cert.error
+
+
+def test_a_basis_that_is_none_is_refuted():
+    cert = run(["x1**2", "x2"], "1")
+    assert cert.status is Status.REFUTED and "not even" in cert.error
+
+
+def test_dependent_basis_gives_unknown_not_a_traceback():
+    cert = run(["x1**2", "2*x1**2"], "1")
+    assert cert.status is Status.UNKNOWN and "vanishes identically" in cert.error
+
+
+def test_relation_with_phase_variables_needs_a_cited_integral():
+    rel = Relation([Frac.parse(R, "x1"), Frac(R, 1), Frac(R, 0)], Frac(R, 0))
+    cert = run(["x1**2", "x2**2", "x3**2"], "1", relations=[rel])
+    assert cert.status is Status.REFUTED and "no proof that it is an integral" in cert.error
+
+
+def test_relation_with_odd_coefficient_is_refused():
+    rel = Relation([Frac.parse(R, "eps"), Frac(R, 1), Frac(R, 0)], Frac(R, 0))
+    cert = run(["x1**2", "x2**2", "x3**2"], "1", relations=[rel])
+    assert cert.status is Status.REFUTED and "not even" in cert.error
+
+
+def test_a_single_iterate_is_not_a_range():
+    rel = Relation([Frac(R, 1), Frac(R, -1)], Frac(R, 0))
+    cert = run(["x1**2", "x2**2"], "1", iterates=(0,), relations=[rel])
+    assert cert.status is Status.REFUTED and "non-symmetric" in cert.error
