@@ -62,3 +62,9 @@ def test_theta_every_flow_specialized():
 def test_theta_perturbed_relation_refuted():
     bad = THETA_RELATION.replace("(w2 - w3)*c1*(eps**2*L - c1)", "(w2 - w3)*c1*(eps**2*L - 2*c1)")
     assert theta_all_flows(relation=bad).status < Status.VERIFIED_SPECIALIZED
+
+
+@pytest.mark.slow
+def test_second_theta_perturbed_relation_refuted():
+    bad = THETA_RELATION.replace("(w3 - w1)*c2*(eps**2*L - c2)", "(w3 - w1)*c2*(eps**2*L + c2)")
+    assert get_claim("flow-second-theta").prove({"relation": bad}).status is not Status.VERIFIED

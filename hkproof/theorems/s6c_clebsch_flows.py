@@ -439,7 +439,7 @@ def theta_all_flows(w: Mapping[str, int] = THETA_W, relation: str = THETA_RELATI
                        "g2 are functionally independent.")
     g = yz_map()
     try:
-        _theta(cert, g, C_OF_YZ, _general_l(g), relation, w)
+        _theta(cert, g, C_OF_YZ, _cite_l(cert, g, "flow-general-phi0"), relation, w)
     except ProofStopped as exc:
         cert.error = str(exc)
     return cert
@@ -453,15 +453,12 @@ def theta_all_flows(w: Mapping[str, int] = THETA_W, relation: str = THETA_RELATI
        claimed={"relation": THETA_RELATION}, slow=True)
 def prove_second_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(FLOW2)
-    big_l = named(f, SECOND["L"], {k: Frac.parse(f.ring, v) for k, v in E_PAPER.items()})
-    _theta(cert, f, ("w1", "w2", "w3"), big_l, claimed["relation"], {})
+    _theta(cert, f, ("w1", "w2", "w3"), _cite_l(cert, f, "flow-second-theorem"), claimed["relation"], {})
 
 
-def _general_l(g: KahanMap) -> Frac:
-    """L_b = A/D of flow-general-phi0 in the (w, y, z) family."""
-    known = {k: named(g, v, {}) for k, v in GENERAL_NAMES.items() if k.startswith("c")}
-    known.update({k: named(g, v, known) for k, v in GENERAL_NAMES.items() if k.startswith("E")})
-    return named(g, GENERAL_CLAIM["A"], known) / named(g, GENERAL_CLAIM["D"], known)
+def _cite_l(cert: Certificate, kmap: KahanMap, claim_id: str) -> Frac:
+    """The integral L proven in `claim_id` (its certificate must be verified), as a function on `kmap`."""
+    return Frac.parse(kmap.ring, require_proven(cert, claim_id).formulas["L"])
 
 
 def _theta(cert: Certificate, source: KahanMap, c_of: Sequence[str], big_l: Frac, relation: str,
