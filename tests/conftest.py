@@ -8,6 +8,9 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
     if not THEOREM_RESULTS:
         return
     terminalreporter.section("hkproof theorems")
-    width = max(len(i) for i, _, _ in THEOREM_RESULTS)
+    first = {}
     for claim_id, status, seconds in THEOREM_RESULTS:
+        first.setdefault(claim_id, (status, seconds))
+    width = max(len(i) for i in first)
+    for claim_id, (status, seconds) in first.items():
         terminalreporter.write_line(f"{claim_id:<{width}}  {status:<22} {seconds:8.3f} s")
