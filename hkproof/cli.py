@@ -5,6 +5,7 @@ import argparse
 import importlib
 import json
 import pkgutil
+import signal
 import sys
 from typing import Sequence
 
@@ -24,6 +25,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    if hasattr(signal, "SIGPIPE"):
+        signal.signal(signal.SIGPIPE, signal.SIG_DFL)  # `hkproof list | head` ends quietly
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

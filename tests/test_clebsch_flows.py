@@ -5,8 +5,7 @@ import pytest
 
 from hkproof.proof.registry import get_claim, proven
 from hkproof.proof.status import Status
-from hkproof.theorems.s6c_clebsch_flows import (GENERAL_CLAIM, SECOND, THETA_RELATION, conjecture_evidence,
-                                               theta_all_flows)
+from hkproof.theorems.s6c_clebsch_flows import GENERAL_CLAIM, SECOND, THETA_RELATION, conjecture_evidence
 
 
 def test_second_flow_verified_with_correction():
@@ -54,14 +53,14 @@ def test_general_phi0_perturbed_refuted(key, text):
 
 @pytest.mark.slow
 def test_theta_every_flow_specialized():
-    cert = theta_all_flows()
+    cert = get_claim("flow-theta-all").prove()
     assert cert.status is Status.VERIFIED_SPECIALIZED, cert.render()
 
 
 @pytest.mark.slow
 def test_theta_perturbed_relation_refuted():
     bad = THETA_RELATION.replace("(w2 - w3)*c1*(eps**2*L - c1)", "(w2 - w3)*c1*(eps**2*L - 2*c1)")
-    assert theta_all_flows(relation=bad).status < Status.VERIFIED_SPECIALIZED
+    assert get_claim("flow-theta-all").prove({"relation": bad}).status < Status.VERIFIED_SPECIALIZED
 
 
 @pytest.mark.slow

@@ -29,7 +29,9 @@ def test_theorem_verified(claim, record_property):
     THEOREM_RESULTS.append((claim.id, cert.status.label, cert.seconds))
     record_property("status", cert.status.label)
     record_property("seconds", round(cert.seconds, 4))
-    assert cert.status is Status.VERIFIED, cert.render()
+    assert claim.succeeded(cert), cert.render()
+    if not claim.is_open:
+        assert cert.status is Status.VERIFIED
 
 
 PERTURBATIONS = [pytest.param(c, key, id=f"{c.id}:{key}", marks=[pytest.mark.slow] if c.slow else [])
@@ -39,4 +41,4 @@ PERTURBATIONS = [pytest.param(c, key, id=f"{c.id}:{key}", marks=[pytest.mark.slo
 @pytest.mark.parametrize("claim,key", PERTURBATIONS)
 def test_perturbed_claim_not_verified(claim, key):
     cert = claim.prove({key: perturb(claim.claimed[key])})
-    assert cert.status is not Status.VERIFIED, f"perturbing {key} left {claim.id} verified"
+    assert not claim.succeeded(cert), f"perturbing {key} left {claim.id} {cert.status.label}"

@@ -5,7 +5,7 @@ import argparse
 
 from hkproof.commands import Result, add_command
 from hkproof.proof.registry import select
-from hkproof.proof.status import Status
+from hkproof.proof.runner import summary
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -21,9 +21,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run_list(args: argparse.Namespace) -> Result:
     claims = select(groups=args.group)
     payload = [{"id": c.id, "group": c.group, "title": c.title, "paper_ref": c.paper_ref, "slow": c.slow,
-                "claimed": sorted(c.claimed)} for c in claims]
+                "expected": c.expected.label, "claimed": sorted(c.claimed)} for c in claims]
     width = max((len(c.id) for c in claims), default=0)
-    text = "\n".join(f"{c.id:<{width}}  [{c.group}]{' (slow)' if c.slow else ''}  {c.title}" for c in claims)
+    text = "\n".join(f"{c.id:<{width}}  [{c.group}]{' (slow)' if c.slow else ''}"
+                     f"{' (open: ' + c.expected.label + ')' if c.is_open else ''}  {c.title}" for c in claims)
     return Result(payload, text)
 
 
@@ -31,14 +32,8 @@ def run_prove(args: argparse.Namespace) -> Result:
     if not (args.ids or args.all or args.group):
         args.all = True
     claims = select(ids=args.ids, groups=args.group, include_slow=not args.no_slow)
-    certs = []
-    lines = []
-    for c in claims:
-        cert = c.prove()
-        certs.append(cert)
-        lines.append(cert.render())
-    verified = sum(c.status is Status.VERIFIED for c in certs)
-    total_time = sum(c.seconds for c in certs)
-    lines.append(f"\n{verified} of {len(certs)} theorems verified in {total_time:.2f} s")
-    ok = verified == len(certs)
-    return Result([c.to_dict() for c in certs], "\n".join(lines), 0 if ok else 1)
+    certs = [c.prove() for c in claims]
+    text = "\n".join(cert.render() for cert in certs) + summary(claims, certs)
+    ok = all(c.succeeded(cert) for c, cert in zip(claims, certs))
+    return Result([{**cert.to_dict(), "expected": c.expected.label} for c, cert in zip(claims, certs)], text,
+                  0 if ok else 1)

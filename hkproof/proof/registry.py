@@ -25,6 +25,16 @@ class Claim:
     prover: Prover
     claimed: dict[str, str] = field(default_factory=dict)
     slow: bool = False
+    expected: Status = Status.VERIFIED
+
+    def succeeded(self, cert: Certificate) -> bool:
+        """The certificate reaches what the claim promises: `verified`, or the weaker `expected` of an open claim."""
+        return cert.status >= self.expected
+
+    @property
+    def is_open(self) -> bool:
+        """A conjecture or a specialized result: the registry promises less than `verified`."""
+        return self.expected < Status.VERIFIED
 
     def prove(self, overrides: Mapping[str, str] | None = None) -> Certificate:
         """Run the proof; `overrides` replaces claimed formulas (a perturbed claim must be refuted)."""
@@ -47,12 +57,13 @@ _CACHE: dict[str, Certificate] = {}
 
 
 def claim(id: str, group: str, title: str, paper_ref: str, statement: str,
-          claimed: Mapping[str, str] | None = None, slow: bool = False) -> Callable[[Prover], Prover]:
-    """Register a prover function as the proof of a claim of the paper."""
+          claimed: Mapping[str, str] | None = None, slow: bool = False,
+          expected: Status = Status.VERIFIED) -> Callable[[Prover], Prover]:
+    """Register a prover as the proof of a claim; `expected` < verified marks an open claim (evidence only)."""
     def register(prover: Prover) -> Prover:
         if id in REGISTRY:
             raise ValueError(f"claim id {id} registered twice")
-        REGISTRY[id] = Claim(id, group, title, paper_ref, statement, prover, dict(claimed or {}), slow)
+        REGISTRY[id] = Claim(id, group, title, paper_ref, statement, prover, dict(claimed or {}), slow, expected)
         return prover
     return register
 

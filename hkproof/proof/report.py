@@ -35,10 +35,18 @@ def theorems_markdown(claims: Sequence[Claim], certs: dict[str, Certificate]) ->
                 continue
             methods = "; ".join(dict.fromkeys(s.method for s in cert.steps if not s.name.startswith("uses ")))
             rings = "; ".join(dict.fromkeys(s.ring for s in cert.steps if s.ring != "-"))
+            status = cert.status.label + (f" (open claim; promised: {c.expected.label})" if c.is_open else "")
             lines.append(f"| `{c.id}` | {_cell(c.paper_ref)} | {_cell(c.statement)} | {_cell(methods)} | "
-                         f"{_cell(rings)} | **{cert.status.label}** | {cert.seconds:.3f} s |")
+                         f"{_cell(rings)} | **{status}** | {cert.seconds:.3f} s |")
             corrections += [(c.id, text) for text in cert.corrections]
         lines.append("")
-    lines += ["## Corrections to the paper found by the proofs", ""]
+    open_claims = [c for c in claims if c.is_open]
+    lines += ["## Open claims", "",
+              "Claims that hkproof supports with evidence or with a specialized proof only; they are not theorems "
+              "until a symbolic proof exists. What was proven on the way is in their certificates and the "
+              "group's page in docs/.", ""]
+    lines += [f"- `{c.id}` ({c.paper_ref}): {c.statement} — status "
+              f"{certs[c.id].status.label if c.id in certs else 'not run here'}" for c in open_claims] or ["- none"]
+    lines += ["", "## Corrections to the paper found by the proofs", ""]
     lines += [f"- `{cid}`: {text}" for cid, text in corrections] or ["- none"]
     return "\n".join(lines) + "\n"

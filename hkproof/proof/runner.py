@@ -6,7 +6,8 @@ import json
 import sys
 from typing import Sequence
 
-from hkproof.proof.registry import select
+from hkproof.proof.certificate import Certificate
+from hkproof.proof.registry import Claim, select
 from hkproof.proof.status import Status
 
 
@@ -16,14 +17,26 @@ def run_script(groups: Sequence[str], argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--json", action="store_true", help="print the certificates as JSON")
     parser.add_argument("--no-slow", action="store_true", help="skip claims marked slow")
     args = parser.parse_args(argv)
-    certs = [c.prove() for c in select(groups=groups, include_slow=not args.no_slow)]
+    claims = select(groups=groups, include_slow=not args.no_slow)
+    certs = [c.prove() for c in claims]
     if args.json:
         print(json.dumps([c.to_dict() for c in certs], indent=2))
     else:
         for c in certs:
             print(c.render())
-        bad = [c for c in certs if c.status is not Status.VERIFIED]
-        print(f"\n{len(certs) - len(bad)} of {len(certs)} verified in {sum(c.seconds for c in certs):.2f} s"
-              + ("" if not bad else "; NOT verified: " + ", ".join(f"{c.claim_id} ({c.status.label})" for c in bad)),
-              file=sys.stderr if bad else sys.stdout)
-    return 0 if all(c.status is Status.VERIFIED for c in certs) else 1
+        print(summary(claims, certs))
+    return 0 if all(c.succeeded(cert) for c, cert in zip(claims, certs)) else 1
+
+
+def summary(claims: Sequence[Claim], certs: Sequence[Certificate]) -> str:
+    """One line: how many theorems are verified, how many open claims reached their evidence, what failed."""
+    verified = sum(cert.status is Status.VERIFIED for c, cert in zip(claims, certs) if not c.is_open)
+    theorems = sum(not c.is_open for c in claims)
+    open_ok = sum(c.succeeded(cert) for c, cert in zip(claims, certs) if c.is_open)
+    failed = [f"{c.id} ({cert.status.label})" for c, cert in zip(claims, certs) if not c.succeeded(cert)]
+    seconds = sum(cert.seconds for cert in certs)
+    text = f"\n{verified} of {theorems} theorems verified"
+    if theorems < len(claims):
+        text += f"; {open_ok} of {len(claims) - theorems} open claims at their expected status (evidence only)"
+    text += f"; {seconds:.2f} s"
+    return text + ("" if not failed else "; FAILED: " + ", ".join(failed))

@@ -18,7 +18,7 @@ from hkproof.hk.linear_relations import parse_relation, relation_rank
 from hkproof.hk.recipe_g import WHAT_IT_PROVES, recipe_g
 from hkproof.hk.reduced import Relation, prove_by_evenness
 from hkproof.proof.certificate import Certificate, ProofStopped
-from hkproof.proof.registry import claim, require_proven
+from hkproof.proof.registry import REGISTRY, claim, require_proven
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import H, named
 from hkproof.theorems._common import parse_matrix
@@ -380,10 +380,16 @@ EVIDENCE_STATEMENT = ("For random b, w, eps and random points, exact kernel prof
 DIMENSIONS = {"Phi": 4, "Phi0": 1, "Phi1": 1, "Phi2": 1, "Phi3": 1}
 
 
+@claim("flow-conjecture-evidence", GROUP, "Conjecture for the general flow: dim K_Phi = 4 = sum of four 1-dim "
+       "K_Phi_k", "sec. 6, conjecture after eq. \"dC2 map\"", EVIDENCE_STATEMENT, expected=Status.EVIDENCE_EXACT)
+def prove_conjecture_evidence(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    _profile_evidence(cert, sets=6, per=4)
+
+
 def conjecture_evidence(sets: int = 6, per: int = 4) -> Certificate:
-    """The conjecture after eq. "dC2 map" as exact evidence (a certificate outside the registry: never verified)."""
-    cert = Certificate("flow-conjecture-evidence", "Conjecture for the general flow: dim K_Phi = 4 = sum of four "
-                       "1-dim K_Phi_k", "sec. 6, conjecture after eq. \"dC2 map\"", EVIDENCE_STATEMENT)
+    """The open claim flow-conjecture-evidence with another sample size (never verified, only evidence)."""
+    c = REGISTRY["flow-conjecture-evidence"]
+    cert = Certificate(c.id, c.title, c.paper_ref, c.statement)
     try:
         _profile_evidence(cert, sets, per)
     except ProofStopped as exc:
@@ -426,23 +432,16 @@ THETA_RELATION = ("(w2 - w3)*c1*(eps**2*L - c1)*g1 + (w3 - w1)*c2*(eps**2*L - c2
 THETA_W = {"w1": 2, "w2": -3, "w3": 5}
 
 
-def theta_all_flows(w: Mapping[str, int] = THETA_W, relation: str = THETA_RELATION) -> Certificate:
-    """Theta = (p^2, m^2, H4) for every flow (y, z, eps symbolic, w fixed): g_k integrals by Prop. "prop: even".
-
-    Outside the registry: its status is verified(specialized), and the registry's claims must be fully verified.
-    """
-    cert = Certificate("flow-theta", "Theta = (p^2, m^2, H4) is an HK-basis of every flow; three integrals",
-                       "sec. 6, Th. \"dC Theta\" and the conjecture after eq. \"dC2 map\"",
-                       "With w fixed and y, z, eps symbolic: (g1, g2, g3) from (sum g_k I_k) o f^i = H4 o f^i, "
-                       "i = 0, 1, and the relation " + relation + " (L = L_b of flow-general-phi0) are even in "
-                       "eps, hence integrals; with g4..g6 by eq. \"Theta rels\" they span K_Theta (dim 1); L_b, g1, "
-                       "g2 are functionally independent.")
+@claim("flow-theta-all", GROUP, "Theta = (p^2, m^2, H4) is an HK-basis of every flow; three integrals",
+       "sec. 6, Th. \"dC Theta\" and the conjecture after eq. \"dC2 map\"",
+       "With w fixed to (2, -3, 5) and y, z, eps symbolic: (g1, g2, g3) from (sum g_k I_k) o f^i = H4 o f^i, "
+       "i = 0, 1, and the claimed relation in L = L_b of flow-general-phi0 are even in eps, hence integrals; with "
+       "g4..g6 by eq. \"Theta rels\" they span K_Theta (dim 1); L_b, g1, g2 are functionally independent. "
+       "Open: with w symbolic the computation is too heavy so far.",
+       claimed={"relation": THETA_RELATION}, slow=True, expected=Status.VERIFIED_SPECIALIZED)
+def prove_theta_all_flows(cert: Certificate, claimed: Mapping[str, str]) -> None:
     g = yz_map()
-    try:
-        _theta(cert, g, C_OF_YZ, _cite_l(cert, g, "flow-general-phi0"), relation, w)
-    except ProofStopped as exc:
-        cert.error = str(exc)
-    return cert
+    _theta(cert, g, C_OF_YZ, _cite_l(cert, g, "flow-general-phi0"), claimed["relation"], THETA_W)
 
 
 @claim("flow-second-theta", GROUP, "Second flow: Theta = (p^2, m^2, H4) is an HK-basis; L, g1, g2 independent",
