@@ -10,7 +10,6 @@ from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.registry import get_claim, proven
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import named
-from hkproof.theorems.s6a_clebsch_bases import _theta_dependence, theta_dependence_evidence
 from hkproof.theorems.s6a_clebsch_kernels import POINTS, _kernel_evidence, kernel_evidence
 from tests.conftest import THEOREM_RESULTS
 
@@ -97,17 +96,14 @@ def test_kernels_are_evidence_only():
 def test_kernel_profile_perturbed_refuted():
     cert = Certificate("x", "x", "x", "x")
     with pytest.raises(ProofStopped):
-        _kernel_evidence(cert, POINTS[:1], [9, 8, 7, 6, 5, 4, 3, 3, 3, 3])
+        _kernel_evidence(cert, POINTS[:1], "9 8 7 6 5 4 3 3 3 3")
     assert cert.status is Status.REFUTED
 
 
 @pytest.mark.slow
 def test_theta_dependence_is_evidence_only():
-    cert = theta_dependence_evidence()
-    assert cert.status is Status.EVIDENCE_EXACT, cert.render()
-    bad = Certificate("x", "x", "x", "x")
-    with pytest.raises(ProofStopped):
-        _theta_dependence(bad, rank=4)
+    assert proven("dc-theta-dependence").status is Status.EVIDENCE_EXACT
+    assert get_claim("dc-theta-dependence").prove({"rank": "4"}).status is Status.REFUTED
 
 
 @pytest.mark.slow

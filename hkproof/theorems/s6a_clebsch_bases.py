@@ -16,10 +16,10 @@ from hkproof.errors import ParseError
 from hkproof.hk.expansion import coefficients_in, taylor
 from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals, prove_by_evenness, verify_by_evenness
-from hkproof.proof.certificate import Certificate, ProofStopped
+from hkproof.proof.certificate import Certificate
 from hkproof.proof.registry import claim, require_proven
 from hkproof.proof.status import Status
-from hkproof.theorems._clebsch import SYSTEM, X, cycled, named, recall, record, shift_frac
+from hkproof.theorems._clebsch import SYSTEM, X, cycled, named, number, recall, record, shift_frac
 
 GROUP = "clebsch-bases"
 P2 = ("p1**2", "p2**2", "p3**2")
@@ -359,23 +359,16 @@ def _peak_rss_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-DEPENDENCE_STATEMENT = ("The Jacobian of (J, d7, d8, g_k) has rank 3 (not 4) for k = 1, 2, 3. Evidence: exact ranks at "
-                        "rational points (a proof needs every 4x4 minor to vanish identically, or an explicit "
-                        "relation).")
+@claim("dc-theta-dependence", GROUP, "g1, g2, g3 are functionally dependent on J, d7, d8",
+       "sec. 6.6, remark after the proof of Th. \"dC Theta\"",
+       "The Jacobian of (J, d7, d8, g_k) has rank `rank` (not 4) for k = 1, 2, 3. Open claim: exact ranks at 5 "
+       "rational points are evidence; a proof needs every 4x4 minor to vanish identically, or an explicit relation.",
+       claimed={"rank": "3"}, slow=True, expected=Status.EVIDENCE_EXACT)
+def prove_theta_dependence(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    _theta_dependence(cert, claimed["rank"])
 
 
-def theta_dependence_evidence() -> Certificate:
-    """Remark after Th. "dC Theta" as exact evidence (a certificate outside the registry: never verified)."""
-    cert = Certificate("dc-theta-dependence", "g1, g2, g3 are functionally dependent on J, d7, d8",
-                       "sec. 6.6, remark after the proof of Th. \"dC Theta\"", DEPENDENCE_STATEMENT)
-    try:
-        _theta_dependence(cert, rank=3)
-    except ProofStopped as exc:
-        cert.error = str(exc)
-    return cert
-
-
-def _theta_dependence(cert: Certificate, rank: int) -> None:
+def _theta_dependence(cert: Certificate, rank_text: str) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
     b1 = require_proven(cert, "dc-basis1-relations")
@@ -384,6 +377,7 @@ def _theta_dependence(cert: Certificate, rank: int) -> None:
     base = [recall(b1, "J", r), recall(b2, "d7", r), recall(b2, "d8", r)]
     seeds = (1, 2, 3, 4, 5)
     with cert.step("rank of the Jacobian of (J, d7, d8, g_k)", "exact ranks at rational points", r) as s:
+        rank = number(rank_text)
         for seed in seeds:
             point = sample_point(r.names, seed=seed)
             s.require(jacobian_rank_at(base, X, point) == 3, f"J, d7, d8 dependent at {point}")

@@ -12,7 +12,7 @@ from hkproof.experiments.profiles import HK_BASIS, ProfileProblem
 from hkproof.experiments.scene import make_scene
 from hkproof.algebra.ring import to_fmpq
 from hkproof.proof.certificate import Certificate, ProofStopped
-from hkproof.proof.registry import claim, require_proven
+from hkproof.proof.registry import REGISTRY, claim, require_proven
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import PHI_MAX, SYSTEM, X, named, number, recall
 
@@ -72,25 +72,32 @@ def prove_max_basis_bounds(cert: Certificate, claimed: Mapping[str, str]) -> Non
 
 
 KERNEL_STATEMENT = ("Th. \"dClebsch max basis\" and Th. \"dClebsch 1dim bases\" at sample points: the exact kernel "
-                    "profile of Phi is (9, 8, 7, 6, 5, 4, 4, 4, 4, 4) (d = 4); Phi0, Phi1, Phi2, Phi3 have d = 1; "
-                    "their null-vectors, placed in R^10, span K_Phi.")
-PROFILE_MAX = [9, 8, 7, 6, 5, 4, 4, 4, 4, 4]
+                    "profile of Phi is `profile` (d = 4); Phi0, Phi1, Phi2, Phi3 have d = 1; their null-vectors, "
+                    "placed in R^10, span K_Phi. Open claim: exact evidence at 3 points, not a proof.")
+
+
+@claim("dc-kernel-evidence", GROUP, "Th. \"dClebsch max basis\" and \"dClebsch 1dim bases\" at points",
+       "sec. 6.3, Th. \"dClebsch max basis\", Th. \"dClebsch 1dim bases\"", KERNEL_STATEMENT,
+       claimed={"profile": "9 8 7 6 5 4 4 4 4 4"}, expected=Status.EVIDENCE_EXACT)
+def prove_kernel_evidence(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    _kernel_evidence(cert, POINTS, claimed["profile"])
 
 
 def kernel_evidence(points=POINTS) -> Certificate:
-    """Th. "dClebsch max basis" and "dClebsch 1dim bases" as exact evidence (outside the registry: never verified)."""
-    cert = Certificate("dc-kernel-evidence", "Th. \"dClebsch max basis\" and \"dClebsch 1dim bases\" at points",
-                       "sec. 6.3, Th. \"dClebsch max basis\", Th. \"dClebsch 1dim bases\"", KERNEL_STATEMENT)
+    """The open claim dc-kernel-evidence at other sample points (never verified, only evidence)."""
+    c = REGISTRY["dc-kernel-evidence"]
+    cert = Certificate(c.id, c.title, c.paper_ref, c.statement)
     try:
-        _kernel_evidence(cert, points, PROFILE_MAX)
+        _kernel_evidence(cert, points, c.claimed["profile"])
     except ProofStopped as exc:
         cert.error = str(exc)
     return cert
 
 
-def _kernel_evidence(cert: Certificate, points, profile_max: list[int]) -> None:
+def _kernel_evidence(cert: Certificate, points, profile: str) -> None:
     r = kahan_map(SYSTEM).ring
     with cert.step("Phi: exact kernel profiles", "algorithm (N) in exact arithmetic over Q", r) as s:
+        profile_max = [number(v) for v in profile.split()]
         full = _profiles(range(10), points)
         for p in full:
             s.require(p.dims == profile_max and p.verdict == HK_BASIS, f"profile {p.dims} at {p.point}")
