@@ -31,6 +31,23 @@ GROUPS = ["clebsch-map", "clebsch-bases", "clebsch-kernels"]
 PAPER = {"Cramer solve, dC basis 1 (one relation + Prop. even)": "22.33 s, 32.43 MB (Maple, Core Duo 1.83 GHz)"}
 
 
+NOTES = """\
+- Proof times: a claim that cites another reuses its certificate (computed once per process), so e.g.
+  dc-max-basis-bounds shows only its own steps. From scratch, items 1, 2, 4, 5 of the issue take about 2-3 s
+  in all; Th. "dC Theta" takes 30-50 s (one Cramer component: a 3 x 3 determinant of 876 837 terms and a
+  gcd cancelling a common factor of 29 665 terms), far above the 5 s target.
+- The paper's only timing (Th. "dC basis 1", route (D): 22.33 s, 32.43 MB in Maple on a 1.83 GHz Core Duo)
+  compares with the Cramer solve of that system here (rows with f included); the certificate of
+  dc-basis1-even records solve plus checks, Python heap and process RSS.
+- f^2: Singular composes with one ring map (Delta homogenized in (m, p) only), and finds the same 1 542 462
+  terms. A direct FLINT gcd of Delta_h(N, Delta) and P1_h(N, Delta) took 444-587 s in exploratory runs on
+  this (loaded) machine, slower than Singular's direct gcd; hkproof does not use it: it interpolates g from
+  16 gcds at numeric w and proves it by exact division and coprimality (the interpolation and one division
+  are the f^2 rows above; the coprimality test takes under a second).
+- sympy: det M finishes; the six Cramer numerators of f did not finish within the cap; f^2 is out of reach.
+"""
+
+
 def timed(fn):
     start = time.perf_counter()
     value = fn()
@@ -223,11 +240,12 @@ def report(rows, proof_rows, singular, sympy_times, with_f2: bool) -> str:
                      ("det M", "Cramer numerators of f")), None)
         sing_total = sum(v for k, v in singular.items() if k in ("det M", "Cramer numerators of f")) \
             if name.startswith("f = ") and singular else sing
-        sym = sum(v for v in sympy_times.values() if v) if name.startswith("f = ") and sympy_times else None
+        sym = (sum(sympy_times.values()) if all(v is not None for v in sympy_times.values()) else "unfinished") \
+            if name.startswith("f = ") and sympy_times else None
         ratio = f"{sing_total / sec:.2f}" if sing_total and sec else ""
         lines.append(f"| {name} | {sec:.3f} | {note} | {PAPER.get(name, '')} | "
                      f"{'' if sing_total is None else f'{sing_total:.3f}'} | {ratio} | "
-                     f"{'' if sym is None else f'{sym:.2f}'} |")
+                     f"{'' if sym is None else sym if isinstance(sym, str) else f'{sym:.2f}'} |")
     for k, v in singular.items():
         if k.startswith("f^2 common factor"):
             lines.append(f"| {k} (Singular) | | | | {v:.1f} | | |")
@@ -236,6 +254,7 @@ def report(rows, proof_rows, singular, sympy_times, with_f2: bool) -> str:
     if sympy_times:
         lines += ["", "sympy (capped per stage): " + "; ".join(
             f"{k}: {'did not finish' if v is None else f'{v:.2f} s'}" for k, v in sympy_times.items())]
+    lines += ["", "## Notes", "", NOTES]
     return "\n".join(lines) + "\n"
 
 
