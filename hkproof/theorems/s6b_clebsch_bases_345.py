@@ -1,0 +1,559 @@
+"""Section 6.7: Th. "dC bases 345" (bases Phi1, Phi2, Phi3): relations rel18, M2 with A, B, C, D, Step 1."""
+from __future__ import annotations
+
+from typing import Mapping, Sequence
+
+import flint
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.ring import Ring
+from hkproof.algebra.linalg import cramer, rank_over_fraction_field
+from hkproof.dynamics.catalogue import kahan_map
+from hkproof.dynamics.field import EPS
+from hkproof.experiments.relations import find_relations
+from hkproof.hk.expansion import coefficients_in
+from hkproof.hk.independence import sample_point
+from hkproof.hk.linear_relations import parse_relation
+from hkproof.errors import ParseError
+from hkproof.hk.reduced import Relation, linear_combination_equals
+from hkproof.proof.certificate import Certificate
+from hkproof.proof.registry import claim, require_proven
+from hkproof.proof.status import Status
+from hkproof.theorems._clebsch import SYSTEM, X, named, recall, record
+
+GROUP = "clebsch-bases-345"
+COMMON = ("p1**2", "p2**2", "p3**2", "m1**2", "m2**2", "m3**2")
+TARGETS = ("m1*p1", "m2*p2", "m3*p3")
+UNKNOWNS = tuple(f"{c}{j}" for c in "abc" for j in range(1, 7))   # a_j = alpha_j, b_j = beta_j, c_j = gamma_j
+
+REL18 = {
+    "rel18_1": "(w1 - w3)*a5 = (w1 - w2)*a6",
+    "rel18_2": "(w2 - w3)*b4 = (w2 - w1)*b6",
+    "rel18_3": "(w3 - w2)*c4 = (w3 - w1)*c5",
+    "rel18_4": "a4 = b5 = c6",
+    "rel18_6": "(a2 - a3 - (w2 - w3)*a4)/(w2 - w3) = (b2 - b3 - (w2 - w3)*b4)/(w3 - w1)"
+               " = (c2 - c3 - (w2 - w3)*c4)/(w1 - w2)",
+    "rel18_8": "(a3 - a1 - (w3 - w1)*a5)/(w2 - w3) = (b3 - b1 - (w3 - w1)*b5)/(w3 - w1)"
+               " = (c3 - c1 - (w3 - w1)*c5)/(w1 - w2)",
+}
+REL18_EXTRA = ("(a1 - a2 - (w1 - w2)*a6)/(w2 - w3) = (b1 - b2 - (w1 - w2)*b6)/(w3 - w1)"
+               " = (c1 - c2 - (w1 - w2)*c6)/(w1 - w2)")
+M2 = ("a4 = D, a5 = A/(w1 - w3), a6 = A/(w1 - w2), b4 = B/(w2 - w3), b5 = D, b6 = B/(w2 - w1), "
+      "c4 = C/(w3 - w2), c5 = C/(w3 - w1), c6 = D")
+ADD = {
+    "add_1": "a4 - b4 - c4 = d7/2", "add_2": "-a5 + b5 - c5 = d8/2", "add_3": "-a6 - b6 + c6 = d9/2",
+    "add_4": "a4 + b4 + c4 = g4", "add_5": "a5 + b5 + c5 = g5", "add_6": "a6 + b6 + c6 = g6",
+}
+ADD_ABCD = {
+    "add_1_abcd": "D - (B - C)/(w2 - w3) = d7/2", "add_2_abcd": "D - (C - A)/(w3 - w1) = d8/2",
+    "add_3_abcd": "D - (A - B)/(w1 - w2) = d9/2", "add_4_abcd": "D + (B - C)/(w2 - w3) = g4",
+    "add_5_abcd": "D + (C - A)/(w3 - w1) = g5", "add_6_abcd": "D + (A - B)/(w1 - w2) = g6",
+}
+ABCD_DEPENDENCE = ("D**2 - A*B/((w1 - w3)*(w2 - w3)) - B*C/((w2 - w1)*(w3 - w1)) "
+                   "- C*A/((w3 - w2)*(w1 - w2)) = 0")
+A_2 = "m1**2 + m2**2 + m3**2 + (w2 + w3 - 2*w1)*p1**2 + (w3 + w1 - 2*w2)*p2**2 + (w1 + w2 - 2*w3)*p3**2"
+D_4 = ("(m1*p1 + m2*p2 + m3*p3)**2 + (p1**2 + p2**2 + p3**2)*((w2 + w3 - 2*w1)*p1**2 "
+       "+ (w3 + w1 - 2*w2)*p2**2 + (w1 + w2 - 2*w3)*p3**2)")
+
+
+def bases(f) -> list[list[Frac]]:
+    """Phi1, Phi2, Phi3 of eqs. "dC basis Psi1" ... "dC basis Psi3" (the last element is the normalized one)."""
+    common = [Frac.parse(f.ring, t) for t in COMMON]
+    return [common + [Frac.parse(f.ring, t)] for t in TARGETS]
+
+
+def relation_rows(f, text: str, unknowns: Sequence[str] = UNKNOWNS,
+                  known: Mapping[str, Frac] | None = None) -> list[Relation]:
+    """A printed chain 'X = Y = Z' as relations X = Y, Y = Z among `unknowns`; `known` integrals (d7, g4, ...)
+    may appear linearly and are moved to the right-hand side."""
+    known = dict(known or {})
+    parts = text.split("=")
+    out = []
+    for lhs, rhs in zip(parts, parts[1:]):
+        rel = parse_relation(f.ring, f"{lhs} = {rhs}", [*unknowns, *known])
+        k = len(unknowns)
+        moved = sum((c * v for c, v in zip(rel.coefficients[k:], known.values())), Frac(f.ring, 0))
+        out.append(Relation(rel.coefficients[:k], rel.rhs - moved))
+    return out
+
+
+def _augmented(rels: Sequence[Relation]) -> list[list[Frac]]:
+    return [list(r.coefficients) + [r.rhs] for r in rels]
+
+
+# -- rel18: the nine relations, found again by recipe (E) ---------------------------------------------------------
+@claim("dc345-relations", GROUP,
+       "Eqs. \"rel18_1\" ... \"rel18_8\": nine independent linear relations among alpha_j, beta_j, gamma_j",
+       "sec. 6.7, eqs. \"rel18_1\" ... \"rel18_8\" and the two dependent relations after them",
+       "The kernel coordinates of Phi1, Phi2, Phi3 satisfy the printed relations rel18_1 ... rel18_8 (nine "
+       "independent ones), and the two further printed relations follow from them; exact relation finding "
+       "(recipe E, eps and w symbolic in the reconstruction) finds a nine-dimensional space that contains them.",
+       claimed={**REL18, "rel18_extra": REL18_EXTRA}, slow=True, expected=Status.EVIDENCE_EXACT)
+def prove_relations(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    f = kahan_map(SYSTEM)
+    r = f.ring
+    with cert.step("the printed relations: nine independent, the extra two dependent",
+                   "rank over Q(eps, w) of the augmented rows", r) as s:
+        printed = [rel for k in REL18 for rel in relation_rows(f, claimed[k])]
+        extra = relation_rows(f, claimed["rel18_extra"])
+        s.require(len(printed) == 9 and rank_over_fraction_field(_augmented(printed)) == 9,
+                  "rel18_1 ... rel18_8 are not nine independent relations")
+        s.require(rank_over_fraction_field(_augmented(printed + extra)) == 9,
+                  "the two further relations do not follow from rel18_1 ... rel18_8")
+    with cert.step("recipe (E): the relation space of (Phi1, Phi2, Phi3) contains the printed relations",
+                   "exact kernels at rational points, interpolation in eps and w, fresh checks", r) as s:
+        search = find_relations(f, bases(f), names=list(UNKNOWNS))
+        found = [Relation(rel.coefficients, rel.rhs) for rel in search.relations]
+        s.require(search.dimension == 9 and len(found) == 9,
+                  f"relation space of dimension {search.dimension}, {len(found)} relations reconstructed")
+        s.require(rank_over_fraction_field(_augmented(found + printed + extra)) == 9,
+                  "a printed relation is not in the space found by recipe (E)")
+        s.evidence(Status.EVIDENCE_EXACT, points=search.samples)
+        s.note(f"{search.samples} exact samples; every relation checked at fresh samples; the relations hold for "
+               "the kernel vectors wherever the kernels are one-dimensional -- evidence until Steps 1-5 prove them")
+        for k, rel in enumerate(search.relations, start=1):
+            cert.formula(f"found_{k}", rel.text())
+
+
+# -- M2, A, B, C, D: eqs. "M2", "ABCD dependence", "dC Psi add lin rel 1-6", "dC A" ... "dC D" -------------------
+def m2_entries(f, text: str, abcd: Mapping[str, Frac]) -> dict[str, Frac]:
+    """The printed eq. "M2" ('a4 = D, a5 = A/(w1 - w3), ...') evaluated at given A, B, C, D."""
+    out = {}
+    for item in text.split(","):
+        name, value = item.split("=")
+        out[name.strip()] = named(f, value, dict(abcd))
+    return out
+
+
+def _in_abcd(f, text: str, m2: str, known: Mapping[str, Frac]) -> Relation:
+    """A relation among a_j, b_j, c_j (j = 4, 5, 6) rewritten as a relation among A, B, C, D via eq. "M2"."""
+    (rel,) = relation_rows(f, text, UNKNOWNS, known)
+    r = f.ring
+    columns = []
+    zero = {k: Frac(r, 0) for k in "ABCD"}
+    base = m2_entries(f, m2, zero)
+    for k in "ABCD":
+        unit = m2_entries(f, m2, {**zero, k: Frac(r, 1)})
+        columns.append(sum((c * (unit.get(u, Frac(r, 0)) - base.get(u, Frac(r, 0)))
+                            for c, u in zip(rel.coefficients, UNKNOWNS)), Frac(r, 0)))
+    skipped = [u for c, u in zip(rel.coefficients, UNKNOWNS) if not c.is_zero() and u not in base]
+    if skipped:
+        raise ParseError(f"{text!r} involves {skipped}, which eq. \"M2\" does not give")
+    return Relation(columns, rel.rhs)
+
+
+def _same_relation(a: Relation, b: Relation) -> bool:
+    return rank_over_fraction_field(_augmented([a, b])) == 1
+
+
+@claim("dc345-abcd", GROUP,
+       "Eq. \"M2\": alpha_j, beta_j, gamma_j (j = 4, 5, 6) through A, B, C, D; eqs. \"ABCD dependence\", "
+       "\"dC Psi add lin rel 1\" ... \"6\", \"dC A\" ... \"dC D\"",
+       "sec. 6.7, eqs. \"M2\", \"ABCD dependence\", \"dC Psi add lin rel 1\"-\"6\", \"dC A\"-\"dC D\"",
+       "With M2 = [[D, A/(w1 - w3), A/(w1 - w2)], [B/(w2 - w3), D, B/(w2 - w1)], [C/(w3 - w2), C/(w3 - w1), D]], "
+       "the relations 'dC Psi add lin rel 1-6' (with the integrals d7, d8, d9 of Th. \"dC basis 2\" and g4, g5, g6 "
+       "of Th. \"dC Theta\") and eq. \"ABCD dependence\" determine A, B, C, D uniquely; they are integrals, even "
+       "in eps, A = (1 + eps^2 A^(2) + ... + eps^8 A^(8))/(2 eps^2 Delta) and likewise B, C with "
+       "A^(2) = B^(2) = C^(2) as printed, D = (H3 + eps^2 D^(4) + eps^4 D^(6) + eps^6 D^(8))/(2 Delta) with "
+       "D^(4) as printed; (d7, d8, d9) M2 = 0, det M2 = 0, and rel18_1 ... rel18_4 hold for M2.",
+       claimed={"M2": M2, **ADD, **ADD_ABCD, "abcd_dependence": ABCD_DEPENDENCE, "A_2": A_2, "D_4": D_4,
+                "A_leading": "1", "D_leading": "p1**2 + p2**2 + p3**2"}, slow=True)
+def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    f = kahan_map(SYSTEM)
+    r = f.ring
+    b2, th = require_proven(cert, "dc-basis2"), require_proven(cert, "dc-theta")
+    known = {k: recall(b2, k, r) for k in ("d7", "d8", "d9")} | {k: recall(th, k, r) for k in ("g4", "g5", "g6")}
+    delta = recall(b2, "Delta", r)
+    with cert.step("the relations 'dC Psi add lin rel 1-6': both printed forms agree through eq. \"M2\"",
+                   "rows over Q(eps, w) in the unknowns A, B, C, D", r) as s:
+        rows = []
+        for k in range(1, 7):
+            via_m2 = _in_abcd(f, claimed[f"add_{k}"], claimed["M2"], known)
+            (direct,) = relation_rows(f, claimed[f"add_{k}_abcd"], tuple("ABCD"), known)
+            s.require(_same_relation(via_m2, direct), f"the two sides of 'dC Psi add lin rel {k}' differ")
+            rows.append(direct)
+        s.require(rank_over_fraction_field(_augmented(rows)) == 3 and
+                  rank_over_fraction_field([list(x.coefficients) for x in rows]) == 3,
+                  "the six relations are not a consistent system of rank 3")
+        one = [Frac(r, 1)] * 3 + [Frac(r, 0)]
+        s.require(all(linear_combination_equals(x.coefficients, one, Frac(r, 0)) for x in rows),
+                  "(1, 1, 1, 0) is not the direction the relations leave free")
+        s.note("rank 3 and consistent (the integrals d_k, g_k satisfy the three compatibility identities); "
+               "A + B + C is left free")
+    with cert.step("A, B, C, D from eq. \"ABCD dependence\"", "the dependence is linear along (1, 1, 1, 0): "
+                   "sum of 1/((w_i - w_j)(w_i - w_k)) = 0", r) as s:
+        pick = rows[:1] + rows[3:5] + [Relation([Frac(r, 0)] * 2 + [Frac(r, 1), Frac(r, 0)], Frac(r, 0))]
+        base = _solve_constant([list(x.coefficients) for x in pick], [x.rhs for x in pick])
+        lhs, rhs = claimed["abcd_dependence"].split("=")
+        q = Frac.parse(r.extend(["A", "B", "C", "D", "t"]), f"({lhs}) - ({rhs})")
+        along = q.pullback([q.ring.gen(k) + q.ring.gen("t") for k in "ABC"] + [q.ring.gen("D")],
+                           q.ring.constant(1), ["A", "B", "C", "D"])
+        s.require(along.derivative("t").derivative("t").is_zero(),
+                  "eq. \"ABCD dependence\" is not linear along (1, 1, 1, 0)")
+        slope = _quadratic_at(along.derivative("t"), dict(zip("ABCD", base)))
+        s.require(not slope.is_zero(), "eq. \"ABCD dependence\" does not fix A + B + C")
+        t = -_quadratic_at(q, dict(zip("ABCD", base))) / slope
+        abcd = dict(zip("ABCD", [base[0] + t, base[1] + t, base[2] + t, base[3]]))
+        s.require(all(linear_combination_equals(x.coefficients, list(abcd.values()), x.rhs) for x in rows),
+                  "A, B, C, D do not satisfy the six relations")
+        s.require(_quadratic_at(q, abcd).is_zero(), "eq. \"ABCD dependence\" fails")
+        for k, v in abcd.items():
+            record(cert, k, v)
+    with cert.step("A, B, C, D are integrals, even in eps", "rational functions of the integrals d7, d8, g4, g5 "
+                   "(dc-basis2, dc-theta); exact parity", r) as s:
+        for k, v in abcd.items():
+            s.require(v.is_even_in(EPS), f"{k} is not even in eps")
+        s.note("A, B, C, D are built from d7, d8, g4, g5 by field operations with constant coefficients, so "
+               "h o f = h for each of them")
+    m2 = m2_entries(f, claimed["M2"], abcd)
+    for k, v in m2.items():
+        record(cert, k, v)
+    with cert.step("eq. \"M2\": (d7, d8, d9) M2 = 0, det M2 = 0, rel18_1 ... rel18_4",
+                   "exact identities in Q(m, p, eps, w)", r) as s:
+        d = [known[k] for k in ("d7", "d8", "d9")]
+        for col in "456":
+            entries = [m2[f"{c}{col}"] for c in "abc"]
+            s.require(linear_combination_equals(d, entries, Frac(r, 0)), f"(d7, d8, d9) M2 has column {col} != 0")
+        values = [m2.get(u, Frac(r, 0)) for u in UNKNOWNS]
+        for key in ("rel18_1", "rel18_2", "rel18_3", "rel18_4"):
+            for rel in relation_rows(f, REL18[key]):
+                s.require(linear_combination_equals(rel.coefficients, values, rel.rhs), f"{key} fails for M2")
+        s.note("det M2 = 0 follows from the non-zero left null-vector (d7, d8, d9)")
+    with cert.step("eqs. \"dC A\" ... \"dC D\": the eps-structure, A^(2) = B^(2) = C^(2), D^(4)",
+                   "coefficients in eps of 2 eps^2 Delta A and 2 Delta D; homogeneity in (m, p)", r) as s:
+        e2 = Frac(r, r.gen(EPS) ** 2)
+        for k in "ABC":
+            pieces = _eps_pieces(s, r, abcd[k] * 2 * e2 * delta, f"2 eps^2 Delta {k}", 5, 0)
+            s.require_equal(pieces[0], named(f, claimed["A_leading"]), f"{k}^(0)")
+            s.require_equal(pieces[1], named(f, claimed["A_2"]), f"{k}^(2)")
+        pieces = _eps_pieces(s, r, abcd["D"] * 2 * delta, "2 Delta D", 4, 2)
+        s.require_equal(pieces[0], named(f, claimed["D_leading"]), "D^(2)")
+        s.require_equal(pieces[1], named(f, claimed["D_4"]), "D^(4)")
+
+
+def _quadratic_at(q: Frac, values: Mapping[str, Frac]) -> Frac:
+    """A polynomial of degree <= 2 in A, B, C, D (coefficients in Q(w)) at big values, over one common
+    denominator L of the values: sum c_ij N_i N_j / (den(q) L^2), a single gcd at the end."""
+    big = q.ring
+    r = next(iter(values.values())).ring
+    common = r.constant(1)
+    for v in values.values():
+        common = common * (v.den / common.gcd(v.den))
+    nums = {n: v.num * (common / v.den) for n, v in values.items()}
+    idx = {n: big.index(n) for n in values}
+    groups: dict[tuple[int, ...], flint.fmpz_mpoly] = {}
+    for exps, coeff in zip(q.num.monoms(), q.num.coeffs()):
+        key = tuple(exps[idx[n]] for n in values)
+        if sum(key) > 2:
+            raise ParseError("eq. \"ABCD dependence\" is not quadratic in A, B, C, D")
+        rest = tuple(0 if i in idx.values() else e for i, e in enumerate(exps))
+        groups[key] = groups.get(key, big.constant(0)) + big.ctx.from_dict({rest: coeff})
+    total = r.constant(0)
+    for key, coeff in groups.items():
+        term = coeff.project_to_context(r.ctx) * common ** (2 - sum(key))
+        for n, e in zip(values, key):
+            term = term * nums[n] ** e
+        total += term
+    return Frac(r, total, q.den.project_to_context(r.ctx) * common ** 2)
+
+
+def _solve_constant(rows: list[list[Frac]], rhs: list[Frac]) -> list[Frac]:
+    """x with rows x = rhs, rows free of phase variables: the inverse by Cramer (small), then one combination each
+    (no fraction-free elimination over the big right-hand sides)."""
+    r = rhs[0].ring
+    n = len(rows)
+    columns = [cramer(rows, [Frac(r, int(i == k)) for i in range(n)])[0] for k in range(n)]
+    return [sum((columns[k][j] * rhs[k] for k in range(n)), Frac(r, 0)) for j in range(n)]
+
+
+def _eps_pieces(s, r, h: Frac, what: str, count: int, first_degree: int) -> list[Frac]:
+    """h as sum_q eps^(2q) h_q with h_q homogeneous of degree first_degree + 2q in (m, p), eps-free."""
+    s.require(h.is_polynomial(), f"{what} is not a polynomial")
+    coeffs = coefficients_in(r, h.num, EPS)
+    s.require(len(coeffs) <= 2 * count - 1 and all(c.is_zero() for c in coeffs[1::2]),
+              f"{what}: not a polynomial in eps^2 of degree {count - 1}")
+    pieces = [Frac(r, coeffs[2 * q], h.den) if 2 * q < len(coeffs) else Frac(r, 0) for q in range(count)]
+    idx = [r.index(n) for n in X]
+    for q, piece in enumerate(pieces):
+        degs = {sum(m[i] for i in idx) for m in piece.num.monoms()}
+        s.require(degs <= {first_degree + 2 * q}, f"{what}: the eps^{2 * q} piece is not homogeneous of degree "
+                                                  f"{first_degree + 2 * q}")
+    return pieces
+
+
+# -- Step 1: the 17 x 18 system ---------------------------------------------------------------------------------
+STEP1_RELATIONS = ("rel18_1", "rel18_2", "rel18_3", "rel18_4", "rel18_6", "rel18_8")
+BLOCK = {c: [UNKNOWNS.index(f"{c}{j}") for j in range(1, 7)] for c in "abc"}
+J456 = [BLOCK[c][j] for c in "abc" for j in (3, 4, 5)]
+
+
+def _orbit(f, point: Mapping[str, flint.fmpq], lo: int, hi: int) -> dict[int, dict[str, flint.fmpq]]:
+    """The exact points f^i(x), lo <= i <= hi, with the fixed parameters of `point` (f^-1(x, eps) = f(x, -eps))."""
+    fixed = {k: v for k, v in point.items() if k not in f.variables}
+    fwd = f.orbit_exact(point, max(hi, 0))
+    bwd = f.orbit_exact({**point, EPS: -point[EPS]}, max(-lo, 0))
+    return {i: {**fixed, **(fwd[i] if i >= 0 else bwd[-i])} for i in range(lo, hi + 1)}
+
+
+def hk_rows_at(f, orbit: Mapping[int, Mapping[str, flint.fmpq]], iterates: Sequence[int]):
+    """Rows of eqs. "Psi1 iterates" ... "Psi3 iterates" at exact points, as rows over the 18 unknowns."""
+    rows, rhs = [], []
+    for c, basis in zip("abc", bases(f)):
+        for i in iterates:
+            row = [flint.fmpq(0)] * len(UNKNOWNS)
+            for k, phi in zip(BLOCK[c], basis[:6]):
+                row[k] = phi.evaluate(orbit[i])
+            rows.append(row)
+            rhs.append(basis[6].evaluate(orbit[i]))
+    return rows, rhs
+
+
+def step1_relations(f, known: Mapping[str, Frac]) -> list[Relation]:
+    """The relation rows of Step 1: rel18_1 ... rel18_8 and 'dC Psi add lin rel 1, 2'."""
+    rels = [rel for k in STEP1_RELATIONS for rel in relation_rows(f, REL18[k])]
+    return rels + [rel for k in ("add_1", "add_2") for rel in relation_rows(f, ADD[k], UNKNOWNS, known)]
+
+
+@claim("dc345-step1", GROUP,
+       "Proof of Th. \"dC bases 345\", Step 1: the 17 x 18 system fixes alpha_j, beta_j, gamma_j (j = 4, 5, 6)",
+       "sec. 6.7, proof of Th. \"dC bases 345\", Step 1",
+       "The 17 equations (eqs. \"Psi1 iterates\" ... \"Psi3 iterates\" with i = 0, 1, rel18_1 ... rel18_8, "
+       "'dC Psi add lin rel 1, 2') in 18 unknowns have rank 17 and a kernel vector with zero j = 4, 5, 6 "
+       "components, so those components are unique; they equal eq. \"M2\" with A, B, C, D of dc345-abcd.",
+       claimed={"kernel_vector": "[(w2 - w3)*n, (w3 - w1)*n, (w1 - w2)*n]"},
+       slow=True, expected=Status.EVIDENCE_EXACT)
+def prove_step1(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    f = kahan_map(SYSTEM)
+    r = f.ring
+    b2 = require_proven(cert, "dc-basis2")
+    known = {k: recall(b2, k, r) for k in ("d7", "d8")}
+    rels = step1_relations(f, known)
+    with cert.step("the kernel direction of the system", "n = p^2(x) x p^2(f(x)) (cross product) in each block, "
+                   "weights (w2 - w3, w3 - w1, w1 - w2); exact identities", r) as s:
+        p2 = [Frac.parse(r, t) for t in COMMON[:3]]
+        p2f = [f.pullback(h) for h in p2]
+        n = [p2[1] * p2f[2] - p2[2] * p2f[1], p2[2] * p2f[0] - p2[0] * p2f[2], p2[0] * p2f[1] - p2[1] * p2f[0]]
+        weights = [named(f, w) for w in _kernel_weights(claimed["kernel_vector"])]
+        v = [Frac(r, 0)] * len(UNKNOWNS)
+        for c, w in zip("abc", weights):
+            for j in range(3):
+                v[BLOCK[c][j]] = w * n[j]
+        for row in (p2, p2f):
+            s.require(linear_combination_equals(row, n, Frac(r, 0)), "n does not annihilate the p^2 columns")
+        for k, rel in enumerate(rels):
+            s.require(linear_combination_equals(rel.coefficients, v, Frac(r, 0)),
+                      f"the kernel vector violates relation row {k + 1}")
+        s.note("rows i = 0, 1 of each block see only (p1^2, p2^2, p3^2) o f^i in the j = 1, 2, 3 columns")
+    with cert.step("rank 17", "exact rank of the 17 x 18 matrix at a rational point", r) as s:
+        point = sample_point(r.names, seed=3)
+        rows, _ = _step1_at(f, rels, point)
+        s.require(flint.fmpq_mat(rows).rank() == 17, "rank < 17 at the sample point: choose another point")
+        s.note("a non-zero 17 x 17 minor at a point: rank 17 over Q(m, p, eps, w), so the kernel is spanned by the "
+               "vector above, which vanishes in the j = 4, 5, 6 positions: those unknowns are determined uniquely")
+    abcd = require_proven(cert, "dc345-abcd")
+    with cert.step("the unique j = 4, 5, 6 components equal eq. \"M2\" with A, B, C, D",
+                   "exact solution of the 17 x 18 system at rational points", r) as s:
+        m2 = {u: recall(abcd, u, r) for u in UNKNOWNS if u in abcd.formulas}
+        points = [sample_point(r.names, seed=k) for k in (3, 7, 11)]
+        for pt in points:
+            rows, rhs = _step1_at(f, rels, pt)
+            sol = _particular(rows, rhs)
+            s.require(sol is not None, "the system is inconsistent at a sample point")
+            s.require(all(sol[k] == m2[UNKNOWNS[k]].evaluate(pt) for k in J456),
+                      "a j = 4, 5, 6 component differs from eq. \"M2\"")
+        s.evidence(Status.EVIDENCE_EXACT, points=len(points))
+        s.note("a symbolic proof needs the full solution, i.e. Steps 2-5 (alpha_j, beta_j, gamma_j for j = 1, 2, 3)")
+
+
+def _kernel_weights(text: str) -> list[str]:
+    """'[(w2 - w3)*n, ...]' -> the three weights of n."""
+    items = text.strip().strip("[]").split(",")
+    out = []
+    for item in items:
+        item = item.strip()
+        if not item.endswith("*n"):
+            raise ParseError(f"{item!r} is not of the form weight*n")
+        out.append(item[:-2])
+    return out
+
+
+def _step1_at(f, rels: Sequence[Relation], point: Mapping[str, flint.fmpq]):
+    """The 17 x 18 system of Step 1 at an exact point."""
+    orbit = _orbit(f, point, 0, 1)
+    rows, rhs = hk_rows_at(f, orbit, (0, 1))
+    rows += [[c.evaluate(point) for c in rel.coefficients] for rel in rels]
+    rhs += [rel.rhs.evaluate(point) for rel in rels]
+    return rows, rhs
+
+
+def _particular(rows, rhs) -> list[flint.fmpq] | None:
+    """A solution of rows x = rhs over Q (reduced row echelon form of the augmented matrix), or None."""
+    aug = flint.fmpq_mat([list(row) + [b] for row, b in zip(rows, rhs)])
+    ech, rank = aug.rref()
+    width = len(rows[0])
+    sol = [flint.fmpq(0)] * width
+    for i in range(rank):
+        lead = next(j for j in range(width + 1) if ech[i, j] != 0)
+        if lead == width:
+            return None
+        sol[lead] = ech[i, width]
+    return sol
+
+
+# -- Steps 2-5 and the conclusions, at exact points ------------------------------------------------------------
+def symmetric_solution(f, orbit, m2_at: Mapping[str, flint.fmpq]) -> dict[str, flint.fmpq]:
+    """Step 2 at a point: alpha_1..3 (and beta, gamma) from the rows i = -1, 0, 1 with the j = 4, 5, 6 values."""
+    out = dict(m2_at)
+    for c, basis in zip("abc", bases(f)):
+        rows = [[phi.evaluate(orbit[i]) for phi in basis[:3]] for i in (-1, 0, 1)]
+        rhs = [basis[6].evaluate(orbit[i]) - sum((m2_at[f"{c}{j + 1}"] * basis[j].evaluate(orbit[i])
+                                                  for j in (3, 4, 5)), flint.fmpq(0)) for i in (-1, 0, 1)]
+        sol = flint.fmpq_mat(rows).solve(flint.fmpq_mat([[b] for b in rhs]))
+        out.update({f"{c}{j + 1}": sol[j, 0] for j in range(3)})
+    return out
+
+
+@claim("dc345-kernels-evidence", GROUP,
+       "Th. \"dC bases 345\", Steps 2-5 and Th. \"dClebsch 1dim bases\" at exact points",
+       "sec. 6.7, Th. \"dC bases 345\" (Steps 2, 4, 5), Th. \"dClebsch 1dim bases\", Th. \"dClebsch max basis\"",
+       "At rational points: alpha, beta, gamma (j = 1, 2, 3 from the symmetric rows i = -1, 0, 1, Step 2; j = 4, 5, 6 "
+       "from eq. \"M2\") annihilate Phi1, Phi2, Phi3 on the rows i = -2 ... 3; they satisfy every rel18 relation; "
+       "the Step 4 system (i = 0, 1 and F) and the Step 5 systems (i = 0, 1 and eq. \"rel18_6\") have a unique "
+       "solution equal to them; the four null-spaces in R^10 are independent.",
+       claimed={"F": "(w2 - w3)*a1 + (w3 - w1)*a2 + (w1 - w2)*a3", "step5_beta": REL18["rel18_6"]},
+       slow=True, expected=Status.EVIDENCE_EXACT)
+def prove_kernels_evidence(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    f = kahan_map(SYSTEM)
+    r = f.ring
+    abcd = require_proven(cert, "dc345-abcd")
+    b1 = require_proven(cert, "dc-basis1-relations")
+    m2 = {u: recall(abcd, u, r) for u in UNKNOWNS if u in abcd.formulas}
+    c_k = [recall(b1, f"c{k}", r) for k in (1, 2, 3)]
+    points = [sample_point(r.names, seed=k) for k in (3, 7, 11)]
+    rels = [rel for k in REL18 for rel in relation_rows(f, REL18[k])] + relation_rows(f, REL18_EXTRA)
+    with cert.step("Step 2 at points: the symmetric solution annihilates Phi1, Phi2, Phi3 on i = -2 ... 3",
+                   "exact orbits and linear algebra over Q", r) as s:
+        solutions = []
+        for pt in points:
+            orbit = _orbit(f, pt, -2, 3)
+            sol = symmetric_solution(f, orbit, {u: h.evaluate(pt) for u, h in m2.items()})
+            values = [sol[u] for u in UNKNOWNS]
+            rows, rhs = hk_rows_at(f, orbit, range(-2, 4))
+            s.require(all(sum((a * x for a, x in zip(row, values)), flint.fmpq(0)) == b for row, b in zip(rows, rhs)),
+                      "the vector does not annihilate the basis on i = -2 ... 3")
+            s.require(all(sum((c.evaluate(pt) * x for c, x in zip(rel.coefficients, values)), flint.fmpq(0))
+                          == rel.rhs.evaluate(pt) for rel in rels), "a rel18 relation fails")
+            solutions.append((pt, orbit, sol))
+        s.evidence(Status.EVIDENCE_EXACT, points=len(points))
+    with cert.step("Steps 4 and 5 at points: unique solutions equal to Step 2",
+                   "i = 0, 1 with F (alpha) or with eq. \"rel18_6\" (beta, gamma); det != 0", r) as s:
+        (frow,) = relation_rows(f, f"{claimed['F']} = 0")
+        chain = relation_rows(f, claimed["step5_beta"])
+        for pt, orbit, sol in solutions:
+            for c, extra in (("a", frow), ("b", chain[0]), ("c", chain[1])):
+                basis = bases(f)["abc".index(c)]
+                rows = [[phi.evaluate(orbit[i]) for phi in basis[:3]] for i in (0, 1)]
+                rhs = [basis[6].evaluate(orbit[i]) - sum((sol[f"{c}{j + 1}"] * basis[j].evaluate(orbit[i])
+                                                          for j in (3, 4, 5)), flint.fmpq(0)) for i in (0, 1)]
+                coef = [x.evaluate(pt) for x in extra.coefficients]
+                own = BLOCK[c][:3]
+                rows.append([coef[k] for k in own])
+                other = sum((coef[k] * sol[UNKNOWNS[k]] for k in range(len(UNKNOWNS)) if k not in own),
+                            flint.fmpq(0))
+                value = sum((coef[k] * sol[UNKNOWNS[k]] for k in own), flint.fmpq(0))
+                rhs.append(value if c == "a" else extra.rhs.evaluate(pt) - other)
+                mat = flint.fmpq_mat(rows)
+                s.require(mat.det() != 0, f"the Step 4/5 system for {c} is singular at a point")
+                got = mat.solve(flint.fmpq_mat([[b] for b in rhs]))
+                s.require(all(got[j, 0] == sol[f"{c}{j + 1}"] for j in range(3)), f"Step 4/5 for {c} differs")
+        s.evidence(Status.EVIDENCE_EXACT, points=len(points))
+        s.note("F is taken at its Step 2 value: this checks the systems, not that F is an integral")
+    with cert.step("Th. \"dClebsch 1dim bases\": K_Phi0 + K_Phi1 + K_Phi2 + K_Phi3 has dimension 4",
+                   "rank of the four null-vectors in R^10 at exact points", r) as s:
+        for pt, _, sol in solutions:
+            v0 = [c.evaluate(pt) for c in c_k] + [flint.fmpq(0)] * 6 + [flint.fmpq(-1)]
+            vs = [v0]
+            for c, pos in zip("abc", (6, 7, 8)):
+                v = [sol[f"{c}{j}"] for j in range(1, 7)] + [flint.fmpq(0)] * 4
+                v[pos] = flint.fmpq(-1)
+                vs.append(v)
+            s.require(flint.fmpq_mat(vs).rank() == 4, "the four null-vectors are dependent at a point")
+        s.evidence(Status.EVIDENCE_EXACT, points=len(points))
+
+
+# -- Steps 2-3 with eps symbolic at rational (m, p, w): eqs. "bigint_form", "alpha123", the form of F ------------
+ALPHA123 = {"a1": "H3 - I1", "a2": "-I1", "a3": "-I1", "b1": "-I2", "b2": "H3 - I2", "b3": "-I2",
+            "c1": "-I3", "c2": "-I3", "c3": "H3 - I3"}
+
+
+def symmetric_in_eps(f, m2: Mapping[str, Frac], point: Mapping[str, flint.fmpq]) -> tuple[dict[str, Frac], Ring]:
+    """Step 2 at a point of (m, p, w) with eps symbolic: the rows i = -1, 0, 1 over Q(eps), solved by Cramer."""
+    small = Ring([EPS])
+    at = {k: v for k, v in point.items() if k != EPS}
+    orbit = {0: {n: Frac(small, 1) * Frac.rational(small, at[n]) for n in f.variables}}
+    for i, (nums, den) in ((1, f.explicit), (-1, f.inverse_explicit)):
+        d = Frac(f.ring, den).specialize(at, small)
+        orbit[i] = {n: Frac(f.ring, num).specialize(at, small) / d for n, num in zip(f.variables, nums)}
+    out = {u: h.specialize(at, small) for u, h in m2.items()}
+    for c, basis in zip("abc", bases(f)):
+        values = {i: [_at(phi, orbit[i], small) for phi in basis] for i in (-1, 0, 1)}
+        rows = [values[i][:3] for i in (-1, 0, 1)]
+        rhs = [values[i][6] - sum((out[f"{c}{j + 1}"] * values[i][j] for j in (3, 4, 5)), Frac(small, 0))
+               for i in (-1, 0, 1)]
+        sol, _ = cramer(rows, rhs)
+        out.update({f"{c}{j + 1}": sol[j] for j in range(3)})
+    return out, small
+
+
+def _at(phi: Frac, point: Mapping[str, Frac], small: Ring) -> Frac:
+    """A monomial basis function (p_k^2, m_k p_k, ...) at a point with coordinates in Q(eps)."""
+    out = Frac(small, 1)
+    for n, e in zip(phi.ring.names, phi.num.degrees()):
+        if e:
+            out = out * point[n] ** e
+    return out
+
+
+@claim("dc345-step2-evidence", GROUP,
+       "Th. \"dC bases 345\", Steps 2-3 with eps symbolic at rational (m, p, w): eqs. \"bigint_form\", "
+       "\"alpha123\", the form of F",
+       "sec. 6.7, Th. \"dC bases 345\", eqs. \"bigint_form\", \"alpha123\", \"eq:F\"",
+       "At rational (m, p, w), the Step 2 solution alpha_j, beta_j, gamma_j (j = 1, 2, 3) is even in eps, "
+       "2 eps^2 H3 Delta h is a polynomial in eps^2 of degree <= 5 whose eps^0 term is h^(2) of eq. \"alpha123\", "
+       "and F = (w2 - w3) alpha1 + (w3 - w1) alpha2 + (w1 - w2) alpha3 has 2 eps^2 Delta F / (w2 - w3) a polynomial "
+       "in eps^2 of degree <= 4 with constant term 1 (the eps^10 coefficient and the factor H3 cancel).",
+       claimed={**{f"{u}_2": t for u, t in ALPHA123.items()},
+                "F": "(w2 - w3)*a1 + (w3 - w1)*a2 + (w1 - w2)*a3", "F_leading": "1"},
+       slow=True, expected=Status.EVIDENCE_EXACT)
+def prove_step2_evidence(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    f = kahan_map(SYSTEM)
+    r = f.ring
+    abcd, b2 = require_proven(cert, "dc345-abcd"), require_proven(cert, "dc-basis2")
+    m2 = {u: recall(abcd, u, r) for u in UNKNOWNS if u in abcd.formulas}
+    delta = recall(b2, "Delta", r)
+    (frow,) = relation_rows(f, f"{claimed['F']} = 0")
+    points = [sample_point(r.names, seed=k) for k in (3, 7)]
+    with cert.step("Step 2 over Q(eps): eqs. \"bigint_form\" and \"alpha123\"; the form of F",
+                   "Cramer's rule over Q(eps) at rational (m, p, w); exact parity and eps-coefficients", r) as s:
+        for pt in points:
+            sol, small = symmetric_in_eps(f, m2, pt)
+            at = {k: v for k, v in pt.items() if k != EPS}
+            h3, dl = named(f, "H3").specialize(at, small), delta.specialize(at, small)
+            e2 = Frac(small, small.gen(EPS) ** 2)
+            for u, text in ALPHA123.items():
+                h = sol[u]
+                s.require(h.is_even_in(EPS), f"{u} is not even in eps at a point")
+                top = h * 2 * e2 * h3 * dl
+                s.require(top.is_polynomial() and top.num.degrees()[0] <= 10, f"{u} is not of the form "
+                          "eq. \"bigint_form\" at a point")
+                lead = top.evaluate({EPS: 0})
+                s.require(lead == named(f, claimed[f"{u}_2"]).evaluate(at | {EPS: 0}), f"{u}^(2) differs")
+            F = sum((c.specialize(at, small) * sol[u] for c, u in zip(frow.coefficients, UNKNOWNS)
+                     if not c.is_zero()), Frac(small, 0))
+            w23 = pt["w2"] - pt["w3"]
+            top = F * 2 * e2 * dl / Frac.rational(small, w23)
+            s.require(top.is_polynomial() and top.num.degrees()[0] <= 8 and top.is_even_in(EPS),
+                      "2 eps^2 Delta F/(w2 - w3) is not a polynomial in eps^2 of degree <= 4 at a point")
+            s.require(top.evaluate({EPS: 0}) == named(f, claimed["F_leading"]).evaluate(at | {EPS: 0}),
+                      "the constant term of 2 eps^2 Delta F/(w2 - w3) differs")
+        s.evidence(Status.EVIDENCE_EXACT, points=len(points))
