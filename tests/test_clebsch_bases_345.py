@@ -31,7 +31,7 @@ def test_status(claim_id, expected):
                                       "- C*A/((w3 - w2)*(w1 - w2)) = 0"),
     ("dc345-abcd", "M2", "a4 = D, a5 = A/(w1 - w2), a6 = A/(w1 - w3), b4 = B/(w2 - w3), b5 = D, "
                          "b6 = B/(w2 - w1), c4 = C/(w3 - w2), c5 = C/(w3 - w1), c6 = D"),
-    ("dc345-kernels-evidence", "F", "(w2 - w3)*a1 - (w3 - w1)*a2 + (w1 - w2)*a3"),   # F with a wrong sign
+    ("dc345-step2-evidence", "F", "(w2 - w3)*a1 - (w3 - w1)*a2 + (w1 - w2)*a3"),   # F with a wrong sign
     ("dc345-step1", "kernel_vector", "[(w2 - w3)*n, (w1 - w3)*n, (w1 - w2)*n]"),
 ])
 def test_perturbed_refuted(claim_id, key, text):

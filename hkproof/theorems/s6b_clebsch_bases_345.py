@@ -38,6 +38,7 @@ REL18 = {
 }
 REL18_EXTRA = ("(a1 - a2 - (w1 - w2)*a6)/(w2 - w3) = (b1 - b2 - (w1 - w2)*b6)/(w3 - w1)"
                " = (c1 - c2 - (w1 - w2)*c6)/(w1 - w2)")
+F_TEXT = "(w2 - w3)*a1 + (w3 - w1)*a2 + (w1 - w2)*a3"
 M2 = ("a4 = D, a5 = A/(w1 - w3), a6 = A/(w1 - w2), b4 = B/(w2 - w3), b5 = D, b6 = B/(w2 - w1), "
       "c4 = C/(w3 - w2), c5 = C/(w3 - w1), c6 = D")
 ADD = {
@@ -232,8 +233,14 @@ def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
 
 
 def _quadratic_at(q: Frac, values: Mapping[str, Frac]) -> Frac:
-    """A polynomial of degree <= 2 in A, B, C, D (coefficients in Q(w)) at big values, over one common
-    denominator L of the values: sum c_ij N_i N_j / (den(q) L^2), a single gcd at the end."""
+    """A polynomial of degree <= 2 in A, B, C, D (coefficients in Q(w)) at big values, in lowest terms."""
+    r = next(iter(values.values())).ring
+    return Frac(r, *quadratic_fraction_free(q, values))
+
+
+def quadratic_fraction_free(q: Frac, values: Mapping[str, Frac]) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
+    """(num, den) of q at the values over one common denominator L of them: sum c_ij N_i N_j / (den(q) L^2),
+    no gcd taken."""
     big = q.ring
     r = next(iter(values.values())).ring
     common = r.constant(1)
@@ -254,7 +261,7 @@ def _quadratic_at(q: Frac, values: Mapping[str, Frac]) -> Frac:
         for n, e in zip(values, key):
             term = term * nums[n] ** e
         total += term
-    return Frac(r, total, q.den.project_to_context(r.ctx) * common ** 2)
+    return total, q.den.project_to_context(r.ctx) * common ** 2
 
 
 def _solve_constant(rows: list[list[Frac]], rhs: list[Frac]) -> list[Frac]:
@@ -420,7 +427,7 @@ def symmetric_solution(f, orbit, m2_at: Mapping[str, flint.fmpq]) -> dict[str, f
        "from eq. \"M2\") annihilate Phi1, Phi2, Phi3 on the rows i = -2 ... 3; they satisfy every rel18 relation; "
        "the Step 4 system (i = 0, 1 and F) and the Step 5 systems (i = 0, 1 and eq. \"rel18_6\") have a unique "
        "solution equal to them; the four null-spaces in R^10 are independent.",
-       claimed={"F": "(w2 - w3)*a1 + (w3 - w1)*a2 + (w1 - w2)*a3", "step5_beta": REL18["rel18_6"]},
+       claimed={"step5_beta": REL18["rel18_6"]},
        slow=True, expected=Status.EVIDENCE_EXACT)
 def prove_kernels_evidence(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
@@ -447,7 +454,7 @@ def prove_kernels_evidence(cert: Certificate, claimed: Mapping[str, str]) -> Non
         s.evidence(Status.EVIDENCE_EXACT, points=len(points))
     with cert.step("Steps 4 and 5 at points: unique solutions equal to Step 2",
                    "i = 0, 1 with F (alpha) or with eq. \"rel18_6\" (beta, gamma); det != 0", r) as s:
-        (frow,) = relation_rows(f, f"{claimed['F']} = 0")
+        (frow,) = relation_rows(f, f"{F_TEXT} = 0")
         chain = relation_rows(f, claimed["step5_beta"])
         for pt, orbit, sol in solutions:
             for c, extra in (("a", frow), ("b", chain[0]), ("c", chain[1])):
@@ -523,7 +530,7 @@ def _at(phi: Frac, point: Mapping[str, Frac], small: Ring) -> Frac:
        "and F = (w2 - w3) alpha1 + (w3 - w1) alpha2 + (w1 - w2) alpha3 has 2 eps^2 Delta F / (w2 - w3) a polynomial "
        "in eps^2 of degree <= 4 with constant term 1 (the eps^10 coefficient and the factor H3 cancel).",
        claimed={**{f"{u}_2": t for u, t in ALPHA123.items()},
-                "F": "(w2 - w3)*a1 + (w3 - w1)*a2 + (w1 - w2)*a3", "F_leading": "1"},
+                "F": F_TEXT, "F_leading": "1"},
        slow=True, expected=Status.EVIDENCE_EXACT)
 def prove_step2_evidence(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
@@ -532,6 +539,8 @@ def prove_step2_evidence(cert: Certificate, claimed: Mapping[str, str]) -> None:
     m2 = {u: recall(abcd, u, r) for u in UNKNOWNS if u in abcd.formulas}
     delta = recall(b2, "Delta", r)
     (frow,) = relation_rows(f, f"{claimed['F']} = 0")
+    if not frow.rhs.is_zero():
+        raise ParseError(f"F = {claimed['F']} must be a linear form in alpha1, alpha2, alpha3 (eq. \"eq:F\")")
     points = [sample_point(r.names, seed=k) for k in (3, 7)]
     with cert.step("Step 2 over Q(eps): eqs. \"bigint_form\" and \"alpha123\"; the form of F",
                    "Cramer's rule over Q(eps) at rational (m, p, w); exact parity and eps-coefficients", r) as s:
