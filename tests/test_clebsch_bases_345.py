@@ -15,7 +15,10 @@ pytestmark = pytest.mark.slow   # every claim here cites dc-theta (about a minut
 @pytest.mark.parametrize("claim_id,expected", [("dc345-abcd", Status.VERIFIED),
                                                ("dc345-step1", Status.EVIDENCE_EXACT),
                                                ("dc345-relations", Status.EVIDENCE_EXACT),
-                                               ("dc345-kernels-evidence", Status.EVIDENCE_EXACT)])
+                                               ("dc345-kernels-evidence", Status.EVIDENCE_EXACT),
+                                               ("dc345-step2-evidence", Status.EVIDENCE_EXACT),
+                                               ("dc345-independence", Status.VERIFIED),
+                                               ("dc345-dependence-evidence", Status.EVIDENCE_EXACT)])
 def test_status(claim_id, expected):
     cert = proven(claim_id)
     THEOREM_RESULTS.append((claim_id, cert.status.label, cert.seconds))
