@@ -14,7 +14,6 @@ import tempfile
 import time
 from pathlib import Path
 
-from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.proof.registry import load_all, proven
 from hkproof.theorems._clebsch import recall

@@ -493,11 +493,6 @@ ALPHA123 = {"a1": "H3 - I1", "a2": "-I1", "a3": "-I1", "b1": "-I2", "b2": "H3 - 
             "c1": "-I3", "c2": "-I3", "c3": "H3 - I3"}
 
 
-def symmetric_in_eps(f, m2: Mapping[str, Frac], point: Mapping[str, flint.fmpq]) -> tuple[dict[str, Frac], Ring]:
-    """Step 2 at a point of (m, p, w) with eps symbolic: the rows i = -1, 0, 1 over Q(eps), solved by Cramer."""
-    return symmetric_along(f, m2, point, EPS)
-
-
 def symmetric_along(f, m2: Mapping[str, Frac], point: Mapping[str, flint.fmpq],
                     free: str) -> tuple[dict[str, Frac], Ring]:
     """Step 2 on the line through `point` where only `free` varies: rows i = -1, 0, 1 over Q(free), by Cramer."""
@@ -551,7 +546,7 @@ def prove_step2_evidence(cert: Certificate, claimed: Mapping[str, str]) -> None:
     with cert.step("Step 2 over Q(eps): eqs. \"bigint_form\" and \"alpha123\"; the form of F",
                    "Cramer's rule over Q(eps) at rational (m, p, w); exact parity and eps-coefficients", r) as s:
         for pt in points:
-            sol, small = symmetric_in_eps(f, m2, pt)
+            sol, small = symmetric_along(f, m2, pt, EPS)
             at = {k: v for k, v in pt.items() if k != EPS}
             h3, dl = named(f, "H3").specialize(at, small), delta.specialize(at, small)
             e2 = Frac(small, small.gen(EPS) ** 2)
