@@ -17,7 +17,7 @@ from hkproof.hk.integrals import check_integral, lie_derivative
 from hkproof.hk.linear_relations import parse_relation, relation_rank
 from hkproof.hk.recipe_g import WHAT_IT_PROVES, recipe_g
 from hkproof.hk.reduced import Relation, prove_by_evenness
-from hkproof.proof.certificate import Certificate, ProofStopped
+from hkproof.proof.certificate import Certificate, ProofStopped, StepRecorder
 from hkproof.proof.registry import REGISTRY, claim, require_proven
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import H, named
@@ -141,6 +141,16 @@ def _ijk(text: str, i: int, j: int, k: int) -> str:
     return text.replace("_i", str(i)).replace("_j", str(j)).replace("_k", str(k))
 
 
+
+def _e_as_functions_of_l(cert: Certificate, s: StepRecorder, f: KahanMap, rels: Sequence, names: Sequence[str],
+                         claimed: Mapping[str, str], known: Mapping[str, Frac]) -> list[Frac]:
+    """e_1..e_6 by Cramer from sum e_k phi_k = 1 and relations 1-5, each checked against its claimed form in L."""
+    e = _solve_phi0(f, rels[:5])
+    for n, a in zip(names, e):
+        cert.formula(n, a)
+        s.require_equal(a, named(f, claimed[n], known), f"{n} as a function of L")
+    return e
+
 def _solve_phi0(kmap: KahanMap, relations: Sequence[Relation]) -> list[Frac]:
     """e from the six equations without iterates: (sum e_k phi_k)(x) = 1 and five relations (Cramer)."""
     r = kmap.ring
@@ -199,10 +209,7 @@ def prove_second_flow(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.require(relation_rank(rels) == 5, "relation 6 is not a consequence of relations 1-5")
     with cert.step("e from the six equations", "Cramer's rule: sum e_k phi_k = 1 and relations 1-5 (no iterates)",
                    r) as s:
-        e = _solve_phi0(f, rels[:5])
-        for n, a in zip(names, e):
-            cert.formula(n, a)
-            s.require_equal(a, named(f, claimed[n], {**known, "L": big_l}), f"{n} as a function of L")
+        e = _e_as_functions_of_l(cert, s, f, rels, names, claimed, {**known, "L": big_l})
         l0 = named(f, claimed["L0"], known)
         for k, (i, j, kk) in enumerate(CYCLIC):
             g = e[3 + i] / Frac.parse(r, f"w{i + 1}")
@@ -326,10 +333,7 @@ def prove_general_phi0(cert: Certificate, claimed: Mapping[str, str]) -> None:
     big_l = named(f, claimed["L"], {**known, "A": a_poly, "D": d_poly})
     with cert.step("e from the six equations", "Cramer's rule: sum e_k phi_k = 1 and relations 1-5 (no iterates)",
                    r) as s:
-        e = _solve_phi0(f, rels[:5])
-        for n, a in zip(names, e):
-            cert.formula(n, a)
-            s.require_equal(a, named(f, claimed[n], {**known, "L": big_l}), f"{n} as a function of L")
+        e = _e_as_functions_of_l(cert, s, f, rels, names, claimed, {**known, "L": big_l})
         cert.formula("L", big_l)
     with cert.step("L is an integral (substitution)", "L(N/Delta) - L = 0 in Q(x, eps, w, y, z)", r) as s:
         s.require(check_integral(f, big_l).verdict == "verified", "L o f != L")
