@@ -29,8 +29,8 @@ def run_map(args: argparse.Namespace) -> Result:
 
 
 def run_systems(args: argparse.Namespace) -> Result:
-    payload = [{"name": f.name, "variables": list(f.variables), "parameters": list(f.parameters), "rhs": list(f.rhs_text), "description": f.description}
-               for f in SYSTEMS.values()]
+    payload = [{"name": f.name, "variables": list(f.variables), "parameters": list(f.parameters),
+                "rhs": list(f.rhs_text), "description": f.description} for f in SYSTEMS.values()]
     text = "\n".join(f"{f.name}: {f.description}\n    " +
                      "\n    ".join(f"{v}' = {r}" for v, r in zip(f.variables, f.rhs_text)) for f in SYSTEMS.values())
     return Result(payload, text)
