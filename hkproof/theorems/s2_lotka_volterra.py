@@ -7,7 +7,7 @@ from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.registry import claim
-from hkproof.theorems._common import parse, parse_matrix
+from hkproof.theorems._common import parse, parse_matrix, require_matrix_form
 
 GROUP = "lotka-volterra"
 
@@ -26,12 +26,7 @@ def prove_lv_explicit(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(GROUP)
     r = f.ring
     with cert.step("matrix form of the Kahan equations", "coefficients of x~ in E(x, x~, eps)", r) as s:
-        m, b = f.matrix
-        want_m, want_b = parse_matrix(f, claimed["M"]), parse_matrix(f, claimed["b"])
-        for i in range(2):
-            s.require_equal(Frac(r, b[i]), want_b[i][0], f"right-hand side b[{i + 1}]")
-            for j in range(2):
-                s.require_equal(Frac(r, m[i][j]), want_m[i][j], f"M[{i + 1},{j + 1}]")
+        require_matrix_form(s, f, parse_matrix(f, claimed["M"]), [row[0] for row in parse_matrix(f, claimed["b"])])
     with cert.step("explicit map", "Cramer's rule, gcd cancelled", r) as s:
         for name, comp in zip(("x_tilde", "y_tilde"), f.components()):
             s.require_equal(comp, parse(f, claimed[name]), name)

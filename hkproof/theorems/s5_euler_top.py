@@ -12,7 +12,7 @@ from hkproof.hk.integrals import lie_derivative
 from hkproof.hk.reduced import prove_by_evenness
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.registry import claim, proven, require_proven
-from hkproof.theorems._common import monomial_squares, parse, parse_matrix
+from hkproof.theorems._common import monomial_squares, parse, parse_matrix, require_matrix_form
 
 GROUP = "euler-top"
 X = ("x1", "x2", "x3")
@@ -72,12 +72,7 @@ def prove_et_explicit(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(GROUP)
     r = f.ring
     with cert.step("matrix form A x~ = x", "coefficients of x~ in E(x, x~, eps)", r) as s:
-        m, b = f.matrix
-        want = parse_matrix(f, claimed["A"])
-        for i in range(3):
-            s.require_equal(Frac(r, b[i]), Frac.parse(r, X[i]), f"right-hand side {i + 1}")
-            for j in range(3):
-                s.require_equal(Frac(r, m[i][j]), want[i][j], f"A[{i + 1},{j + 1}]")
+        require_matrix_form(s, f, parse_matrix(f, claimed["A"]))
     with cert.step("explicit map and Delta = det A", "Cramer's rule, gcd cancelled", r) as s:
         s.require_equal(Frac(r, f.denominator), parse(f, claimed["Delta"]), "Delta")
         for v, comp in zip(X, f.components()):

@@ -13,7 +13,7 @@ from hkproof.hk.integrals import lie_derivative
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.registry import claim
 from hkproof.theorems._clebsch import H, SYSTEM, X, cycled, named, number, shift
-from hkproof.theorems._common import parse, parse_matrix
+from hkproof.theorems._common import parse, parse_matrix, require_matrix_form
 
 GROUP = "clebsch-map"
 TILDE_EQUATIONS = {
@@ -90,12 +90,7 @@ def prove_equations(cert: Certificate, claimed: Mapping[str, str]) -> None:
         for v, e in zip(X, f.equations):
             s.require_equal(Frac(t, e), Frac.parse(t, claimed[f"eq_{v}"]), f"equation for {v}~")
     with cert.step("matrix form M (m~, p~) = (m, p)", "coefficients of (m~, p~) in eq. \"dC\"", r) as s:
-        m, b = f.matrix
-        want = parse_matrix(f, claimed["M"])
-        for i, v in enumerate(X):
-            s.require_equal(Frac(r, b[i]), Frac(r, r.gen(v)), f"right-hand side {i + 1}")
-            for j in range(6):
-                s.require_equal(Frac(r, m[i][j]), want[i][j], f"M[{i + 1},{j + 1}]")
+        require_matrix_form(s, f, parse_matrix(f, claimed["M"]))
 
 
 @claim("dc-explicit-map", GROUP, "The discrete Clebsch map f = M^-1 (m, p) and its denominator",

@@ -21,7 +21,7 @@ from hkproof.proof.certificate import Certificate, ProofStopped, StepRecorder
 from hkproof.proof.registry import REGISTRY, claim, require_proven
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import H, named
-from hkproof.theorems._common import parse_matrix
+from hkproof.theorems._common import parse_matrix, require_matrix_form
 from hkproof.theorems._flows import (B_OF_YZ, C_OF_YZ, CYCLIC, GENERAL, PHI0, e_names, map_components_under,
                                      yz_map)
 
@@ -69,7 +69,6 @@ def _with_c(text: str) -> str:
 def prove_general_map(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(GENERAL)
     r, t = f.ring, f.field.tilde_ring
-    m, b = f.matrix
     with cert.step("component equations \"dC2\"", "E_i / (coefficient of x~_i), exact comparison", t) as s:
         parts = [p.strip() for p in claimed["dC2"].split(";")]
         s.require(len(parts) == 6, f"eq. \"dC2\" needs six components, got {len(parts)}")
@@ -79,12 +78,7 @@ def prove_general_map(cert: Certificate, claimed: Mapping[str, str]) -> None:
             lead = e.derivative(t.index(f.field.tilde_variables[k]))
             s.require_equal(Frac(t, e, lead), Frac.parse(t, _with_c(text)), f"component {f.variables[k]}")
     with cert.step("matrix form M (m~, p~) = (m, p)", "rows of M and b scaled by the diagonal, exact", r) as s:
-        want = parse_matrix(f, _with_c(claimed["M"]))
-        for i in range(6):
-            scale = Frac(r, m[i][i])
-            s.require_equal(Frac(r, b[i]) / scale, Frac(r, r.gen(f.variables[i])), f"right-hand side {i + 1}")
-            for j in range(6):
-                s.require_equal(Frac(r, m[i][j]) / scale, want[i][j], f"M[{i + 1},{j + 1}]")
+        require_matrix_form(s, f, parse_matrix(f, _with_c(claimed["M"])), normalize_rows=True)
     for flow, name in (("flow1", "clebsch"), ("flow2", FLOW2)):
         target = kahan_map(name)
         with cert.step(f"{name} is the general map at b = {claimed[flow + '_b']}",
