@@ -111,14 +111,6 @@ class KahanMap:
             h = h.pullback(nums, delta, self.variables)
         return h
 
-    def pullback_fraction_free(self, p: flint.fmpz_mpoly, power: int) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
-        """(P, D) with p o f^power = P / D as a plain composition (no gcd cancelled), power in {-1, 0, 1, 2, ...}."""
-        if power == 0:
-            return p, self.ring.constant(1)
-        nums, den = self.iterate(power, reduced=False)
-        q, d = homogenized_compose(self.ring, p, self.variables, nums, den)
-        return q, den**d
-
     def iterate(self, k: int, *, reduced: bool = True) -> tuple[tuple[flint.fmpz_mpoly, ...], flint.fmpz_mpoly]:
         """f^k as (numerators, common denominator); `reduced` cancels the common gcd of all of them."""
         if k == 0:
