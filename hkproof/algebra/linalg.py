@@ -97,11 +97,8 @@ def _det_bareiss(matrix: PolyMatrix) -> flint.fmpz_mpoly:
 
 def clear_row_denominators(row: Sequence[Frac]) -> list[flint.fmpz_mpoly]:
     """Multiply a row of fractions by the lcm of its denominators: a polynomial row with the same kernel."""
-    lcm = row[0].den
-    for f in row[1:]:
-        g = lcm.gcd(f.den)
-        lcm = lcm * (f.den / g)
-    return [f.num * (lcm / f.den) for f in row]
+    common = lcm([f.den for f in row])
+    return [f.num * (common / f.den) for f in row]
 
 
 def cramer(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac],
@@ -113,18 +110,29 @@ def cramer(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac],
     """
     n = len(rows)
     ring: Ring = rhs[0].ring
-    polys = [clear_row_denominators(list(r) + [b]) for r, b in zip(rows, rhs)]
-    a = [p[:n] for p in polys]
-    b = [p[n] for p in polys]
-    d, nums = cramer_polynomials(a, b)
+    a, scaled = [], []
+    for r, b in zip(rows, rhs):
+        row_lcm = lcm([f.den for f in r])
+        a.append([f.num * (row_lcm / f.den) for f in r])
+        scaled.append(b * Frac(ring, row_lcm))
+    common = lcm([b.den for b in scaled])     # the right-hand side column is cleared separately: the matrix
+    d, nums = cramer_polynomials(a, [b.num * (common / b.den) for b in scaled])   # keeps small entries
     if d.is_zero():
         raise SingularSystemError(
             "the determinant of the linear system vanishes identically: its solution is not unique "
             "(check that the basis functions are independent and the rows are not redundant)")
     solution = []
     for j in (range(n) if columns is None else columns):
-        solution.append(Frac(ring, nums[j], d))
+        solution.append(Frac(ring, nums[j], d) / Frac(ring, common))
     return solution, d
+
+
+def lcm(polys: Sequence[flint.fmpz_mpoly]) -> flint.fmpz_mpoly:
+    """The least common multiple of polynomials (one gcd per step)."""
+    out = polys[0]
+    for p in polys[1:]:
+        out = out * (p / out.gcd(p))
+    return out
 
 
 def rank_over_fraction_field(rows: Sequence[Sequence[Frac]]) -> int:

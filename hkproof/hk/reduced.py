@@ -7,7 +7,7 @@ from typing import Mapping, Sequence
 import flint
 
 from hkproof.algebra.fraction import Frac, Parity
-from hkproof.algebra.linalg import cramer
+from hkproof.algebra.linalg import cramer, lcm
 from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
@@ -61,7 +61,7 @@ def check_solution(kmap: KahanMap, basis: Sequence[Frac], target: Frac, iterates
 
 def linear_combination_equals(coefficients: Sequence[Frac], values: Sequence[Frac], rhs: Frac) -> bool:
     """sum c_k v_k == rhs exactly: one common denominator lcm(c dens) lcm(v dens), no gcd of big numerators."""
-    lc, lv = _lcm([c.den for c in coefficients]), _lcm([v.den for v in values])
+    lc, lv = lcm([c.den for c in coefficients]), lcm([v.den for v in values])
     common = lc * lv
     g = rhs.den.gcd(common)
     extra = rhs.den / g
@@ -69,13 +69,6 @@ def linear_combination_equals(coefficients: Sequence[Frac], values: Sequence[Fra
     for c, v in zip(coefficients, values):
         total += c.num * v.num * (lc / c.den) * (lv / v.den) * extra
     return total.is_zero()
-
-
-def _lcm(polys: Sequence[flint.fmpz_mpoly]) -> flint.fmpz_mpoly:
-    out = polys[0]
-    for p in polys[1:]:
-        out = out * (p / out.gcd(p))
-    return out
 
 
 def _prop_even_checks(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], target: Frac, names: Sequence[str],
