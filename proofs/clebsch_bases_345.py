@@ -1,4 +1,4 @@
-"""Certify section 6.7: Th. "dC bases 345" -- rel18, eq. "M2" with A, B, C, D, Step 1, and Steps 2-5 at points."""
+"""Certify section 6.7: Th. "dC bases 345" (rel18, eq. "M2" with A, B, C, D, Steps 1-5) and Th. "dClebsch max basis"."""
 import sys
 
 from hkproof.proof.runner import run_script

@@ -13,10 +13,12 @@ pytestmark = pytest.mark.slow   # every claim here cites dc-theta (about a minut
 
 
 @pytest.mark.parametrize("claim_id,expected", [("dc345-abcd", Status.VERIFIED),
-                                               ("dc345-step1", Status.EVIDENCE_EXACT),
-                                               ("dc345-relations", Status.EVIDENCE_EXACT),
-                                               ("dc345-kernels-evidence", Status.EVIDENCE_EXACT),
-                                               ("dc345-step2-evidence", Status.EVIDENCE_EXACT),
+                                               ("dc345-step1", Status.VERIFIED),
+                                               ("dc345-relations", Status.VERIFIED),
+                                               ("dc345-relations-found", Status.EVIDENCE_EXACT),
+                                               ("dc345-alpha", Status.VERIFIED),
+                                               ("dc345-step5", Status.VERIFIED),
+                                               ("dc345-max-basis", Status.VERIFIED),
                                                ("dc345-independence", Status.VERIFIED),
                                                ("dc345-dependence-evidence", Status.EVIDENCE_EXACT)])
 def test_status(claim_id, expected):
@@ -34,7 +36,10 @@ def test_status(claim_id, expected):
                                       "- C*A/((w3 - w2)*(w1 - w2)) = 0"),
     ("dc345-abcd", "M2", "a4 = D, a5 = A/(w1 - w2), a6 = A/(w1 - w3), b4 = B/(w2 - w3), b5 = D, "
                          "b6 = B/(w2 - w1), c4 = C/(w3 - w2), c5 = C/(w3 - w1), c6 = D"),
-    ("dc345-step2-evidence", "F", "(w2 - w3)*a1 - (w3 - w1)*a2 + (w1 - w2)*a3"),   # F with a wrong sign
+    ("dc345-alpha", "F_row", "(w2 - w3)*a1 - (w3 - w1)*a2 + (w1 - w2)*a3"),   # F with a wrong sign
+    ("dc345-alpha", "F", "((w2 - w3)*(A*D + 1/4) + A*(B - C))/D"),
+    ("dc345-alpha", "a1_2", "H3 + I1"),
+    ("dc345-step5", "rel18_6", REL18["rel18_6"].replace("(w1 - w2)", "(w2 - w1)", 1)),
     ("dc345-step1", "kernel_vector", "[(w2 - w3)*n, (w1 - w3)*n, (w1 - w2)*n]"),
 ])
 def test_perturbed_refuted(claim_id, key, text):

@@ -113,16 +113,24 @@ def verify_by_evenness(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac],
     with cert.step("reduced system: unique solution (det not identically 0)",
                    f"exact det of the system at a rational point; rows i in {list(iterates)} + "
                    f"{len(relations)} relation(s)", ring) as s:
-        orbit = _orbit_points(kmap, point, iterates)
-        rows = [[phi.evaluate(orbit[i]) for phi in basis] for i in iterates]
-        rows += [[c.evaluate(point) for c in rel.coefficients] for rel in relations]
-        value = flint.fmpq_mat(rows).det()
+        value = det_at_point(kmap, basis, iterates, relations, point)
         s.require(value != 0, f"the determinant vanishes at {dict(point)}: choose another point")
         s.note(f"det = {value} != 0 at the point, so the system has at most one solution")
         for n, a in zip(names, candidate):
             cert.formula(n, a)
     _prop_even_checks(cert, kmap, basis, target, names, iterates, relations, list(candidate))
     return list(candidate)
+
+
+def det_at_point(kmap: KahanMap, basis: Sequence[Frac], iterates: Sequence[int], relations: Sequence[Relation],
+                 point: Mapping[str, Rational]) -> flint.fmpq:
+    """The determinant of a square reduced system (rows i in iterates, then the relations) at an exact point."""
+    orbit = _orbit_points(kmap, point, iterates)
+    rows = [[phi.evaluate(orbit[i]) for phi in basis] for i in iterates]
+    rows += [[c.evaluate(point) for c in rel.coefficients] for rel in relations]
+    if len(rows) != len(basis):
+        raise HKProofError(f"{len(rows)} equations for {len(basis)} unknowns: the reduced system must be square")
+    return flint.fmpq_mat(rows).det()
 
 
 def _orbit_points(kmap: KahanMap, point: Mapping[str, Rational], iterates: Sequence[int]) -> dict[int, dict]:

@@ -12,7 +12,7 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.experiments.relations import find_relations
 from hkproof.hk.expansion import coefficients_in
-from hkproof.hk.independence import derivative_at, jacobian_rank_at, sample_point
+from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.linear_relations import parse_relation
 from hkproof.errors import ParseError
 from hkproof.hk.reduced import Relation, linear_combination_equals
@@ -86,10 +86,10 @@ def _augmented(rels: Sequence[Relation]) -> list[list[Frac]]:
 @claim("dc345-relations", GROUP,
        "Eqs. \"rel18_1\" ... \"rel18_8\": nine independent linear relations among alpha_j, beta_j, gamma_j",
        "sec. 6.7, eqs. \"rel18_1\" ... \"rel18_8\" and the two dependent relations after them",
-       "The kernel coordinates of Phi1, Phi2, Phi3 satisfy the printed relations rel18_1 ... rel18_8 (nine "
-       "independent ones), and the two further printed relations follow from them; exact relation finding "
-       "(recipe E, eps and w symbolic in the reconstruction) finds a nine-dimensional space that contains them.",
-       claimed={**REL18, "rel18_extra": REL18_EXTRA}, slow=True, expected=Status.EVIDENCE_EXACT)
+       "The printed relations rel18_1 ... rel18_8 are nine independent relations, the two further printed "
+       "relations follow from them, and all hold for the kernel coordinates alpha_j, beta_j, gamma_j proven in "
+       "dc345-alpha and dc345-step5 (so they are no longer hypothetical, as they were in the paper).",
+       claimed={**REL18, "rel18_extra": REL18_EXTRA}, slow=True)
 def prove_relations(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -101,17 +101,39 @@ def prove_relations(cert: Certificate, claimed: Mapping[str, str]) -> None:
                   "rel18_1 ... rel18_8 are not nine independent relations")
         s.require(rank_over_fraction_field(_augmented(printed + extra)) == 9,
                   "the two further relations do not follow from rel18_1 ... rel18_8")
+    values = proven_coordinates(cert, r)
+    with cert.step("the relations hold for the proven kernel coordinates", "exact identities in Q(m, p, eps, w)",
+                   r) as s:
+        for k, rel in enumerate(printed + extra):
+            s.require(linear_combination_equals(rel.coefficients, values, rel.rhs), f"relation row {k + 1} fails")
+
+
+def proven_coordinates(cert: Certificate, r: Ring) -> list[Frac]:
+    """alpha_j, beta_j, gamma_j (j = 1 ... 6) as proven in dc345-alpha and dc345-step5, in the order of UNKNOWNS."""
+    al, b5 = require_proven(cert, "dc345-alpha"), require_proven(cert, "dc345-step5")
+    return [recall(al if u[0] == "a" else b5, u, r) for u in UNKNOWNS]
+
+
+@claim("dc345-relations-found", GROUP, "Eqs. \"rel18_1\" ... \"rel18_8\" found again by recipe (E)",
+       "sec. 6.7, eqs. \"rel18_1\" ... \"rel18_8\" (found by PSLQ in the paper)",
+       "Exact relation finding (recipe E, eps and w symbolic in the reconstruction) finds a nine-dimensional space of "
+       "linear relations among the kernel coordinates of Phi1, Phi2, Phi3 that contains the printed ones.",
+       claimed=dict(REL18), slow=True, expected=Status.EVIDENCE_EXACT)
+def prove_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    f = kahan_map(SYSTEM)
+    r = f.ring
     with cert.step("recipe (E): the relation space of (Phi1, Phi2, Phi3) contains the printed relations",
                    "exact kernels at rational points, interpolation in eps and w, fresh checks", r) as s:
+        printed = [rel for k in REL18 for rel in relation_rows(f, claimed[k])]
         search = find_relations(f, bases(f), names=list(UNKNOWNS))
         found = [Relation(rel.coefficients, rel.rhs) for rel in search.relations]
         s.require(search.dimension == 9 and len(found) == 9,
                   f"relation space of dimension {search.dimension}, {len(found)} relations reconstructed")
-        s.require(rank_over_fraction_field(_augmented(found + printed + extra)) == 9,
+        s.require(rank_over_fraction_field(_augmented(found + printed)) == 9,
                   "a printed relation is not in the space found by recipe (E)")
         s.evidence(Status.EVIDENCE_EXACT, points=search.samples)
-        s.note(f"{search.samples} exact samples; every relation checked at fresh samples; the relations hold for "
-               "the kernel vectors wherever the kernels are one-dimensional -- evidence until Steps 1-5 prove them")
+        s.note(f"{search.samples} exact samples; every relation checked at fresh samples (discovery; the proof is "
+               "dc345-relations)")
         for k, rel in enumerate(search.relations, start=1):
             cert.formula(f"found_{k}", rel.text())
 
@@ -274,8 +296,9 @@ def _solve_constant(rows: list[list[Frac]], rhs: list[Frac]) -> list[Frac]:
 
 
 def _eps_pieces(s, r, h: Frac, what: str, count: int, first_degree: int) -> list[Frac]:
-    """h as sum_q eps^(2q) h_q with h_q homogeneous of degree first_degree + 2q in (m, p), eps-free."""
-    s.require(h.is_polynomial(), f"{what} is not a polynomial")
+    """h as sum_q eps^(2q) h_q with h_q homogeneous of degree first_degree + 2q in (m, p), eps-free (coefficients
+    in Q(w))."""
+    s.require(not Frac(r, h.den).variables() & {EPS, *X}, f"{what} is not a polynomial in (m, p, eps)")
     coeffs = coefficients_in(r, h.num, EPS)
     s.require(len(coeffs) <= 2 * count - 1 and all(c.is_zero() for c in coeffs[1::2]),
               f"{what}: not a polynomial in eps^2 of degree {count - 1}")
@@ -327,8 +350,7 @@ def step1_relations(f, known: Mapping[str, Frac]) -> list[Relation]:
        "The 17 equations (eqs. \"Psi1 iterates\" ... \"Psi3 iterates\" with i = 0, 1, rel18_1 ... rel18_8, "
        "'dC Psi add lin rel 1, 2') in 18 unknowns have rank 17 and a kernel vector with zero j = 4, 5, 6 "
        "components, so those components are unique; they equal eq. \"M2\" with A, B, C, D of dc345-abcd.",
-       claimed={"kernel_vector": "[(w2 - w3)*n, (w3 - w1)*n, (w1 - w2)*n]"},
-       slow=True, expected=Status.EVIDENCE_EXACT)
+       claimed={"kernel_vector": "[(w2 - w3)*n, (w3 - w1)*n, (w1 - w2)*n]"}, slow=True)
 def prove_step1(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -358,18 +380,14 @@ def prove_step1(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.note("a non-zero 17 x 17 minor at a point: rank 17 over Q(m, p, eps, w), so the kernel is spanned by the "
                "vector above, which vanishes in the j = 4, 5, 6 positions: those unknowns are determined uniquely")
     abcd = require_proven(cert, "dc345-abcd")
-    with cert.step("the unique j = 4, 5, 6 components equal eq. \"M2\" with A, B, C, D",
-                   "exact solution of the 17 x 18 system at rational points", r) as s:
-        m2 = {u: recall(abcd, u, r) for u in UNKNOWNS if u in abcd.formulas}
-        points = [sample_point(r.names, seed=k) for k in (3, 7, 11)]
-        for pt in points:
-            rows, rhs = _step1_at(f, rels, pt)
-            sol = _particular(rows, rhs)
-            s.require(sol is not None, "the system is inconsistent at a sample point")
-            s.require(all(sol[k] == m2[UNKNOWNS[k]].evaluate(pt) for k in J456),
-                      "a j = 4, 5, 6 component differs from eq. \"M2\"")
-        s.evidence(Status.EVIDENCE_EXACT, points=len(points))
-        s.note("a symbolic proof needs the full solution, i.e. Steps 2-5 (alpha_j, beta_j, gamma_j for j = 1, 2, 3)")
+    values = proven_coordinates(cert, r)
+    with cert.step("the proven kernel coordinates solve the system; their j = 4, 5, 6 components are eq. \"M2\"",
+                   "substitution into the 17 equations (rows i = 0, 1 proven in dc345-alpha, dc345-step5)", r) as s:
+        for k, rel in enumerate(rels):
+            s.require(linear_combination_equals(rel.coefficients, values, rel.rhs), f"relation row {k + 1} fails")
+        s.require(all(values[k] == recall(abcd, UNKNOWNS[k], r) for k in J456),
+                  "a j = 4, 5, 6 component differs from eq. \"M2\"")
+        s.note("rank 17 and a kernel vanishing in the j = 4, 5, 6 positions: every solution has these components")
 
 
 def _kernel_weights(text: str) -> list[str]:
@@ -393,207 +411,25 @@ def _step1_at(f, rels: Sequence[Relation], point: Mapping[str, flint.fmpq]):
     return rows, rhs
 
 
-def _particular(rows, rhs) -> list[flint.fmpq] | None:
-    """A solution of rows x = rhs over Q (reduced row echelon form of the augmented matrix), or None."""
-    aug = flint.fmpq_mat([list(row) + [b] for row, b in zip(rows, rhs)])
-    ech, rank = aug.rref()
-    width = len(rows[0])
-    sol = [flint.fmpq(0)] * width
-    for i in range(rank):
-        lead = next(j for j in range(width + 1) if ech[i, j] != 0)
-        if lead == width:
-            return None
-        sol[lead] = ech[i, width]
-    return sol
-
-
-# -- Steps 2-5 and the conclusions, at exact points ------------------------------------------------------------
-def symmetric_solution(f, orbit, m2_at: Mapping[str, flint.fmpq]) -> dict[str, flint.fmpq]:
-    """Step 2 at a point: alpha_1..3 (and beta, gamma) from the rows i = -1, 0, 1 with the j = 4, 5, 6 values."""
-    out = dict(m2_at)
-    for c, basis in zip("abc", bases(f)):
-        rows = [[phi.evaluate(orbit[i]) for phi in basis[:3]] for i in (-1, 0, 1)]
-        rhs = [basis[6].evaluate(orbit[i]) - sum((m2_at[f"{c}{j + 1}"] * basis[j].evaluate(orbit[i])
-                                                  for j in (3, 4, 5)), flint.fmpq(0)) for i in (-1, 0, 1)]
-        sol = flint.fmpq_mat(rows).solve(flint.fmpq_mat([[b] for b in rhs]))
-        out.update({f"{c}{j + 1}": sol[j, 0] for j in range(3)})
-    return out
-
-
-@claim("dc345-kernels-evidence", GROUP,
-       "Th. \"dC bases 345\", Steps 2-5 and Th. \"dClebsch 1dim bases\" at exact points",
-       "sec. 6.7, Th. \"dC bases 345\" (Steps 2, 4, 5), Th. \"dClebsch 1dim bases\", Th. \"dClebsch max basis\"",
-       "At rational points: alpha, beta, gamma (j = 1, 2, 3 from the symmetric rows i = -1, 0, 1, Step 2; j = 4, 5, 6 "
-       "from eq. \"M2\") annihilate Phi1, Phi2, Phi3 on the rows i = -2 ... 3; they satisfy every rel18 relation; "
-       "the Step 4 system (i = 0, 1 and F) and the Step 5 systems (i = 0, 1 and eq. \"rel18_6\") have a unique "
-       "solution equal to them; the four null-spaces in R^10 are independent.",
-       claimed={"step5_beta": REL18["rel18_6"]},
-       slow=True, expected=Status.EVIDENCE_EXACT)
-def prove_kernels_evidence(cert: Certificate, claimed: Mapping[str, str]) -> None:
-    f = kahan_map(SYSTEM)
-    r = f.ring
-    abcd = require_proven(cert, "dc345-abcd")
-    b1 = require_proven(cert, "dc-basis1-relations")
-    m2 = {u: recall(abcd, u, r) for u in UNKNOWNS if u in abcd.formulas}
-    c_k = [recall(b1, f"c{k}", r) for k in (1, 2, 3)]
-    points = [sample_point(r.names, seed=k) for k in (3, 7, 11)]
-    rels = [rel for k in REL18 for rel in relation_rows(f, REL18[k])] + relation_rows(f, REL18_EXTRA)
-    with cert.step("Step 2 at points: the symmetric solution annihilates Phi1, Phi2, Phi3 on i = -2 ... 3",
-                   "exact orbits and linear algebra over Q", r) as s:
-        solutions = []
-        for pt in points:
-            orbit = _orbit(f, pt, -2, 3)
-            sol = symmetric_solution(f, orbit, {u: h.evaluate(pt) for u, h in m2.items()})
-            values = [sol[u] for u in UNKNOWNS]
-            rows, rhs = hk_rows_at(f, orbit, range(-2, 4))
-            s.require(all(sum((a * x for a, x in zip(row, values)), flint.fmpq(0)) == b for row, b in zip(rows, rhs)),
-                      "the vector does not annihilate the basis on i = -2 ... 3")
-            s.require(all(sum((c.evaluate(pt) * x for c, x in zip(rel.coefficients, values)), flint.fmpq(0))
-                          == rel.rhs.evaluate(pt) for rel in rels), "a rel18 relation fails")
-            solutions.append((pt, orbit, sol))
-        s.evidence(Status.EVIDENCE_EXACT, points=len(points))
-    with cert.step("Steps 4 and 5 at points: unique solutions equal to Step 2",
-                   "i = 0, 1 with F (alpha) or with eq. \"rel18_6\" (beta, gamma); det != 0", r) as s:
-        (frow,) = relation_rows(f, f"{F_TEXT} = 0")
-        chain = relation_rows(f, claimed["step5_beta"])
-        for pt, orbit, sol in solutions:
-            for c, extra in (("a", frow), ("b", chain[0]), ("c", chain[1])):
-                basis = bases(f)["abc".index(c)]
-                rows = [[phi.evaluate(orbit[i]) for phi in basis[:3]] for i in (0, 1)]
-                rhs = [basis[6].evaluate(orbit[i]) - sum((sol[f"{c}{j + 1}"] * basis[j].evaluate(orbit[i])
-                                                          for j in (3, 4, 5)), flint.fmpq(0)) for i in (0, 1)]
-                coef = [x.evaluate(pt) for x in extra.coefficients]
-                own = BLOCK[c][:3]
-                rows.append([coef[k] for k in own])
-                other = sum((coef[k] * sol[UNKNOWNS[k]] for k in range(len(UNKNOWNS)) if k not in own),
-                            flint.fmpq(0))
-                value = sum((coef[k] * sol[UNKNOWNS[k]] for k in own), flint.fmpq(0))
-                rhs.append(value if c == "a" else extra.rhs.evaluate(pt) - other)
-                mat = flint.fmpq_mat(rows)
-                s.require(mat.det() != 0, f"the Step 4/5 system for {c} is singular at a point")
-                got = mat.solve(flint.fmpq_mat([[b] for b in rhs]))
-                s.require(all(got[j, 0] == sol[f"{c}{j + 1}"] for j in range(3)), f"Step 4/5 for {c} differs")
-        s.evidence(Status.EVIDENCE_EXACT, points=len(points))
-        s.note("F is taken at its Step 2 value: this checks the systems, not that F is an integral")
-    with cert.step("Th. \"dClebsch 1dim bases\": K_Phi0 + K_Phi1 + K_Phi2 + K_Phi3 has dimension 4",
-                   "rank of the four null-vectors in R^10 at exact points", r) as s:
-        for pt, _, sol in solutions:
-            v0 = [c.evaluate(pt) for c in c_k] + [flint.fmpq(0)] * 6 + [flint.fmpq(-1)]
-            vs = [v0]
-            for c, pos in zip("abc", (6, 7, 8)):
-                v = [sol[f"{c}{j}"] for j in range(1, 7)] + [flint.fmpq(0)] * 4
-                v[pos] = flint.fmpq(-1)
-                vs.append(v)
-            s.require(flint.fmpq_mat(vs).rank() == 4, "the four null-vectors are dependent at a point")
-        s.evidence(Status.EVIDENCE_EXACT, points=len(points))
-
-
-# -- Steps 2-3 with eps symbolic at rational (m, p, w): eqs. "bigint_form", "alpha123", the form of F ------------
-ALPHA123 = {"a1": "H3 - I1", "a2": "-I1", "a3": "-I1", "b1": "-I2", "b2": "H3 - I2", "b3": "-I2",
-            "c1": "-I3", "c2": "-I3", "c3": "H3 - I3"}
-
-
-def symmetric_along(f, m2: Mapping[str, Frac], point: Mapping[str, flint.fmpq],
-                    free: str) -> tuple[dict[str, Frac], Ring]:
-    """Step 2 on the line through `point` where only `free` varies: rows i = -1, 0, 1 over Q(free), by Cramer."""
-    small = Ring([free])
-    at = {k: v for k, v in point.items() if k != free}
-    orbit = {0: {n: Frac(small, small.gen(n)) if n == free else Frac.rational(small, at[n]) for n in f.variables}}
-    for i, (nums, den) in ((1, f.explicit), (-1, f.inverse_explicit)):
-        d = Frac(f.ring, den).specialize(at, small)
-        orbit[i] = {n: Frac(f.ring, num).specialize(at, small) / d for n, num in zip(f.variables, nums)}
-    out = {u: h.specialize(at, small) for u, h in m2.items()}
-    for c, basis in zip("abc", bases(f)):
-        values = {i: [_at(phi, orbit[i], small) for phi in basis] for i in (-1, 0, 1)}
-        rows = [values[i][:3] for i in (-1, 0, 1)]
-        rhs = [values[i][6] - sum((out[f"{c}{j + 1}"] * values[i][j] for j in (3, 4, 5)), Frac(small, 0))
-               for i in (-1, 0, 1)]
-        sol, _ = cramer(rows, rhs)
-        out.update({f"{c}{j + 1}": sol[j] for j in range(3)})
-    return out, small
-
-
-def _at(phi: Frac, point: Mapping[str, Frac], small: Ring) -> Frac:
-    """A monomial basis function (p_k^2, m_k p_k, ...) at a point with coordinates in Q(eps)."""
-    out = Frac(small, 1)
-    for n, e in zip(phi.ring.names, phi.num.degrees()):
-        if e:
-            out = out * point[n] ** e
-    return out
-
-
-@claim("dc345-step2-evidence", GROUP,
-       "Th. \"dC bases 345\", Steps 2-3 with eps symbolic at rational (m, p, w): eqs. \"bigint_form\", "
-       "\"alpha123\", the form of F",
-       "sec. 6.7, Th. \"dC bases 345\", eqs. \"bigint_form\", \"alpha123\", \"eq:F\"",
-       "At rational (m, p, w), the Step 2 solution alpha_j, beta_j, gamma_j (j = 1, 2, 3) is even in eps, "
-       "2 eps^2 H3 Delta h is a polynomial in eps^2 of degree <= 5 whose eps^0 term is h^(2) of eq. \"alpha123\", "
-       "and F = (w2 - w3) alpha1 + (w3 - w1) alpha2 + (w1 - w2) alpha3 has 2 eps^2 Delta F / (w2 - w3) a polynomial "
-       "in eps^2 of degree <= 4 with constant term 1 (the eps^10 coefficient and the factor H3 cancel).",
-       claimed={**{f"{u}_2": t for u, t in ALPHA123.items()},
-                "F": F_TEXT, "F_leading": "1"},
-       slow=True, expected=Status.EVIDENCE_EXACT)
-def prove_step2_evidence(cert: Certificate, claimed: Mapping[str, str]) -> None:
-    f = kahan_map(SYSTEM)
-    r = f.ring
-    abcd, b2 = require_proven(cert, "dc345-abcd"), require_proven(cert, "dc-basis2")
-    m2 = {u: recall(abcd, u, r) for u in UNKNOWNS if u in abcd.formulas}
-    delta = recall(b2, "Delta", r)
-    (frow,) = relation_rows(f, f"{claimed['F']} = 0")
-    if not frow.rhs.is_zero():
-        raise ParseError(f"F = {claimed['F']} must be a linear form in alpha1, alpha2, alpha3 (eq. \"eq:F\")")
-    points = [sample_point(r.names, seed=k) for k in (3, 7)]
-    with cert.step("Step 2 over Q(eps): eqs. \"bigint_form\" and \"alpha123\"; the form of F",
-                   "Cramer's rule over Q(eps) at rational (m, p, w); exact parity and eps-coefficients", r) as s:
-        for pt in points:
-            sol, small = symmetric_along(f, m2, pt, EPS)
-            at = {k: v for k, v in pt.items() if k != EPS}
-            h3, dl = named(f, "H3").specialize(at, small), delta.specialize(at, small)
-            e2 = Frac(small, small.gen(EPS) ** 2)
-            for u, text in ALPHA123.items():
-                h = sol[u]
-                s.require(h.is_even_in(EPS), f"{u} is not even in eps at a point")
-                top = h * 2 * e2 * h3 * dl
-                s.require(top.is_polynomial() and top.num.degrees()[0] <= 10, f"{u} is not of the form "
-                          "eq. \"bigint_form\" at a point")
-                lead = top.evaluate({EPS: 0})
-                s.require(lead == named(f, claimed[f"{u}_2"]).evaluate(at | {EPS: 0}), f"{u}^(2) differs")
-            F = sum((c.specialize(at, small) * sol[u] for c, u in zip(frow.coefficients, UNKNOWNS)
-                     if not c.is_zero()), Frac(small, 0))
-            w23 = pt["w2"] - pt["w3"]
-            top = F * 2 * e2 * dl / Frac.rational(small, w23)
-            s.require(top.is_polynomial() and top.num.degrees()[0] <= 8 and top.is_even_in(EPS),
-                      "2 eps^2 Delta F/(w2 - w3) is not a polynomial in eps^2 of degree <= 4 at a point")
-            s.require(top.evaluate({EPS: 0}) == named(f, claimed["F_leading"]).evaluate(at | {EPS: 0}),
-                      "the constant term of 2 eps^2 Delta F/(w2 - w3) differs")
-        s.evidence(Status.EVIDENCE_EXACT, points=len(points))
-
-
 # -- Conclusions: functional independence --------------------------------------------------------------------------
 @claim("dc345-independence", GROUP,
        "Th. \"dC bases 345\": J, alpha1, beta1, gamma1 functionally independent; A, B, C independent",
        "sec. 6.7, last sentence of Th. \"dC bases 345\"; remark after eq. \"ABCD dependence\"",
        "The Jacobian of (J, alpha1, beta1, gamma1) with respect to (m, p) has rank 4 at a rational point (alpha1, "
-       "beta1, gamma1 the Step 2 solutions), and that of (A, B, C) has rank 3.",
+       "beta1, gamma1 the integrals of dc345-alpha and dc345-step5), and that of (A, B, C) has rank 3.",
        slow=True)
 def prove_independence(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
     abcd = require_proven(cert, "dc345-abcd")
-    b1 = require_proven(cert, "dc-basis1-relations")
-    m2 = {u: recall(abcd, u, r) for u in UNKNOWNS if u in abcd.formulas}
-    J = recall(b1, "J", r)
+    J = recall(require_proven(cert, "dc-basis1-relations"), "J", r)
+    values = dict(zip(UNKNOWNS, proven_coordinates(cert, r)))
     point = sample_point(r.names, seed=3)
     with cert.step("J, alpha1, beta1, gamma1: Jacobian rank 4 at a rational point",
-                   "derivatives of the Step 2 solution along the six coordinate lines (Cramer over Q(x_k)); "
-                   "exact rank", r) as s:
-        rows = [[derivative_at(J, v, point) for v in X]]
-        lines = {v: symmetric_along(f, m2, point, v) for v in X}
-        for u in ("a1", "b1", "c1"):
-            rows.append([lines[v][0][u].derivative(v).evaluate({v: point[v]}) for v in X])
-        s.require(flint.fmpq_mat(rows).rank() == 4, "rank < 4 at the sample point")
-        s.note("a non-zero 4 x 4 minor at one point: the four functions are functionally independent "
-               "(alpha1, beta1, gamma1 as given by Step 2; that they are integrals is Steps 3-5)")
+                   "exact derivatives of the proven integrals; exact rank", r) as s:
+        s.require(jacobian_rank_at([J, values["a1"], values["b1"], values["c1"]], X, point) == 4,
+                  "rank < 4 at the sample point")
+        s.note("a non-zero 4 x 4 minor at one point: the four integrals are functionally independent")
     abc = [recall(abcd, k, r) for k in "ABC"]
     with cert.step("A, B, C: Jacobian rank 3", "exact rank at a rational point", r) as s:
         s.require(jacobian_rank_at(abc, X, point) == 3, "rank < 3 at the sample point")
