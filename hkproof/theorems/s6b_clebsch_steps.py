@@ -8,7 +8,7 @@ from hkproof.algebra.linalg import rank_q
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.hk.independence import sample_point
-from hkproof.hk.reduced import Relation, check_solution, det_at_point, prove_by_evenness
+from hkproof.hk.reduced import Relation, check_solution, det_at_point, linear_combination_equals, prove_by_evenness
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.registry import claim, require_proven
 from hkproof.theorems._clebsch import SYSTEM, X, named, recall, record
@@ -159,6 +159,18 @@ def prove_max_basis(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.note("each vector has integral components and annihilates its basis on the rows i = 0, 1 (dc-basis1-"
                "relations, dc345-alpha, dc345-step5), hence on every row; rank 4 at one point: independent over "
                "Q(m, p, eps, w)")
+    with cert.step("the null-vectors of Psi and Theta in this span", "exact identities: g_j = alpha_j + beta_j + "
+                   "gamma_j and d7 alpha_j + d8 beta_j + d9 gamma_j = 1 (j <= 3), 0 (j >= 4)", r) as s:
+        b2, th = require_proven(cert, "dc-basis2"), require_proven(cert, "dc-theta")
+        d = [recall(b2, k, r) for k in ("d7", "d8", "d9")]
+        for j in range(6):
+            column = [vectors[name][j] for name in ("Phi1", "Phi2", "Phi3")]
+            s.require(linear_combination_equals([Frac(r, 1)] * 3, column, recall(th, f"g{j + 1}", r)),
+                      f"g{j + 1} != alpha_{j + 1} + beta_{j + 1} + gamma_{j + 1}")
+            s.require(linear_combination_equals(d, column, Frac(r, int(j < 3))),
+                      f"(d7, d8, d9) misses the column {j + 1} of (M1 | M2)")
+        s.note("Theta's vector = the sum of the Phi1, Phi2, Phi3 vectors; Psi's = -(d7, d8, d9) combination of them "
+               "(the normalization (d7, d8, d9) M1 = (1, 1, 1) and (d7, d8, d9) M2 = 0 of the paper)")
     with cert.step("upper bounds: dim K_Phi <= 4, dim K_Phi_j <= 1", "exact kernel of the rows i = 0 ... 5 at a "
                    "rational point (a non-zero maximal minor)", r) as s:
         (full,) = _profiles(range(10), POINTS[:1])
