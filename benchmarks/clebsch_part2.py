@@ -20,7 +20,7 @@ from hkproof.theorems._clebsch import recall
 
 CITED = ["dc-basis1-relations", "dc-basis2", "dc-theta"]
 OURS = ["dc345-abcd", "dc345-alpha", "dc345-step5", "dc345-step1", "dc345-relations", "dc345-relations-found",
-        "dc345-max-basis", "dc345-independence", "dc345-dependence-evidence"]
+        "dc345-max-basis", "dc345-independence", "dc345-dependence"]
 
 
 def claims_table() -> list[str]:

@@ -101,8 +101,8 @@ def test_kernel_profile_perturbed_refuted():
 
 
 @pytest.mark.slow
-def test_theta_dependence_is_evidence_only():
-    assert proven("dc-theta-dependence").status is Status.EVIDENCE_EXACT
+def test_theta_dependence_is_proven():
+    assert proven("dc-theta-dependence").status is Status.VERIFIED
     assert get_claim("dc-theta-dependence").prove({"rank": "4"}).status is Status.REFUTED
 
 

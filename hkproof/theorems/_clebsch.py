@@ -3,11 +3,13 @@ from __future__ import annotations
 
 import re
 from functools import lru_cache
+from typing import Mapping
 
 import flint
 import sympy
 
 from hkproof.algebra.fraction import Frac
+from hkproof.algebra.linalg import lcm
 from hkproof.algebra.ring import Ring
 from hkproof.dynamics.catalogue import CLEBSCH_VARS
 from hkproof.dynamics.kahan import KahanMap
@@ -97,6 +99,18 @@ def named(kmap: KahanMap, text: str, values: dict[str, str | Frac] | None = None
     except (sympy.SympifyError, SyntaxError, TypeError) as exc:
         raise ParseError(f"cannot read {text!r} as a formula: {exc}") from None
     return _evaluate(ring, expr, known)
+
+
+def in_terms_of(kmap: KahanMap, text: str, values: Mapping[str, Frac]) -> Frac:
+    """A rational function of named functions (A, B, C, D, ...) with coefficients in the map's ring: the formula
+    `text` evaluated by one homogenized compose over the common denominator of the values, one gcd at the end."""
+    ring = kmap.ring
+    big = ring.extend(values)
+    q = Frac.parse(big, text)
+    common = lcm([v.den for v in values.values()])
+    images = [(v.num * (common / v.den)).project_to_context(big.ctx) for v in values.values()]
+    out = q.pullback(images, common.project_to_context(big.ctx), list(values))
+    return Frac(ring, big.project(out.num, ring), big.project(out.den, ring), reduced=True)
 
 
 @lru_cache(maxsize=None)

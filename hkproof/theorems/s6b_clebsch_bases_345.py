@@ -19,7 +19,7 @@ from hkproof.hk.reduced import Relation, linear_combination_equals
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.registry import claim, require_proven
 from hkproof.proof.status import Status
-from hkproof.theorems._clebsch import SYSTEM, X, named, recall, record
+from hkproof.theorems._clebsch import SYSTEM, X, in_terms_of, named, recall, record, shift_frac
 
 GROUP = "clebsch-bases-345"
 COMMON = ("p1**2", "p2**2", "p3**2", "m1**2", "m2**2", "m3**2")
@@ -436,44 +436,48 @@ def prove_independence(cert: Certificate, claimed: Mapping[str, str]) -> None:
 
 
 J_VIA_ABCD = "((A - B)/(w1 - w2) - D)/(eps**2*(w3*D - (w1*A - w2*B)/(w1 - w2)))"
+G1_VIA_ABCD = ("(4*(w2 - w3)*(A**2*B - A**2*C) + 4*A*B**2*(w1 - 2*w2 + w3) - 4*A*B*C*(2*w1 - w2 - w3) "
+               "+ 4*A*C**2*(w1 + w2 - 2*w3) + 8*(w2 - w3)*(B**2*C - B*C**2) - (w2 - w3)**2*A + (w1 - w3)*(w2 - w3)*B "
+               "- (w1 - w2)*(w2 - w3)*C + 4*D*((w2 - w3)*(2*w1 - w2 - w3)*(A*B - A*C) - (w1 - w3)*(w2 - w3)*B**2 "
+               "+ (w2 - w3)**2*B*C + (w1 - w2)*(w2 - w3)*C**2))"
+               "/(4*D*(w2 - w3)*((w3 - w2)*A + (w1 - w3)*B + (w2 - w1)*C))")
+_ABC_CYCLE = {"A": "B", "B": "C", "C": "A"}
 
 
 @claim("dc345-dependence", GROUP,
-       "Remark after eq. \"ABCD dependence\": J, d7, d8, d9 and D are functions of A, B, C",
-       "sec. 6.7, remark after eqs. \"dC A\" ... \"dC D\"",
-       "J = ((A - B)/(w1 - w2) - D)/(eps^2 (w3 D - (w1 A - w2 B)/(w1 - w2))) (a relation found by hkproof, not in "
-       "the paper); d7, d8, d9 are linear in A, B, C, D (eqs. \"dC Psi add lin rel 1-3\", dc345-abcd); D satisfies "
-       "the quadratic eq. \"ABCD dependence\" over Q(w)(A, B, C). So J, d7, d8, d9, D depend functionally on A, B, C "
-       "(locally, off D = 0), and any four of J, d7, d8, d9, A, B, C, D are functionally dependent.",
-       claimed={"J": J_VIA_ABCD}, slow=True)
+       "Remark after eq. \"ABCD dependence\": J, d7, d8, d9, g1, g2, g3, D and F are functions of A, B, C",
+       "sec. 6.7, remark after eqs. \"dC A\" ... \"dC D\"; Step 3 (F depends on J, d7, d8)",
+       "J = ((A - B)/(w1 - w2) - D)/(eps^2 (w3 D - (w1 A - w2 B)/(w1 - w2))) and g1 = (a cubic in A, B, C, D)/"
+       "(4 D (w2 - w3)((w3 - w2) A + (w1 - w3) B + (w2 - w1) C)) (relations found by hkproof, not in the paper), g2, "
+       "g3 their cyclic images (A -> B -> C -> A); d7, d8, d9 are linear in A, B, C, D (dc345-abcd), F is rational in "
+       "them (dc345-alpha), and D lies on the quadric eq. \"ABCD dependence\" over Q(w)(A, B, C). So all of them "
+       "depend functionally on A, B, C (locally, off D = 0), and, J, d7, d8 being independent "
+       "(dc-basis2-independence), on J, d7, d8 -- with w symbolic, where the paper checked F for numeric w only.",
+       claimed={"J": J_VIA_ABCD, "g1": G1_VIA_ABCD}, slow=True)
 def prove_dependence(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
-    abcd = require_proven(cert, "dc345-abcd")
-    J = recall(require_proven(cert, "dc-basis1-relations"), "J", r)
-    with cert.step("J as a rational function of A, B, C, D", "exact identity in Q(m, p, eps, w)", r) as s:
-        s.require_equal(J, named(f, claimed["J"], {k: recall(abcd, k, r) for k in "ABCD"}), "J")
-        s.note("d7, d8, d9 = 2 D - 2 (B - C)/(w2 - w3), ... (dc345-abcd); D^2 is a quadratic form in A, B, C with "
-               "coefficients in Q(w) (dc345-abcd): off D = 0, D and hence J, d7, d8, d9 are smooth functions of A, B, C")
-
-
-@claim("dc345-dependence-evidence", GROUP,
-       "Remark after eq. \"ABCD dependence\": g1, g2, g3 depend on A, B, C",
-       "sec. 6.7, remark after eqs. \"dC A\" ... \"dC D\"",
-       "At rational points, each of g1, g2, g3 leaves the Jacobian rank of (A, B, C) at 3 (for J, d7, d8, d9, D the "
-       "dependence is proven: dc345-dependence).",
-       slow=True, expected=Status.EVIDENCE_EXACT)
-def prove_dependence_evidence(cert: Certificate, claimed: Mapping[str, str]) -> None:
-    r = kahan_map(SYSTEM).ring
     abcd, th = require_proven(cert, "dc345-abcd"), require_proven(cert, "dc-theta")
-    abc = [recall(abcd, k, r) for k in "ABC"]
-    with cert.step("g1, g2, g3 depend on A, B, C", "Jacobian ranks at rational points", r) as s:
-        points = [sample_point(r.names, seed=k) for k in (3, 7, 11)]
-        for pt in points:
-            for k in ("g1", "g2", "g3"):
-                s.require(jacobian_rank_at(abc + [recall(th, k, r)], X, pt) == 3,
-                          f"{k} is independent of A, B, C at a point")
-        s.evidence(Status.EVIDENCE_EXACT, points=len(points))
-        s.note("g_k = alpha_k + beta_k + gamma_k (dc345-max-basis); a proof needs an explicit relation with A, B, C, D "
-               "(at one w, g1 times a quadratic in A, B, C, D equals a cubic) or every 4 x 4 minor to vanish "
-               "identically")
+    J = recall(require_proven(cert, "dc-basis1-relations"), "J", r)
+    values = {k: recall(abcd, k, r) for k in "ABCD"}
+    with cert.step("J as a rational function of A, B, C, D", "exact identity in Q(m, p, eps, w)", r) as s:
+        s.require_equal(J, named(f, claimed["J"], values), "J")
+    with cert.step("g1 as a rational function of A, B, C, D", "one homogenized compose of the formula over the "
+                   "common denominator of A, B, C, D; exact identity in Q(m, p, eps, w)", r) as s:
+        g1 = recall(th, "g1", r)
+        s.require(in_terms_of(f, claimed["g1"], values) == g1, "g1 differs from the formula in A, B, C, D")
+    with cert.step("g2, g3: the cyclic images", "the index shift (1 -> 2 -> 3) maps A -> B -> C -> A, D -> D and "
+                   "g1 -> g2 -> g3 (exact)", r) as s:
+        for a, b in (*_ABC_CYCLE.items(), ("D", "D"), ("g1", "g2"), ("g2", "g3")):
+            h = values[a] if a in values else recall(th, a, r)
+            target = values[b] if b in values else recall(th, b, r)
+            s.require(shift_frac(h) == target, f"the shift does not map {a} to {b}")
+        s.note("so g2 and g3 are given by the formula with indices and A, B, C shifted cyclically")
+    require_proven(cert, "dc345-alpha")
+    require_proven(cert, "dc-basis2-independence")
+    with cert.step("functional dependence", "chain rule", r) as s:
+        s.note("d7, d8, d9 = 2 D - 2 (B - C)/(w2 - w3), ... (dc345-abcd); D^2 is a quadratic form in A, B, C with "
+               "coefficients in Q(w) (dc345-abcd): off D = 0, D and hence J, d_k, g_k, F are smooth functions of "
+               "A, B, C. (J, d7, d8) = phi(A, B, C) with d phi invertible off a proper subset (rank 3 of "
+               "d(J, d7, d8)/dx, dc-basis2-independence), so A, B, C, and with them every integral above, are "
+               "locally functions of J, d7, d8")
