@@ -73,8 +73,8 @@ def prove_max_basis_bounds(cert: Certificate, claimed: Mapping[str, str]) -> Non
 
 KERNEL_STATEMENT = ("Th. \"dClebsch max basis\" and Th. \"dClebsch 1dim bases\" at sample points: the exact kernel "
                     "profile of Phi is `profile` (d = 4); Phi0, Phi1, Phi2, Phi3 have d = 1; their null-vectors, "
-                    "placed in R^10, span K_Phi. Exact evidence at 3 points for the whole profile (the statements about K_Phi "
-                    "and the four bases are proven in dc345-max-basis).")
+                    "placed in R^10, span K_Phi. Exact evidence at 3 points for the whole profile (the "
+                    "statements about K_Phi and the four bases are proven in dc345-max-basis).")
 
 
 @claim("dc-kernel-evidence", GROUP, "Th. \"dClebsch max basis\" and \"dClebsch 1dim bases\" at points",
