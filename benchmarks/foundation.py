@@ -41,7 +41,7 @@ def _sympy_clebsch_map(queue: mp.Queue) -> None:
         [-e * p3, 0, e * p1, e * m3, 1, -e * m1],
         [e * p2, -e * p1, 0, -e * m2, e * m1, 1]])
     start = time.perf_counter()
-    delta = sympy.expand(M.det(method="berkowitz"))
+    sympy.expand(M.det(method="berkowitz"))   # det M, timed with the numerators
     rhs = sympy.Matrix([m1, m2, m3, p1, p2, p3])
     nums = []
     for j in range(6):
