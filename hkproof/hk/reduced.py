@@ -45,14 +45,8 @@ def solve_reduced_system(kmap: KahanMap, basis: Sequence[Frac], target: Frac, it
         rhs.append(rel.rhs)
     if len(rows) != len(basis):
         raise HKProofError(f"{len(rows)} equations for {len(basis)} unknowns: the reduced system must be square")
-    fixed = {}      # a relation a_k = value fixes that component of the unique solution: no Cramer quotient for it
-    for rel in relations:
-        support = [k for k, c in enumerate(rel.coefficients) if not c.is_zero()]
-        if len(support) == 1:
-            fixed[support[0]] = rel.rhs / rel.coefficients[support[0]]
-    others = [k for k in range(len(basis)) if k not in fixed]
-    values = dict(zip(others, cramer(rows, rhs, columns=others)[0])) | fixed
-    return [values[k] for k in range(len(basis))]
+    solution, _ = cramer(rows, rhs)
+    return solution
 
 
 def check_solution(kmap: KahanMap, basis: Sequence[Frac], target: Frac, iterates: Sequence[int],
