@@ -15,7 +15,7 @@ import time
 from pathlib import Path
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.linalg import clear_row_denominators, cramer_polynomials, lcm
+from hkproof.algebra.linalg import cleared_system, cramer_polynomials
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.hk.reduced import hk_row
 from hkproof.proof.registry import load_all, proven
@@ -69,10 +69,7 @@ def step4_case() -> tuple[int, float, float | None]:
     (frow,) = relation_rows(f, f"{F_TEXT} = 0", [f"a{j}" for j in range(1, 7)])
     rows.append(list(frow.coefficients[:3]))
     rhs.append(recall(al, "F", r))
-    a = [clear_row_denominators(row) for row in rows]
-    scaled = [b * Frac(r, lcm([x.den for x in row])) for row, b in zip(rows, rhs)]
-    common = lcm([b.den for b in scaled])
-    b = [x.num * (common / x.den) for x in scaled]
+    a, b, _ = cleared_system(rows, rhs)
     t = time.perf_counter()
     d, nums = cramer_polynomials(a, b)
     solution = [Frac(r, n, d) for n in nums]

@@ -67,11 +67,10 @@ def cramer_polynomials(a: PolyMatrix, b: Sequence[flint.fmpz_mpoly], columns: Se
     went from 11.5 s (all minors of [A | b]) to about 4 s.
     """
     n = len(a)
+    zero = b[0] - b[0]
     if n > LAPLACE_MAX:
-        zero = b[0] - b[0]
         return _det_bareiss(a), [_det_bareiss([[(b[i] if k == j else a[i][k]) for k in range(n)] for i in range(n)])
                                  if columns is None or j in columns else zero for j in range(n)]
-    zero = b[0] - b[0]
     if n == 1:
         return a[0][0], [b[0]]
     full = (1 << n) - 1
@@ -128,13 +127,8 @@ def cramer(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac],
     """
     n = len(rows)
     ring: Ring = rhs[0].ring
-    a, scaled = [], []
-    for r, b in zip(rows, rhs):
-        row_lcm = lcm([f.den for f in r])
-        a.append([f.num * (row_lcm / f.den) for f in r])
-        scaled.append(b * Frac(ring, row_lcm))
-    common = lcm([b.den for b in scaled])     # the right-hand side column is cleared separately: the matrix
-    d, nums = cramer_polynomials(a, [b.num * (common / b.den) for b in scaled], columns)   # small entries
+    a, b, common = cleared_system(rows, rhs)
+    d, nums = cramer_polynomials(a, b, columns)
     if d.is_zero():
         raise SingularSystemError(
             "the determinant of the linear system vanishes identically: its solution is not unique "
@@ -143,6 +137,19 @@ def cramer(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac],
     for j in (range(n) if columns is None else columns):
         solution.append(Frac(ring, nums[j], d) / Frac(ring, common))
     return solution, d
+
+
+def cleared_system(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac]
+                   ) -> tuple[list[list[flint.fmpz_mpoly]], list[flint.fmpz_mpoly], flint.fmpz_mpoly]:
+    """(A, b, L) with A x = b / L equivalent to rows x = rhs: each row cleared by the lcm of its coefficients'
+    denominators, the right-hand side column by its own common denominator L (so A keeps small entries)."""
+    a, scaled = [], []
+    for r, b in zip(rows, rhs):
+        row_lcm = lcm([f.den for f in r])
+        a.append([f.num * (row_lcm / f.den) for f in r])
+        scaled.append(b * Frac(b.ring, row_lcm))
+    common = lcm([b.den for b in scaled])
+    return a, [b.num * (common / b.den) for b in scaled], common
 
 
 def lcm(polys: Sequence[flint.fmpz_mpoly]) -> flint.fmpz_mpoly:
