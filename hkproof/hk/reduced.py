@@ -125,7 +125,7 @@ def verify_by_evenness(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac],
 def det_at_point(kmap: KahanMap, basis: Sequence[Frac], iterates: Sequence[int], relations: Sequence[Relation],
                  point: Mapping[str, Rational]) -> flint.fmpq:
     """The determinant of a square reduced system (rows i in iterates, then the relations) at an exact point."""
-    orbit = _orbit_points(kmap, point, iterates)
+    orbit = orbit_points(kmap, point, iterates)
     rows = [[phi.evaluate(orbit[i]) for phi in basis] for i in iterates]
     rows += [[c.evaluate(point) for c in rel.coefficients] for rel in relations]
     if len(rows) != len(basis):
@@ -133,7 +133,7 @@ def det_at_point(kmap: KahanMap, basis: Sequence[Frac], iterates: Sequence[int],
     return flint.fmpq_mat(rows).det()
 
 
-def _orbit_points(kmap: KahanMap, point: Mapping[str, Rational], iterates: Sequence[int]) -> dict[int, dict]:
+def orbit_points(kmap: KahanMap, point: Mapping[str, Rational], iterates: Sequence[int]) -> dict[int, dict]:
     """The exact points f^i(x), i in iterates, with the parameters of `point` (f^-1(x, eps) = f(x, -eps))."""
     fixed = {k: v for k, v in point.items() if k not in kmap.variables}
     forward = kmap.orbit_exact(point, max(max(iterates), 0))

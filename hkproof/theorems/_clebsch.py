@@ -102,11 +102,15 @@ def named(kmap: KahanMap, text: str, values: dict[str, str | Frac] | None = None
 
 
 def in_terms_of(kmap: KahanMap, text: str, values: Mapping[str, Frac]) -> Frac:
-    """A rational function of named functions (A, B, C, D, ...) with coefficients in the map's ring: the formula
-    `text` evaluated by one homogenized compose over the common denominator of the values, one gcd at the end."""
-    ring = kmap.ring
-    big = ring.extend(values)
-    q = Frac.parse(big, text)
+    """A rational function of named functions (A, B, C, D, ...) with coefficients in the map's ring, read from
+    `text` and evaluated by `substitute_named`."""
+    return substitute_named(Frac.parse(kmap.ring.extend(values), text), values, kmap.ring)
+
+
+def substitute_named(q: Frac, values: Mapping[str, Frac], ring: Ring) -> Frac:
+    """q, over `ring` extended by the names of `values`, with those names replaced by the values: one homogenized
+    compose over the values' common denominator, one gcd at the end."""
+    big = q.ring
     common = lcm([v.den for v in values.values()])
     images = [(v.num * (common / v.den)).project_to_context(big.ctx) for v in values.values()]
     out = q.pullback(images, common.project_to_context(big.ctx), list(values))

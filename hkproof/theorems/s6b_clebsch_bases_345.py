@@ -15,11 +15,11 @@ from hkproof.hk.expansion import coefficients_in
 from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.linear_relations import parse_relation
 from hkproof.errors import ParseError
-from hkproof.hk.reduced import Relation, linear_combination_equals
+from hkproof.hk.reduced import Relation, linear_combination_equals, orbit_points
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.registry import claim, require_proven
 from hkproof.proof.status import Status
-from hkproof.theorems._clebsch import SYSTEM, X, in_terms_of, named, recall, record, shift_frac
+from hkproof.theorems._clebsch import SYSTEM, X, in_terms_of, named, recall, record, shift_frac, substitute_named
 
 GROUP = "clebsch-bases-345"
 COMMON = ("p1**2", "p2**2", "p3**2", "m1**2", "m2**2", "m3**2")
@@ -213,13 +213,13 @@ def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
                            q.ring.constant(1), ["A", "B", "C", "D"])
         s.require(along.derivative("t").derivative("t").is_zero(),
                   "eq. \"ABCD dependence\" is not linear along (1, 1, 1, 0)")
-        slope = _quadratic_at(along.derivative("t"), dict(zip("ABCD", base)))
+        slope = substitute_named(along.derivative("t"), dict(zip("ABCD", base)), r)
         s.require(not slope.is_zero(), "eq. \"ABCD dependence\" does not fix A + B + C")
-        t = -_quadratic_at(q, dict(zip("ABCD", base))) / slope
+        t = -substitute_named(q, dict(zip("ABCD", base)), r) / slope
         abcd = dict(zip("ABCD", [base[0] + t, base[1] + t, base[2] + t, base[3]]))
         s.require(all(linear_combination_equals(x.coefficients, list(abcd.values()), x.rhs) for x in rows),
                   "A, B, C, D do not satisfy the six relations")
-        s.require(_quadratic_at(q, abcd).is_zero(), "eq. \"ABCD dependence\" fails")
+        s.require(substitute_named(q, abcd, r).is_zero(), "eq. \"ABCD dependence\" fails")
         for k, v in abcd.items():
             record(cert, k, v)
     with cert.step("A, B, C, D are integrals, even in eps", "rational functions of the integrals d7, d8, g4, g5 "
@@ -254,38 +254,6 @@ def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.require_equal(pieces[1], named(f, claimed["D_4"]), "D^(4)")
 
 
-def _quadratic_at(q: Frac, values: Mapping[str, Frac]) -> Frac:
-    """A polynomial of degree <= 2 in A, B, C, D (coefficients in Q(w)) at big values, in lowest terms."""
-    r = next(iter(values.values())).ring
-    return Frac(r, *quadratic_fraction_free(q, values))
-
-
-def quadratic_fraction_free(q: Frac, values: Mapping[str, Frac]) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
-    """(num, den) of q at the values over one common denominator L of them: sum c_ij N_i N_j / (den(q) L^2),
-    no gcd taken."""
-    big = q.ring
-    r = next(iter(values.values())).ring
-    common = r.constant(1)
-    for v in values.values():
-        common = common * (v.den / common.gcd(v.den))
-    nums = {n: v.num * (common / v.den) for n, v in values.items()}
-    idx = {n: big.index(n) for n in values}
-    groups: dict[tuple[int, ...], flint.fmpz_mpoly] = {}
-    for exps, coeff in zip(q.num.monoms(), q.num.coeffs()):
-        key = tuple(exps[idx[n]] for n in values)
-        if sum(key) > 2:
-            raise ParseError("eq. \"ABCD dependence\" is not quadratic in A, B, C, D")
-        rest = tuple(0 if i in idx.values() else e for i, e in enumerate(exps))
-        groups[key] = groups.get(key, big.constant(0)) + big.ctx.from_dict({rest: coeff})
-    total = r.constant(0)
-    for key, coeff in groups.items():
-        term = coeff.project_to_context(r.ctx) * common ** (2 - sum(key))
-        for n, e in zip(values, key):
-            term = term * nums[n] ** e
-        total += term
-    return total, q.den.project_to_context(r.ctx) * common ** 2
-
-
 def _solve_constant(rows: list[list[Frac]], rhs: list[Frac]) -> list[Frac]:
     """x with rows x = rhs, rows free of phase variables: the inverse by Cramer (small), then one combination each
     (no fraction-free elimination over the big right-hand sides)."""
@@ -315,14 +283,6 @@ def _eps_pieces(s, r, h: Frac, what: str, count: int, first_degree: int) -> list
 STEP1_RELATIONS = ("rel18_1", "rel18_2", "rel18_3", "rel18_4", "rel18_6", "rel18_8")
 BLOCK = {c: [UNKNOWNS.index(f"{c}{j}") for j in range(1, 7)] for c in "abc"}
 J456 = [BLOCK[c][j] for c in "abc" for j in (3, 4, 5)]
-
-
-def _orbit(f, point: Mapping[str, flint.fmpq], lo: int, hi: int) -> dict[int, dict[str, flint.fmpq]]:
-    """The exact points f^i(x), lo <= i <= hi, with the fixed parameters of `point` (f^-1(x, eps) = f(x, -eps))."""
-    fixed = {k: v for k, v in point.items() if k not in f.variables}
-    fwd = f.orbit_exact(point, max(hi, 0))
-    bwd = f.orbit_exact({**point, EPS: -point[EPS]}, max(-lo, 0))
-    return {i: {**fixed, **(fwd[i] if i >= 0 else bwd[-i])} for i in range(lo, hi + 1)}
 
 
 def hk_rows_at(f, orbit: Mapping[int, Mapping[str, flint.fmpq]], iterates: Sequence[int]):
@@ -404,7 +364,7 @@ def _kernel_weights(text: str) -> list[str]:
 
 def _step1_at(f, rels: Sequence[Relation], point: Mapping[str, flint.fmpq]):
     """The 17 x 18 system of Step 1 at an exact point."""
-    orbit = _orbit(f, point, 0, 1)
+    orbit = orbit_points(f, point, (0, 1))
     rows, rhs = hk_rows_at(f, orbit, (0, 1))
     rows += [[c.evaluate(point) for c in rel.coefficients] for rel in rels]
     rhs += [rel.rhs.evaluate(point) for rel in rels]
