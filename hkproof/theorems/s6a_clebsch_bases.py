@@ -15,10 +15,11 @@ from hkproof.dynamics.field import EPS
 from hkproof.errors import ParseError
 from hkproof.hk.expansion import coefficients_in, taylor
 from hkproof.hk.independence import jacobian_rank_at, sample_point
-from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals, prove_by_evenness, verify_by_evenness
+from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals, prove_by_evenness
+from hkproof.hk.translation import prove_on_slice, verify_on_slice
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.registry import claim, require_proven
-from hkproof.theorems._clebsch import SYSTEM, X, cycled, named, number, recall, record, shift_frac
+from hkproof.theorems._clebsch import SYSTEM, TRANSLATION, X, cycled, named, number, recall, record, shift_frac
 
 GROUP = "clebsch-bases"
 P2 = ("p1**2", "p2**2", "p3**2")
@@ -156,7 +157,7 @@ def prove_basis2(cert: Certificate, claimed: Mapping[str, str]) -> None:
         rel = _relation(f, claimed["relation"], names)
         s.note("proven below as a row of the system of Prop. \"prop: even\"")
     basis, target = _functions(f, MP), named(f, "H3")
-    d = prove_by_evenness(cert, f, basis, target, names, (0, 1), [rel])
+    d = prove_on_slice(cert, f, TRANSLATION, basis, target, names, (0, 1), [rel])
     for k, dk in zip(names, d):
         record(cert, k, dk)
     with cert.step("the cancelled common factor of Cramer's rule", "det of the fraction-free system / denominator",
@@ -275,8 +276,7 @@ G4_PRINTED = "2*H4**2 - H3*H1 + w_k*H3**2"
        claimed={"additional": "(w2 - w3)*g1 + (w3 - w1)*g2 + (w1 - w2)*g3 = (w2 - w3)*(w3 - w1)*(d8 - d7)/2",
                 "rhs_forms": "(w3 - w1)*(w1 - w2)*(d9 - d8)/2 = (w1 - w2)*(w2 - w3)*(d7 - d9)/2",
                 "g_4": G4_PRINTED,
-                "g4": "(g2 - g3)/(w2 - w3)", "g5": "(g3 - g1)/(w3 - w1)", "g6": "(g1 - g2)/(w1 - w2)"},
-       slow=True)
+                "g4": "(g2 - g3)/(w2 - w3)", "g5": "(g3 - g1)/(w3 - w1)", "g6": "(g1 - g2)/(w1 - w2)"})
 def prove_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -290,13 +290,19 @@ def prove_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
         rel = Relation(rel.coefficients, named(f, rhs, d), source="dc-basis2 (d7, d8 are integrals)")
         s.note("its right-hand side is an integral by dc-basis2; proven below as a row of the system")
     basis, target = _functions(f, ("I1", "I2", "I3")), named(f, "H4")
-    with cert.step("candidate: g1 by Cramer's rule, g2, g3 by the cyclic symmetry", "one Cramer component; "
-                   "index shift (the system and f are cyclically symmetric, dc-map-symmetries)", r) as s:
-        rows, rhs = zip(*(hk_row(f, basis, target, i) for i in (0, 1)))
-        (g1,), _ = cramer(list(rows) + [rel.coefficients], list(rhs) + [rel.rhs], columns=[0])
+    with cert.step(f"candidate: g1 by Cramer's rule on the slice {TRANSLATION.pivot} = 0, lifted; g2, g3 by the "
+                   "cyclic symmetry", "one Cramer component over Q(m, p, eps, w1, w2); w_k -> w_k - w3; index "
+                   "shift (the system and f are cyclically symmetric, dc-map-symmetries)", r) as s:
+        small = TRANSLATION.slice_map(f)
+        sliced = [TRANSLATION.restrict(b) for b in basis]
+        rows, rhs = zip(*(hk_row(small, sliced, TRANSLATION.restrict(target), i) for i in (0, 1)))
+        srel = TRANSLATION.restrict_relation(rel)
+        (g1,), _ = cramer(list(rows) + [srel.coefficients], list(rhs) + [srel.rhs], columns=[0])
+        g1 = TRANSLATION.lift(g1, r)
         candidate = [g1, shift_frac(g1), shift_frac(shift_frac(g1))]
         s.note("the candidate is only a candidate: the next steps prove it is the unique solution")
-    g = verify_by_evenness(cert, f, basis, target, names, candidate, sample_point(r.names, seed=5), (0, 1), [rel])
+    g = verify_on_slice(cert, f, TRANSLATION, basis, target, names, candidate, sample_point(r.names, seed=5),
+                        (0, 1), [rel])
     for k, gk in zip(names, g):
         record(cert, k, gk)
     with cert.step("the other forms of the right-hand side", "exact, using the d_k of dc-basis2", r) as s:
