@@ -8,11 +8,10 @@ from __future__ import annotations
 
 import argparse
 import platform
-import shutil
-import subprocess
-import tempfile
 import time
 from pathlib import Path
+
+import singular_peer
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import cleared_system, cramer_polynomials
@@ -51,7 +50,7 @@ def gcd_case() -> tuple[str, int, int, float, float | None]:
     t = time.perf_counter()
     g = num.gcd(den)
     ours = time.perf_counter() - t
-    theirs = singular_gcd(r.names, num, den) if shutil.which("Singular") else None
+    theirs = singular_peer.gcd_seconds(r.names, num, den)
     return "D = (g4 + d7/2)/2", len(num), len(g), ours, theirs
 
 
@@ -74,35 +73,8 @@ def step4_case() -> tuple[int, float, float | None]:
     d, nums = cramer_polynomials(a, b)
     solution = [Frac(r, n, d) for n in nums]
     ours = time.perf_counter() - t
-    theirs = singular_cramer(r.names, a, b) if shutil.which("Singular") else None
+    theirs = singular_peer.cramer_seconds(r.names, a, b)
     return max(len(x.num) for x in solution), ours, theirs
-
-
-def singular_cramer(names, a, b) -> float:
-    """Seconds Singular takes for det and the three Cramer numerators of [a | b] and their gcds with det."""
-    entries = ", ".join(str(x) for row in a for x in row)
-    rhs = ", ".join(str(x) for x in b)
-    script = (f"ring R = 0, ({', '.join(names)}), dp;\nmatrix M[3][3] = {entries};\nmatrix B[3][1] = {rhs};\n"
-              "system(\"--ticks-per-sec\", 1000);\nint t = rtimer;\npoly d = det(M);\nint j; matrix Mj;\n"
-              "for (j = 1; j <= 3; j++) { Mj = M; Mj[1, j] = B[1, 1]; Mj[2, j] = B[2, 1]; Mj[3, j] = B[3, 1]; "
-              "poly g = gcd(det(Mj), d); kill g; }\nprint(rtimer - t);\nquit;\n")
-    return _run_singular(script)
-
-
-def singular_gcd(names, a, b) -> float:
-    """Seconds Singular's gcd takes on the same two polynomials (rtimer inside Singular, parsing excluded)."""
-    script = (f"ring R = 0, ({', '.join(names)}), dp;\npoly a = {a};\npoly b = {b};\n"
-              "system(\"--ticks-per-sec\", 1000);\nint t = rtimer;\npoly g = gcd(a, b);\n"
-              "print(rtimer - t);\nquit;\n")
-    return _run_singular(script)
-
-
-def _run_singular(script: str) -> float:
-    """Run a Singular script that prints its own rtimer milliseconds last; return seconds."""
-    with tempfile.NamedTemporaryFile("w", suffix=".sing", delete=False) as fh:
-        fh.write(script)
-    out = subprocess.run(["Singular", "-q", fh.name], capture_output=True, text=True, timeout=1800).stdout
-    return int(out.strip().splitlines()[-1]) / 1000
 
 
 def main() -> None:

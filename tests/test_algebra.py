@@ -12,6 +12,7 @@ from hkproof.errors import ParseError, SingularPointError, SingularSystemError, 
 
 R = Ring(("x", "y", "eps", "a"))
 X, Y, E, A = sympy.symbols("x y eps a")
+E_ = Frac.parse(R, "eps")
 
 
 def random_poly(rng: random.Random, terms: int = 4, degree: int = 3) -> sympy.Expr:
@@ -121,6 +122,37 @@ def test_rank_over_fraction_field():
     w = [Frac.parse(R, "x*y/(1+eps)"), Frac.parse(R, "y**2")]
     assert rank_over_fraction_field([v, w]) == 1
     assert rank_over_fraction_field([v, [Frac(R, 1), Frac(R, 0)]]) == 2
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_rank_with_a_big_right_hand_side_column(seed):
+    # relations with small coefficients and a big right-hand side: consistent iff the rhs respects the dependence
+    rng = random.Random(seed)
+    big = [as_frac(random_poly(rng, 6, 4) / random_poly(rng, 5, 3)) for _ in range(2)]
+    rows = [[Frac(R, 1), Frac.parse(R, "a"), big[0]], [Frac.parse(R, "eps"), Frac.parse(R, "a*eps"), big[0] * E_],
+            [Frac(R, 0), Frac(R, 1), big[1]]]
+    assert rank_over_fraction_field(rows) == 2
+    rows[1][2] = rows[1][2] + 1
+    assert rank_over_fraction_field(rows) == 3
+    assert sympy.Matrix([[x.to_sympy() for x in row] for row in rows]).rank(simplify=True) == 3
+
+
+def test_is_ratio_compares_without_reducing():
+    g = Frac.parse(R, "(x + y)/(1 + eps*a)")
+    k = R.ctx.from_dict({(1, 0, 2, 0): 3, (0, 0, 0, 0): 1})  # 3 x eps^2 + 1
+    assert g.is_ratio(g.num * k, g.den * k)
+    assert not g.is_ratio(g.num * k, g.den * k + 1)
+    assert not g.is_ratio(g.num * k + 1, g.den * k)
+    assert Frac(R, 0).is_ratio(R.ctx.from_dict({}), k)
+    with pytest.raises(ZeroDivisionError):
+        g.is_ratio(g.num, R.ctx.from_dict({}))
+
+
+def test_parse_is_memoized_but_errors_are_not():
+    assert Frac.parse(R, "x/(1 + eps)") is Frac.parse(R, "x/(1 + eps)")
+    for _ in range(2):
+        with pytest.raises(ParseError):
+            Frac.parse(R, "x/(1 - 1)")
 
 
 @pytest.mark.parametrize("seed", range(5))

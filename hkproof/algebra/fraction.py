@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from enum import Enum
+from functools import lru_cache
 from typing import Mapping, Sequence
 
 import flint
@@ -56,7 +57,13 @@ class Frac:
     # ---- construction ---------------------------------------------------------------------------
     @classmethod
     def parse(cls, ring: Ring, text: str | sympy.Expr) -> "Frac":
-        """Read a rational function from a string (sympy syntax) or a sympy expression."""
+        """Read a rational function from a string (sympy syntax) or a sympy expression (strings parsed once)."""
+        if isinstance(text, str):
+            return _parse_cached(ring, text)
+        return cls._parse(ring, text)
+
+    @classmethod
+    def _parse(cls, ring: Ring, text: str | sympy.Expr) -> "Frac":
         expr = ring.sympify(text)
         num, den = sympy.fraction(sympy.together(expr))
         p, dp = ring.poly_from_sympy(num)
@@ -198,13 +205,28 @@ class Frac:
     def pullback(self, images: Sequence[flint.fmpz_mpoly], den: flint.fmpz_mpoly,
                  moved: Sequence[str]) -> "Frac":
         """self with moved[k] replaced by images[k]/den (a map with common denominator), in lowest terms."""
+        return Frac(self.ring, *self.pullback_terms(images, den, moved))
+
+    def pullback_terms(self, images: Sequence[flint.fmpz_mpoly], den: flint.fmpz_mpoly,
+                       moved: Sequence[str]) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
+        """(P, Q) with P/Q = self(images/den), not reduced: two homogenized composes and no gcd."""
         pn, dn = homogenized_compose(self.ring, self.num, moved, images, den)
         pd, dd = homogenized_compose(self.ring, self.den, moved, images, den)
         if dn > dd:
             pd = pd * den ** (dn - dd)
         elif dd > dn:
             pn = pn * den ** (dd - dn)
-        return Frac(self.ring, pn, pd)
+        return pn, pd
+
+    def is_ratio(self, num: flint.fmpz_mpoly, den: flint.fmpz_mpoly) -> bool:
+        """num/den == self, with no gcd: self being in lowest terms, num = k self.num and den = k self.den for one
+        polynomial k (one exact division and one product)."""
+        if den.is_zero():
+            raise ZeroDivisionError("denominator is the zero polynomial")
+        if self.num.is_zero():
+            return num.is_zero()
+        k, rem = divmod(num, self.num)
+        return rem.is_zero() and k * self.den == den
 
     # ---- evaluation ---------------------------------------------------------------------------
     def evaluate(self, values: Mapping[str, Rational]) -> flint.fmpq:
@@ -247,6 +269,12 @@ class Frac:
 def poly_str(p: flint.fmpz_mpoly) -> str:
     """A polynomial as a sympy-parsable string (python power syntax)."""
     return str(p).replace("^", "**")
+
+
+@lru_cache(maxsize=4096)
+def _parse_cached(ring: Ring, text: str) -> Frac:
+    """Frac._parse of a string, memoized (a Frac is never changed in place)."""
+    return Frac._parse(ring, text)
 
 
 def homogenized_compose(ring: Ring, p: flint.fmpz_mpoly, moved: Sequence[str],

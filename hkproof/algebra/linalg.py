@@ -64,7 +64,9 @@ def cramer_polynomials(a: PolyMatrix, b: Sequence[flint.fmpz_mpoly], columns: Se
 
     det A_j = sum_i b_i C_ij with the cofactors C_ij of A: every minor is built from A's small entries, and each
     (typically big) b_i enters one product per wanted column. Th. "dC Theta" needs one column: its Cramer step
-    went from 11.5 s (all minors of [A | b]) to about 4 s.
+    went from 11.5 s (all minors of [A | b]) to about 4 s. When every column is wanted and b is no bigger than
+    A's entries (the map f = M^-1 x itself), one pass over the minors of [A | b] is cheaper: 1.3 ms against
+    3.1 ms for the 6 x 6 Clebsch matrix.
     """
     n = len(a)
     zero = b[0] - b[0]
@@ -74,6 +76,11 @@ def cramer_polynomials(a: PolyMatrix, b: Sequence[flint.fmpz_mpoly], columns: Se
     if n == 1:
         return a[0][0], [b[0]]
     full = (1 << n) - 1
+    if columns is None and max(len(x) for x in b) <= max(len(x) for row in a for x in row):
+        # b as small as A: one pass over [A | b] gives det A and every det A_j (b moved from the last place to j)
+        minors = maximal_minors([list(row) + [x] for row, x in zip(a, b)])
+        nums = [minors.get((full & ~(1 << j)) | (1 << n), zero) for j in range(n)]
+        return minors.get(full, zero), [-x if (n - 1 - j) % 2 else x for j, x in enumerate(nums)]
     total, nums = zero, [zero] * n
     for i in range(n):
         if i and b[i].is_zero():
@@ -161,13 +168,23 @@ def lcm(polys: Sequence[flint.fmpz_mpoly]) -> flint.fmpz_mpoly:
 
 
 def rank_over_fraction_field(rows: Sequence[Sequence[Frac]]) -> int:
-    """Exact rank over Q(v) of a matrix of rational functions (fraction-free elimination, rows cleared)."""
-    work = [clear_row_denominators(list(r)) for r in rows if r]
+    """Exact rank over Q(v) of a matrix of rational functions (fraction-free elimination).
+
+    Each column is cleared by the lcm of its own denominators (column scaling keeps the rank), so that one big
+    column, e.g. the right-hand sides of relations with small coefficients, does not swell the others; pivots are
+    the smallest entries, and a row's content is divided out (its gcd stops as soon as it is constant).
+    """
+    rows = [list(r) for r in rows if r]
+    if not rows:
+        return 0
+    lcms = [lcm([row[j].den for row in rows]) for j in range(len(rows[0]))]
+    work = [[f.num * (m / f.den) for f, m in zip(row, lcms)] for row in rows]
     rank = 0
-    for col in range(len(work[0]) if work else 0):
-        pivot = next((r for r in range(rank, len(work)) if not work[r][col].is_zero()), None)
-        if pivot is None:
+    for col in range(len(lcms)):
+        candidates = [r for r in range(rank, len(work)) if not work[r][col].is_zero()]
+        if not candidates:
             continue
+        pivot = min(candidates, key=lambda r: len(work[r][col]))
         work[rank], work[pivot] = work[pivot], work[rank]
         p = work[rank]
         for r in range(rank + 1, len(work)):
@@ -182,11 +199,13 @@ def rank_over_fraction_field(rows: Sequence[Sequence[Frac]]) -> int:
 
 
 def _row_content(row: Sequence[flint.fmpz_mpoly]) -> flint.fmpz_mpoly | None:
+    """The gcd of the non-zero entries, smallest first; None as soon as it is a constant."""
     g = None
-    for a in row:
-        if not a.is_zero():
-            g = a if g is None else g.gcd(a)
-    return None if g is None or g.is_constant() else g
+    for a in sorted((a for a in row if not a.is_zero()), key=len):
+        g = a if g is None else g.gcd(a)
+        if g.is_constant():
+            return None
+    return g
 
 
 # ---- matrices of numbers --------------------------------------------------------------------------

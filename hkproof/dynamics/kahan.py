@@ -59,11 +59,7 @@ class KahanMap:
         """(N, Delta): f = N / Delta by Cramer's rule, with the gcd of all of N and Delta cancelled."""
         m, b = self.matrix
         delta, nums = cramer_polynomials(m, b)
-        g = delta
-        for p in nums:
-            g = g.gcd(p)
-        if not g.is_one():
-            delta, nums = delta / g, [p / g for p in nums]
+        nums, delta = _cancel_common(nums, delta)
         sign = normalize_sign(delta, delta)[0]
         if sign != delta:
             delta, nums = -delta, [-p for p in nums]

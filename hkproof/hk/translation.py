@@ -11,7 +11,7 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
 from hkproof.hk.reduced import Relation, prove_by_evenness, verify_by_evenness
-from hkproof.proof.certificate import Certificate
+from hkproof.proof.certificate import Certificate, StepRecorder
 
 
 @dataclass(frozen=True)
@@ -67,9 +67,11 @@ def verify_on_slice(cert: Certificate, kmap: KahanMap, shift: ParameterTranslati
 
     If f, the basis, the target, the relations and the candidate are invariant, the residual of every equation
     is invariant, and so is the system's determinant: both vanish identically iff they vanish on the slice.
-    Parity in eps is untouched by the shift. So `verify_by_evenness` on the slice proves the full statement.
+    Parity in eps is untouched by the shift. So `verify_by_evenness` on the slice proves the full statement;
+    if something is not invariant, the checks run in the full ring.
     """
-    _require_invariant(cert, kmap, shift, basis, target, relations, dict(zip(names, candidate)))
+    if not _system_invariant(cert, kmap, shift, basis, target, relations, dict(zip(names, candidate))):
+        return verify_by_evenness(cert, kmap, basis, target, names, candidate, point, iterates, relations)
     small, sbasis, starget, srelations = _restricted(kmap, shift, basis, target, relations)
     verify_by_evenness(cert, small, sbasis, starget, names, [shift.restrict(a) for a in candidate],
                        {k: v for k, v in point.items() if k != shift.pivot}, iterates, srelations)
@@ -84,9 +86,10 @@ def prove_on_slice(cert: Certificate, kmap: KahanMap, shift: ParameterTranslatio
     """Prop. "prop: even" / recipe (D) on the slice w_pivot = 0 of a translation-invariant system, lifted.
 
     The system being invariant, so is its unique solution: it is the lift of the slice's solution, and every
-    check of `prove_by_evenness` made on the slice holds for all parameters.
+    check of `prove_by_evenness` made on the slice holds for all parameters (else it runs in the full ring).
     """
-    _require_invariant(cert, kmap, shift, basis, target, relations, {})
+    if not _system_invariant(cert, kmap, shift, basis, target, relations, {}):
+        return prove_by_evenness(cert, kmap, basis, target, names, iterates, relations)
     small, sbasis, starget, srelations = _restricted(kmap, shift, basis, target, relations)
     solution = prove_by_evenness(cert, small, sbasis, starget, names, iterates, srelations)
     lifted = [shift.lift(a, kmap.ring) for a in solution]
@@ -101,21 +104,28 @@ def _restricted(kmap: KahanMap, shift: ParameterTranslation, basis: Sequence[Fra
             [shift.restrict_relation(rel) for rel in relations])
 
 
-def _require_invariant(cert: Certificate, kmap: KahanMap, shift: ParameterTranslation, basis: Sequence[Frac],
-                       target: Frac, relations: Sequence[Relation], candidate: Mapping[str, Frac]) -> None:
-    """The step that licenses working on the slice: everything the system is made of is invariant."""
-    with cert.step(f"the system is invariant under ({', '.join(shift.names)}) -> (..) + c",
+def _system_invariant(cert: Certificate, kmap: KahanMap, shift: ParameterTranslation, basis: Sequence[Frac],
+                      target: Frac, relations: Sequence[Relation], candidate: Mapping[str, Frac]) -> bool:
+    """The step that licenses working on the slice: is everything the system is made of invariant?"""
+    parts: dict[str, Frac] = {f"component {i + 1} of f": c for i, c in enumerate(kmap.components())}
+    parts.update({f"basis function {k + 1}": b for k, b in enumerate(basis)})
+    parts["the target"] = target
+    for k, rel in enumerate(relations):
+        parts.update({f"relation {k + 1}, coefficient {j + 1}": c for j, c in enumerate(rel.coefficients)})
+        parts[f"relation {k + 1}, right-hand side"] = rel.rhs
+    parts.update({f"candidate {n}": a for n, a in candidate.items()})
+    with cert.step(f"invariance of the system under ({', '.join(shift.names)}) -> (..) + c",
                    "sum of the partial derivatives in the shifted parameters is 0, exactly", kmap.ring) as s:
-        parts: dict[str, Frac] = {f"component {i + 1} of f": c for i, c in enumerate(kmap.components())}
-        parts.update({f"basis function {k + 1}": b for k, b in enumerate(basis)})
-        parts["the target"] = target
-        for k, rel in enumerate(relations):
-            parts.update({f"relation {k + 1}, coefficient {j + 1}": c for j, c in enumerate(rel.coefficients)})
-            parts[f"relation {k + 1}, right-hand side"] = rel.rhs
-        parts.update({f"candidate {n}": a for n, a in candidate.items()})
-        for what, h in parts.items():
-            if not shift.is_invariant(h):
-                s.inconclusive(f"{what} is not invariant under the shift, so the slice {shift.pivot} = 0 does "
-                               f"not decide the claim (prove it without the slice): {h}")
-        s.note(f"so every residual and the determinant are invariant: checking them at {shift.pivot} = 0 proves "
-               f"them for all {', '.join(shift.names)}")
+        return slice_decides(s, shift, parts)
+
+
+def slice_decides(s: StepRecorder, shift: ParameterTranslation, parts: Mapping[str, Frac]) -> bool:
+    """True if every part is invariant (then an identity among them holds iff it holds on the slice); otherwise
+    say which part is not, so that the caller checks in the full ring."""
+    for what, h in parts.items():
+        if not shift.is_invariant(h):
+            s.note(f"{what} is not invariant under the shift: the checks below run in the full ring")
+            return False
+    s.note(f"every residual and determinant built from them is invariant: checking it at {shift.pivot} = 0 "
+           f"proves it for all {', '.join(shift.names)}")
+    return True

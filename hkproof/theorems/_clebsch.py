@@ -97,28 +97,33 @@ def named(kmap: KahanMap, text: str, values: dict[str, str | Frac] | None = None
     ring = kmap.ring
     known = {**_integrals(ring), **{k: (v if isinstance(v, Frac) else Frac.parse(ring, v))
                                     for k, v in (values or {}).items()}}
-    names = {n: sympy.Symbol(n) for n in (*ring.names, *known)}
+    return _evaluate(ring, _formula(text, (*ring.names, *known)), known)
+
+
+@lru_cache(maxsize=4096)
+def _formula(text: str, names: tuple[str, ...]) -> sympy.Expr:
+    """The sympy tree of a formula over `names`, parsed once (sympy parsing dominates small proofs)."""
     try:
-        expr = sympy.sympify(text, locals=names)
+        return sympy.sympify(text, locals={n: sympy.Symbol(n) for n in names})
     except (sympy.SympifyError, SyntaxError, TypeError) as exc:
         raise ParseError(f"cannot read {text!r} as a formula: {exc}") from None
-    return _evaluate(ring, expr, known)
-
-
-def in_terms_of(kmap: KahanMap, text: str, values: Mapping[str, Frac]) -> Frac:
-    """A rational function of named functions (A, B, C, D, ...) with coefficients in the map's ring, read from
-    `text` and evaluated by `substitute_named`."""
-    return substitute_named(Frac.parse(kmap.ring.extend(values), text), values, kmap.ring)
 
 
 def substitute_named(q: Frac, values: Mapping[str, Frac], ring: Ring) -> Frac:
     """q, over `ring` extended by the names of `values`, with those names replaced by the values: one homogenized
     compose over the values' common denominator, one gcd at the end."""
+    num, den = substituted(q, values, ring)
+    return Frac(ring, num, den)
+
+
+def substituted(q: Frac, values: Mapping[str, Frac], ring: Ring) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
+    """(P, Q) over `ring` with P/Q = q with the names of `values` replaced by the values, not reduced (compare it
+    with `Frac.is_ratio`, which needs no gcd)."""
     big = q.ring
     common = lcm([v.den for v in values.values()])
     images = [(v.num * (common / v.den)).project_to_context(big.ctx) for v in values.values()]
-    out = q.pullback(images, common.project_to_context(big.ctx), list(values))
-    return Frac(ring, big.project(out.num, ring), big.project(out.den, ring), reduced=True)
+    num, den = q.pullback_terms(images, common.project_to_context(big.ctx), list(values))
+    return big.project(num, ring), big.project(den, ring)
 
 
 @lru_cache(maxsize=None)

@@ -16,10 +16,11 @@ from hkproof.errors import ParseError
 from hkproof.hk.expansion import coefficients_in, taylor
 from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals, prove_by_evenness
-from hkproof.hk.translation import prove_on_slice, verify_on_slice
+from hkproof.hk.translation import prove_on_slice, slice_decides, verify_on_slice
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.registry import claim, require_proven
-from hkproof.theorems._clebsch import SYSTEM, TRANSLATION, X, cycled, named, number, recall, record, shift_frac
+from hkproof.theorems._clebsch import (SYSTEM, TRANSLATION, X, cycled, named, number, recall, record, shift_frac,
+                                       substituted)
 
 GROUP = "clebsch-bases"
 P2 = ("p1**2", "p2**2", "p3**2")
@@ -263,6 +264,7 @@ def prove_basis2_independence(cert: Certificate, claimed: Mapping[str, str]) -> 
 
 # ---- Th. "dC Theta" --------------------------------------------------------------------------------------------
 G4_PRINTED = "2*H4**2 - H3*H1 + w_k*H3**2"
+THETA_BASIS, THETA_TARGET = ("I1", "I2", "I3"), "H4"   # eq. "clebsch_ansatz_3a"
 
 
 @claim("dc-theta", GROUP, "Th. \"dC Theta\": K_Theta = [g1 : ... : g6 : -1], g_k integrals",
@@ -285,11 +287,9 @@ def prove_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
     delta = recall(b2, "Delta", r)
     names = ("g1", "g2", "g3")
     with cert.step("the relation eq. \"dC Theta additional\" (found by PSLQ)", "read as a row", r) as s:
-        lhs, rhs = claimed["additional"].split("=")
-        rel = _relation(f, f"{lhs} = 0", names)
-        rel = Relation(rel.coefficients, named(f, rhs, d), source="dc-basis2 (d7, d8 are integrals)")
+        rel = theta_relation(f, claimed["additional"], d)
         s.note("its right-hand side is an integral by dc-basis2; proven below as a row of the system")
-    basis, target = _functions(f, ("I1", "I2", "I3")), named(f, "H4")
+    basis, target = _functions(f, THETA_BASIS), named(f, THETA_TARGET)
     with cert.step(f"candidate: g1 by Cramer's rule on the slice {TRANSLATION.pivot} = 0, lifted; g2, g3 by the "
                    "cyclic symmetry", "one Cramer component over Q(m, p, eps, w1, w2); w_k -> w_k - w3; index "
                    "shift (the system and f are cyclically symmetric, dc-map-symmetries)", r) as s:
@@ -333,6 +333,13 @@ def prove_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.note("so [g1 : ... : g6 : -1] annihilates Theta along every orbit (Prop. \"prop: even\")")
 
 
+def theta_relation(f, additional: str, d: Mapping[str, Frac]) -> Relation:
+    """Eq. "dC Theta additional" as a row in (g1, g2, g3), its right-hand side through the d_k of dc-basis2."""
+    lhs, rhs = additional.split("=")
+    rel = _relation(f, f"{lhs} = 0", ("g1", "g2", "g3"))
+    return Relation(rel.coefficients, named(f, rhs, dict(d)), source="dc-basis2 (d7, d8 are integrals)")
+
+
 def _relation(f, text: str, names) -> Relation:
     """A printed linear relation 'sum A_k a_k = B' among the unknowns `names` (A_k, B free of the unknowns)."""
     if text.count("=") != 1:
@@ -364,23 +371,56 @@ def _peak_rss_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
+J_VIA_ABCD = "((A - B)/(w1 - w2) - D)/(eps**2*(w3*D - (w1*A - w2*B)/(w1 - w2)))"
+G1_VIA_ABCD = ("(4*(w2 - w3)*(A**2*B - A**2*C) + 4*A*B**2*(w1 - 2*w2 + w3) - 4*A*B*C*(2*w1 - w2 - w3) "
+               "+ 4*A*C**2*(w1 + w2 - 2*w3) + 8*(w2 - w3)*(B**2*C - B*C**2) - (w2 - w3)**2*A + (w1 - w3)*(w2 - w3)*B "
+               "- (w1 - w2)*(w2 - w3)*C + 4*D*((w2 - w3)*(2*w1 - w2 - w3)*(A*B - A*C) - (w1 - w3)*(w2 - w3)*B**2 "
+               "+ (w2 - w3)**2*B*C + (w1 - w2)*(w2 - w3)*C**2))"
+               "/(4*D*(w2 - w3)*((w3 - w2)*A + (w1 - w3)*B + (w2 - w1)*C))")
+_ABC_CYCLE = {"A": "B", "B": "C", "C": "A"}
+
+
 @claim("dc-theta-dependence", GROUP, "g1, g2, g3 are functionally dependent on J, d7, d8",
        "sec. 6.6, remark after the proof of Th. \"dC Theta\"",
-       "The Jacobian of (J, d7, d8, g_k) has generic rank `rank` (not 4) for k = 1, 2, 3: at most 3 because g_k, J, d7, "
-       "d8 are functions of A, B, C (explicit relations, dc345-dependence), at least 3 by a non-zero minor at a point.",
-       claimed={"rank": "3"}, slow=True)
+       "J = ((A - B)/(w1 - w2) - D)/(eps^2 (w3 D - (w1 A - w2 B)/(w1 - w2))) and g1 = (a cubic in A, B, C, D)/"
+       "(4 D (w2 - w3)((w3 - w2) A + (w1 - w3) B + (w2 - w1) C)) with the integrals A, B, C, D of dc345-abcd "
+       "(relations found by hkproof, not in the paper), g2, g3 their cyclic images (A -> B -> C -> A). With "
+       "d7, d8 linear in A, B, C, D and D on the quadric eq. \"ABCD dependence\" (dc345-abcd), J, d7, d8, g_k are "
+       "functions of A, B, C, so the Jacobian of (J, d7, d8, g_k) has generic rank `rank` (not 4) for k = 1, 2, 3: "
+       "at most 3 by these relations, at least 3 by a non-zero minor at a point.",
+       claimed={"rank": "3", "J": J_VIA_ABCD, "g1": G1_VIA_ABCD})
 def prove_theta_dependence(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
-    b1, b2, th = (require_proven(cert, k) for k in ("dc-basis1-relations", "dc-basis2", "dc-theta"))
-    require_proven(cert, "dc345-dependence")
-    base = [recall(b1, "J", r), recall(b2, "d7", r), recall(b2, "d8", r)]
+    abcd, th = require_proven(cert, "dc345-abcd"), require_proven(cert, "dc-theta")
+    J = recall(require_proven(cert, "dc-basis1-relations"), "J", r)
+    values = {k: recall(abcd, k, r) for k in "ABCD"}
+    with cert.step("J as a rational function of A, B, C, D", "exact identity in Q(m, p, eps, w)", r) as s:
+        s.require_equal(J, named(f, claimed["J"], values), "J")
+    with cert.step("g1 as a rational function of A, B, C, D", "one homogenized compose of the formula over the "
+                   "common denominator of A, B, C, D, compared by one exact division; exact identity in "
+                   "Q(m, p, eps, w), on the slice w3 = 0 if everything is invariant under w -> w + c", r) as s:
+        g1, formula, args = recall(th, "g1", r), Frac.parse(r.extend(values), claimed["g1"]), values
+        if slice_decides(s, TRANSLATION, {"the formula": formula, "g1": g1, **values}):
+            g1, formula = TRANSLATION.restrict(g1), TRANSLATION.restrict(formula)
+            args = {k: TRANSLATION.restrict(v) for k, v in values.items()}
+        s.require(g1.is_ratio(*substituted(formula, args, g1.ring)), "g1 differs from the formula in A, B, C, D")
+    with cert.step("g2, g3: the cyclic images", "the index shift (1 -> 2 -> 3) maps A -> B -> C -> A, D -> D and "
+                   "g1 -> g2 -> g3 (exact)", r) as s:
+        for a, b in (*_ABC_CYCLE.items(), ("D", "D"), ("g1", "g2"), ("g2", "g3")):
+            h = values[a] if a in values else recall(th, a, r)
+            target = values[b] if b in values else recall(th, b, r)
+            s.require(shift_frac(h) == target, f"the shift does not map {a} to {b}")
+        s.note("so g2 and g3 are given by the formula with indices and A, B, C shifted cyclically")
+    b2 = require_proven(cert, "dc-basis2")
+    base = [J, recall(b2, "d7", r), recall(b2, "d8", r)]
     point = sample_point(r.names, seed=1)
-    with cert.step("rank of the Jacobian of (J, d7, d8, g_k)", "upper bound: dc345-dependence; lower bound: exact "
-                   "rank at a rational point", r) as s:
+    with cert.step("rank of the Jacobian of (J, d7, d8, g_k)", "upper bound: the relations above (chain rule); "
+                   "lower bound: exact rank at a rational point", r) as s:
         rank = number(claimed["rank"])
         for k in (1, 2, 3):
             found = jacobian_rank_at(base + [recall(th, f"g{k}", r)], X, point)
             s.require(found == rank == 3, f"(J, d7, d8, g{k}) has rank {found} at the point; the proven bound is 3")
-        s.note("J, d7, d8, g_k are functions of A, B, C (dc345-dependence), so every 4 x 4 minor vanishes; a "
+        s.note("d7, d8 are linear in A, B, C, D and D^2 is a quadratic form in A, B, C over Q(w) (dc345-abcd), so "
+               "off D = 0 the functions J, d7, d8, g_k factor through (A, B, C) and every 4 x 4 minor vanishes; a "
                "non-zero 3 x 3 minor at one point gives rank 3")

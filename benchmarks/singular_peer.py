@@ -1,0 +1,57 @@
+"""Singular as a peer in the benchmarks: run a script, and time Cramer's rule on the very matrix hkproof solves."""
+from __future__ import annotations
+
+import shutil
+import subprocess
+import tempfile
+from typing import Sequence
+
+import flint
+
+
+def available() -> bool:
+    return shutil.which("Singular") is not None
+
+
+def singular_stdout(script: str, seconds: int = 1800) -> str:
+    """What the script prints (what it printed so far if it runs out of time; '' without Singular)."""
+    exe = shutil.which("Singular")
+    if not exe:
+        return ""
+    with tempfile.NamedTemporaryFile("w", suffix=".sing", delete=False) as fh:
+        fh.write(script)
+    try:
+        return subprocess.run([exe, "-q", fh.name], capture_output=True, text=True, timeout=seconds).stdout
+    except subprocess.TimeoutExpired as exc:
+        return (exc.stdout or b"").decode() if isinstance(exc.stdout, bytes) else (exc.stdout or "")
+
+
+def timed_seconds(script: str, seconds: int = 1800) -> float | None:
+    """Run a script that prints its own rtimer milliseconds last; seconds, or None if it did not finish."""
+    lines = singular_stdout(script, seconds).strip().splitlines()
+    return int(lines[-1]) / 1000 if lines and lines[-1].strip().isdigit() else None
+
+
+def cramer_seconds(names: Sequence[str], a: Sequence[Sequence[flint.fmpz_mpoly]], b: Sequence[flint.fmpz_mpoly],
+                   columns: Sequence[int] | None = None, seconds: int = 1800) -> float | None:
+    """Seconds Singular takes for det [a] and the Cramer numerators of [a | b] in `columns` (all by default),
+    each with its gcd against the determinant: the same cancellation hkproof does."""
+    n = len(a)
+    entries = ", ".join(str(x) for row in a for x in row)
+    rhs = ", ".join(str(x) for x in b)
+    cols = ", ".join(str(j + 1) for j in (range(n) if columns is None else columns))
+    replace = " ".join(f"Mj[{i + 1}, j] = B[{i + 1}, 1];" for i in range(n))
+    script = (f"ring R = 0, ({', '.join(names)}), dp;\nmatrix M[{n}][{n}] = {entries};\n"
+              f"matrix B[{n}][1] = {rhs};\nintvec cols = {cols};\n"
+              "system(\"--ticks-per-sec\", 1000);\nint t = rtimer;\npoly d = det(M);\nint k; int j; matrix Mj;\n"
+              f"for (k = 1; k <= size(cols); k++) {{ j = cols[k]; Mj = M; {replace} "
+              "poly g = gcd(det(Mj), d); kill g; }\nprint(rtimer - t);\nquit;\n")
+    return timed_seconds(script, seconds)
+
+
+def gcd_seconds(names: Sequence[str], a: flint.fmpz_mpoly, b: flint.fmpz_mpoly, seconds: int = 1800) -> float | None:
+    """Seconds Singular's gcd takes on the same two polynomials (rtimer inside Singular, parsing excluded)."""
+    script = (f"ring R = 0, ({', '.join(names)}), dp;\npoly a = {a};\npoly b = {b};\n"
+              "system(\"--ticks-per-sec\", 1000);\nint t = rtimer;\npoly g = gcd(a, b);\n"
+              "print(rtimer - t);\nquit;\n")
+    return timed_seconds(script, seconds)
