@@ -5,12 +5,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Mapping, Sequence
 
-from hkproof.algebra.fraction import Frac
+from hkproof.algebra.fraction import Frac, normalize_sign
 from hkproof.algebra.ring import Rational, Ring
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
-from hkproof.hk.reduced import Relation, prove_by_evenness, verify_by_evenness
+from hkproof.hk.reduced import Relation, check_solution, prove_by_evenness, verify_by_evenness
 from hkproof.proof.certificate import Certificate, StepRecorder
 
 
@@ -47,10 +47,10 @@ class ParameterTranslation:
 
     def lift(self, h0: Frac, ring: Ring) -> Frac:
         """The invariant function of `ring` whose restriction is h0: w_n -> w_n - w_pivot (an automorphism, so
-        lowest terms are kept)."""
+        lowest terms are kept; the sign is normalized again, the last term having changed)."""
         pivot = ring.gen(self.pivot)
         args = [ring.gen(n) - pivot if n in self.names else ring.gen(n) for n in h0.ring.names]
-        return Frac(ring, h0.num.compose(*args), h0.den.compose(*args), reduced=True)
+        return Frac(ring, *normalize_sign(h0.num.compose(*args), h0.den.compose(*args)), reduced=True)
 
     def restrict_relation(self, rel: Relation) -> Relation:
         return Relation([self.restrict(c) for c in rel.coefficients], self.restrict(rel.rhs), rel.source)
@@ -96,6 +96,18 @@ def prove_on_slice(cert: Certificate, kmap: KahanMap, shift: ParameterTranslatio
     for n, a in zip(names, lifted):
         cert.formula(n, a)
     return lifted
+
+
+def check_solution_on_slice(kmap: KahanMap, shift: ParameterTranslation, basis: Sequence[Frac], target: Frac,
+                            iterates: Sequence[int], relations: Sequence[Relation], solution: Sequence[Frac]) -> bool:
+    """`check_solution` (substitution into the rows `iterates` and the relations), on the slice when f, the basis,
+    the target, the relations and the solution are invariant, else in the full ring."""
+    parts = [*kmap.components(), *basis, target, *solution,
+             *(h for rel in relations for h in (*rel.coefficients, rel.rhs))]
+    if not all(shift.is_invariant(h) for h in parts):
+        return check_solution(kmap, basis, target, iterates, relations, solution)
+    small, sbasis, starget, srelations = _restricted(kmap, shift, basis, target, relations)
+    return check_solution(small, sbasis, starget, iterates, srelations, [shift.restrict(a) for a in solution])
 
 
 def _restricted(kmap: KahanMap, shift: ParameterTranslation, basis: Sequence[Frac], target: Frac,

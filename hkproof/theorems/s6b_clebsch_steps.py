@@ -8,10 +8,11 @@ from hkproof.algebra.linalg import rank_q
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.hk.independence import sample_point
-from hkproof.hk.reduced import Relation, check_solution, det_at_point, linear_combination_equals, prove_by_evenness
+from hkproof.hk.reduced import Relation, det_at_point, linear_combination_equals
+from hkproof.hk.translation import check_solution_on_slice, prove_on_slice
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.registry import claim, require_proven
-from hkproof.theorems._clebsch import SYSTEM, X, named, recall, record
+from hkproof.theorems._clebsch import SYSTEM, TRANSLATION, X, named, recall, record
 from hkproof.theorems.s6a_clebsch_kernels import POINTS, _profiles
 from hkproof.theorems.s6b_clebsch_bases_345 import (F_TEXT, GROUP, REL18, _eps_pieces,
                                                     bases, relation_rows)
@@ -45,7 +46,8 @@ def _solve_block(cert: Certificate, f, c: str, extra: Relation, abcd: Certificat
     """Prop. "prop: even" for the rows i = 0, 1 of one block, the rows of eq. "M2" and one more relation."""
     r = f.ring
     basis = bases(f)["abc".index(c)]
-    sol = prove_by_evenness(cert, f, basis[:6], basis[6], _block(c), (0, 1), _m2_rows(abcd, c, r) + [extra])
+    sol = prove_on_slice(cert, f, TRANSLATION, basis[:6], basis[6], _block(c), (0, 1),
+                         _m2_rows(abcd, c, r) + [extra])
     for name, h in zip(_block(c), sol):
         record(cert, name, h)
     return sol
@@ -57,8 +59,10 @@ def _symmetric_step(cert: Certificate, f, c: str, sol: Sequence[Frac], abcd: Cer
     r = f.ring
     basis = bases(f)["abc".index(c)]
     with cert.step(f"Step 2 ({c}): the symmetric system i = -1, 0, 1 has this unique solution",
-                   "substitution into the row i = -1 (f^-1(x, eps) = f(x, -eps)); det at a rational point", r) as s:
-        s.require(check_solution(f, basis[:6], basis[6], (-1,), [], sol), "the row i = -1 fails")
+                   "substitution into the row i = -1 (f^-1(x, eps) = f(x, -eps)), on the slice w3 = 0 when "
+                   "everything is invariant under w -> w + c; det at a rational point", r) as s:
+        s.require(check_solution_on_slice(f, TRANSLATION, basis[:6], basis[6], (-1,), [], sol),
+                  "the row i = -1 fails")
         det = det_at_point(f, basis[:6], SYMMETRIC, _m2_rows(abcd, c, r), sample_point(r.names, seed=3))
         s.require(det != 0, "the symmetric system is singular at the sample point")
         s.note(f"det = {det} at a rational point: the symmetric system determines {c}1, {c}2, {c}3")
