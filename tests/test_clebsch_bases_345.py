@@ -10,9 +10,6 @@ from hkproof.theorems.s6a_clebsch_bases import G1_VIA_ABCD
 from hkproof.theorems.s6b_clebsch_bases_345 import REL18, relation_rows
 from tests.conftest import THEOREM_RESULTS
 
-pytestmark = pytest.mark.slow   # every claim here cites dc-theta (about 15 s) and most cite Steps 4-5 (30 s more)
-
-
 @pytest.mark.parametrize("claim_id,expected", [("dc345-abcd", Status.VERIFIED),
                                                ("dc345-step1", Status.VERIFIED),
                                                ("dc345-relations", Status.VERIFIED),

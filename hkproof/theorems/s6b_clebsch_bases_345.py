@@ -89,7 +89,7 @@ def _augmented(rels: Sequence[Relation]) -> list[list[Frac]]:
        "The printed relations rel18_1 ... rel18_8 are nine independent relations, the two further printed "
        "relations follow from them, and all hold for the kernel coordinates alpha_j, beta_j, gamma_j proven in "
        "dc345-alpha and dc345-step5 (so they are no longer hypothetical, as they were in the paper).",
-       claimed={**REL18, "rel18_extra": REL18_EXTRA}, slow=True)
+       claimed={**REL18, "rel18_extra": REL18_EXTRA})
 def prove_relations(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -313,7 +313,7 @@ def step1_relations(f, known: Mapping[str, Frac]) -> list[Relation]:
        "The 17 equations (eqs. \"Psi1 iterates\" ... \"Psi3 iterates\" with i = 0, 1, rel18_1 ... rel18_8, "
        "'dC Psi add lin rel 1, 2') in 18 unknowns have rank 17 and a kernel vector with zero j = 4, 5, 6 "
        "components, so those components are unique; they equal eq. \"M2\" with A, B, C, D of dc345-abcd.",
-       claimed={"kernel_vector": "[(w2 - w3)*n, (w3 - w1)*n, (w1 - w2)*n]"}, slow=True)
+       claimed={"kernel_vector": "[(w2 - w3)*n, (w3 - w1)*n, (w1 - w2)*n]"})
 def prove_step1(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -379,8 +379,7 @@ def _step1_at(f, rels: Sequence[Relation], point: Mapping[str, flint.fmpq]):
        "Th. \"dC bases 345\": J, alpha1, beta1, gamma1 functionally independent; A, B, C independent",
        "sec. 6.7, last sentence of Th. \"dC bases 345\"; remark after eq. \"ABCD dependence\"",
        "The Jacobian of (J, alpha1, beta1, gamma1) with respect to (m, p) has rank 4 at a rational point (alpha1, "
-       "beta1, gamma1 the integrals of dc345-alpha and dc345-step5), and that of (A, B, C) has rank 3.",
-       slow=True)
+       "beta1, gamma1 the integrals of dc345-alpha and dc345-step5), and that of (A, B, C) has rank 3.")
 def prove_independence(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -405,8 +404,7 @@ def prove_independence(cert: Certificate, claimed: Mapping[str, str]) -> None:
        "d7, d8, d9 are linear in A, B, C, D (dc345-abcd), F is rational in them (dc345-alpha), and D lies on the "
        "quadric eq. \"ABCD dependence\" over Q(w)(A, B, C). So all of them depend functionally on A, B, C "
        "(locally, off D = 0), and, J, d7, d8 being independent (dc-basis2-independence), on J, d7, d8 -- with w "
-       "symbolic, where the paper checked F for numeric w only.",
-       slow=True)
+       "symbolic, where the paper checked F for numeric w only.")
 def prove_dependence(cert: Certificate, claimed: Mapping[str, str]) -> None:
     r = kahan_map(SYSTEM).ring
     require_proven(cert, "dc-theta-dependence")
