@@ -8,7 +8,7 @@ from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.errors import HKProofError
 from hkproof.hk.reduced import Relation, prove_by_evenness
-from hkproof.hk.translation import ParameterTranslation, prove_on_slice
+from hkproof.hk.translation import ParameterTranslation, check_solution_on_slice, prove_on_slice
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import TRANSLATION, named
@@ -73,3 +73,13 @@ def test_a_system_that_is_not_invariant_is_decided_in_the_full_ring():
     cert = _basis1(lambda c, *a: prove_on_slice(c, F, TRANSLATION, *a), "eps**2*w1")
     assert any("not invariant" in step.detail for step in cert.steps)
     assert cert.status is Status.REFUTED and "not even" in cert.error
+
+
+def test_check_solution_on_slice():
+    basis = [named(F, t) for t in ("p1**2", "p2**2", "p3**2")]
+    c = [named(F, f"(p1**2 + p2**2 + p3**2)**-1*(1 - eps**2*(w1*p1**2 + w2*p2**2 + w3*p3**2)) + eps**2*w{k}")
+         for k in (1, 2, 3)]
+    assert check_solution_on_slice(F, TRANSLATION, basis, Frac(R, 1), (-1, 0, 1), [], c)
+    assert not check_solution_on_slice(F, TRANSLATION, basis, Frac(R, 1), (-1,), [], [c[0] + 1, *c[1:]])
+    # not invariant: decided in the full ring, still exactly
+    assert not check_solution_on_slice(F, TRANSLATION, basis, Frac(R, 1), (-1,), [], [c[0] + named(F, "w1"), *c[1:]])

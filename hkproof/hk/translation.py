@@ -102,9 +102,8 @@ def check_solution_on_slice(kmap: KahanMap, shift: ParameterTranslation, basis: 
                             iterates: Sequence[int], relations: Sequence[Relation], solution: Sequence[Frac]) -> bool:
     """`check_solution` (substitution into the rows `iterates` and the relations), on the slice when f, the basis,
     the target, the relations and the solution are invariant, else in the full ring."""
-    parts = [*kmap.components(), *basis, target, *solution,
-             *(h for rel in relations for h in (*rel.coefficients, rel.rhs))]
-    if not all(shift.is_invariant(h) for h in parts):
+    parts = _parts(kmap, basis, target, relations, dict(enumerate(solution)))
+    if not all(shift.is_invariant(h) for h in parts.values()):
         return check_solution(kmap, basis, target, iterates, relations, solution)
     small, sbasis, starget, srelations = _restricted(kmap, shift, basis, target, relations)
     return check_solution(small, sbasis, starget, iterates, srelations, [shift.restrict(a) for a in solution])
@@ -119,6 +118,15 @@ def _restricted(kmap: KahanMap, shift: ParameterTranslation, basis: Sequence[Fra
 def _system_invariant(cert: Certificate, kmap: KahanMap, shift: ParameterTranslation, basis: Sequence[Frac],
                       target: Frac, relations: Sequence[Relation], candidate: Mapping[str, Frac]) -> bool:
     """The step that licenses working on the slice: is everything the system is made of invariant?"""
+    parts = _parts(kmap, basis, target, relations, candidate)
+    with cert.step(f"invariance of the system under ({', '.join(shift.names)}) -> (..) + c",
+                   "sum of the partial derivatives in the shifted parameters is 0, exactly", kmap.ring) as s:
+        return slice_decides(s, shift, parts)
+
+
+def _parts(kmap: KahanMap, basis: Sequence[Frac], target: Frac, relations: Sequence[Relation],
+           candidate: Mapping[object, Frac]) -> dict[str, Frac]:
+    """Everything a reduced system (and a candidate solution) is made of, by name."""
     parts: dict[str, Frac] = {f"component {i + 1} of f": c for i, c in enumerate(kmap.components())}
     parts.update({f"basis function {k + 1}": b for k, b in enumerate(basis)})
     parts["the target"] = target
@@ -126,9 +134,7 @@ def _system_invariant(cert: Certificate, kmap: KahanMap, shift: ParameterTransla
         parts.update({f"relation {k + 1}, coefficient {j + 1}": c for j, c in enumerate(rel.coefficients)})
         parts[f"relation {k + 1}, right-hand side"] = rel.rhs
     parts.update({f"candidate {n}": a for n, a in candidate.items()})
-    with cert.step(f"invariance of the system under ({', '.join(shift.names)}) -> (..) + c",
-                   "sum of the partial derivatives in the shifted parameters is 0, exactly", kmap.ring) as s:
-        return slice_decides(s, shift, parts)
+    return parts
 
 
 def slice_decides(s: StepRecorder, shift: ParameterTranslation, parts: Mapping[str, Frac]) -> bool:
