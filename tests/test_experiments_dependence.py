@@ -81,3 +81,9 @@ def test_cli(capsys):
     assert code == 0 and out["dimension"] == 1 and out["relations"][0]["relation"] == "h = (u + v)/(1)"
     assert main(["depend", "euler-top", "--target", "h=x1", "--on", "u=x2**2"]) == 1   # nothing found
     assert main(["depend", "euler-top", "--target", "h=x1", "--on", "no-such-claim:u"]) != 0
+
+
+def test_bad_input_is_an_error_not_a_traceback():
+    assert main(["depend", "euler-top", "--target", "h=x1", "--on", "u=x2", "--degrees", "-1", "2"]) == 2
+    assert main(["depend", "euler-top", "--target", "h=x1+", "--on", "u=x2"]) == 2
+    assert main(["depend", "euler-top", "--target", "h=x1", "--on", "u=x2", "--cap", "u=two"]) == 2

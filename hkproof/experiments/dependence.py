@@ -80,6 +80,8 @@ def find_rational_relations(target: Frac, knowns: Mapping[str, Frac], values: Ma
                             seed: int = 0) -> DependenceSearch:
     """Relations target * P(knowns) = Q(knowns), deg P <= degrees[0], deg Q <= degrees[1], at fixed `values` of
     eps and the parameters, from exact values at random rational points in the `phase` variables."""
+    if min(degrees) < 0 or not knowns:
+        raise DependenceSearchError(f"degrees {degrees} must be >= 0 and at least one known function is needed")
     names = list(knowns)
     p_mons, q_mons = monomials(names, degrees[0], max_degree), monomials(names, degrees[1], max_degree)
     unknowns = len(p_mons) + len(q_mons)
