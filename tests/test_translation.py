@@ -83,3 +83,16 @@ def test_check_solution_on_slice():
     assert not check_solution_on_slice(F, TRANSLATION, basis, Frac(R, 1), (-1,), [], [c[0] + 1, *c[1:]])
     # not invariant: decided in the full ring, still exactly
     assert not check_solution_on_slice(F, TRANSLATION, basis, Frac(R, 1), (-1,), [], [c[0] + named(F, "w1"), *c[1:]])
+
+
+def test_a_shift_that_moves_another_parameter_along():
+    from hkproof.theorems._flows import yz_map
+    g = yz_map()
+    shift = ParameterTranslation(("w1", "w2", "w3"), "w3", (("y", "-z"),))
+    c1 = named(g, "(y + z*w1)/(w2 - w3 + y*p1)")
+    assert not shift.is_invariant(c1)                       # y + z w1 stays, y alone moves by -z c
+    h = named(g, "(y + z*w1)*(w1 - w2)/(eps*(y + z*w3) + m1)")
+    assert shift.is_invariant(h) and not TRANSLATION.is_invariant(h)
+    assert shift.lift(shift.restrict(h), g.ring) == h
+    with pytest.raises(HKProofError, match="moving parameter"):
+        ParameterTranslation(("w1", "w2", "w3"), "w3", (("y", "-w1"),))

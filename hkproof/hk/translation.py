@@ -1,9 +1,13 @@
-"""A translation symmetry of the parameters (w -> w + c(1, ..., 1)): prove a reduced HK system on the slice
-w_pivot = 0 and lift the result, so that every parameter stays symbolic with one variable fewer in the work."""
+"""A translation symmetry of the parameters (w -> w + c(1, ..., 1), other parameters moving along linearly): prove
+a reduced HK system on the slice w_pivot = 0 and lift the result, so that every parameter stays symbolic with one
+variable fewer in the work."""
 from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import Mapping, Sequence
+
+import flint
+import sympy
 
 from hkproof.algebra.fraction import Frac, normalize_sign
 from hkproof.algebra.ring import Rational, Ring
@@ -18,23 +22,46 @@ from hkproof.proof.certificate import Certificate, StepRecorder
 class ParameterTranslation:
     """The shift of the parameters `names` by one common c; `pivot` (one of them) is 0 on the slice.
 
-    A rational function h is invariant iff sum_n dh/dn = 0 (over Q the infinitesimal invariance integrates).
-    An invariant h is determined by its restriction h0 to the slice: h(w) = h0(w - w_pivot (1, ..., 1)).
+    `velocity` lets other parameters move along, linearly in c: {"y": "-z"} shifts y by -z c (z must not move).
+    The shift is the flow of the derivation D = sum_n d/dn + sum_v velocity_v d/dv. A rational function h is
+    invariant iff D h = 0 (over Q the infinitesimal invariance integrates), and an invariant h is determined by
+    its restriction h0 to the slice: h = h0(n - w_pivot for n in names, v - velocity_v w_pivot).
     """
 
     names: tuple[str, ...]
     pivot: str
+    velocity: tuple[tuple[str, str], ...] = ()
 
     def __post_init__(self) -> None:
         if self.pivot not in self.names:
             raise HKProofError(f"the pivot {self.pivot!r} is not one of the shifted parameters {self.names}")
+        moving = set(self.names) | {v for v, _ in self.velocity}
+        for v, text in self.velocity:
+            if {str(x) for x in sympy.sympify(text).free_symbols} & moving:
+                raise HKProofError(f"the velocity {text!r} of {v} involves a moving parameter: the shift would "
+                                   "not be linear in c")
+
+    def __str__(self) -> str:
+        moves = "".join(f", {v} -> {v} + ({text}) c" for v, text in self.velocity)
+        return f"({', '.join(self.names)}) -> (..) + c{moves}"
+
+    def _velocities(self, ring: Ring) -> list[tuple[str, flint.fmpz_mpoly]]:
+        """(name, velocity polynomial) for the moving names of `ring`."""
+        out = [(n, ring.constant(1)) for n in self.names if n in ring.names]
+        for v, text in self.velocity:
+            if v in ring.names:
+                value = Frac.parse(ring, text)
+                if not value.den.is_one():
+                    raise HKProofError(f"the velocity {text!r} of {v} must be a polynomial with integer coefficients")
+                out.append((v, value.num))
+        return out
 
     def is_invariant(self, h: Frac) -> bool:
-        """sum_n dh/dw_n == 0 over the shifted parameters, exactly: D(num) den == num D(den), no gcd."""
-        shifted = [n for n in self.names if n in h.ring.names]
+        """D h == 0 exactly: D(num) den == num D(den), no gcd."""
+        moving = self._velocities(h.ring)
 
         def d(p):
-            return sum((p.derivative(n) for n in shifted), p - p)
+            return sum((v * p.derivative(n) for n, v in moving), p - p)
 
         return d(h.num) * h.den == h.num * d(h.den)
 
@@ -46,10 +73,11 @@ class ParameterTranslation:
         return h.specialize({self.pivot: 0}, self.slice_ring(h.ring))
 
     def lift(self, h0: Frac, ring: Ring) -> Frac:
-        """The invariant function of `ring` whose restriction is h0: w_n -> w_n - w_pivot (an automorphism, so
-        lowest terms are kept; the sign is normalized again, the last term having changed)."""
+        """The invariant function of `ring` whose restriction is h0: n -> n - velocity_n w_pivot (an automorphism,
+        so lowest terms are kept; the sign is normalized again, the last term having changed)."""
         pivot = ring.gen(self.pivot)
-        args = [ring.gen(n) - pivot if n in self.names else ring.gen(n) for n in h0.ring.names]
+        moves = dict(self._velocities(ring))
+        args = [ring.gen(n) - moves[n] * pivot if n in moves else ring.gen(n) for n in h0.ring.names]
         return Frac(ring, *normalize_sign(h0.num.compose(*args), h0.den.compose(*args)), reduced=True)
 
     def restrict_relation(self, rel: Relation) -> Relation:
@@ -119,8 +147,8 @@ def _system_invariant(cert: Certificate, kmap: KahanMap, shift: ParameterTransla
                       target: Frac, relations: Sequence[Relation], candidate: Mapping[str, Frac]) -> bool:
     """The step that licenses working on the slice: is everything the system is made of invariant?"""
     parts = _parts(kmap, basis, target, relations, candidate)
-    with cert.step(f"invariance of the system under ({', '.join(shift.names)}) -> (..) + c",
-                   "sum of the partial derivatives in the shifted parameters is 0, exactly", kmap.ring) as s:
+    with cert.step(f"invariance of the system under {shift}",
+                   "the derivative along the shift is 0, exactly", kmap.ring) as s:
         return slice_decides(s, shift, parts)
 
 

@@ -17,6 +17,7 @@ from hkproof.hk.integrals import check_integral, lie_derivative
 from hkproof.hk.linear_relations import parse_relation, relation_rank
 from hkproof.hk.recipe_g import WHAT_IT_PROVES, recipe_g
 from hkproof.hk.reduced import Relation, prove_by_evenness
+from hkproof.hk.translation import ParameterTranslation, prove_on_slice
 from hkproof.proof.certificate import Certificate, ProofStopped, StepRecorder
 from hkproof.proof.registry import REGISTRY, claim, require_proven
 from hkproof.proof.status import Status
@@ -427,19 +428,22 @@ def _profile_evidence(cert: Certificate, sets: int, per: int) -> None:
 # ---------------------------------------------------------------- towards the conjecture: Theta for every flow ---
 THETA_RELATION = ("(w2 - w3)*c1*(eps**2*L - c1)*g1 + (w3 - w1)*c2*(eps**2*L - c2)*g2 "
                   "+ (w1 - w2)*c3*(eps**2*L - c3)*g3 = 0")
-THETA_W = {"w1": 2, "w2": -3, "w3": 5}
+# c_k = y + z w_k and b_k - b_j = y (w_k - w_j) - z (w_i w_j - w_j w_k) ... are unchanged by w -> w + c,
+# y -> y - z c: the flow of the family does not move (checked in each proof that uses it)
+YZ_SHIFT = ParameterTranslation(("w1", "w2", "w3"), "w3", (("y", "-z"),))
 
 
 @claim("flow-theta-all", GROUP, "Theta = (p^2, m^2, H4) is an HK-basis of every flow; three integrals",
        "sec. 6, Th. \"dC Theta\" and the conjecture after eq. \"dC2 map\"",
-       "With w fixed to (2, -3, 5) and y, z, eps symbolic: (g1, g2, g3) from (sum g_k I_k) o f^i = H4 o f^i, "
-       "i = 0, 1, and the claimed relation in L = L_b of flow-general-phi0 are even in eps, hence integrals; with "
-       "g4..g6 by eq. \"Theta rels\" they span K_Theta (dim 1); L_b, g1, g2 are functionally independent. "
-       "Open: with w symbolic the computation is too heavy so far.",
-       claimed={"relation": THETA_RELATION}, slow=True, expected=Status.VERIFIED_SPECIALIZED)
+       "With w, y, z, eps symbolic (b_k = s + y w_k - z w_i w_j, c_k = y + z w_k: every flow): (g1, g2, g3) from "
+       "(sum g_k I_k) o f^i = H4 o f^i, i = 0, 1, and the claimed relation in L = L_b of flow-general-phi0 are "
+       "even in eps, hence integrals; with g4..g6 by eq. \"Theta rels\" they span K_Theta (dim 1); L_b, g1, g2 "
+       "are functionally independent. The proof runs on the slice w3 = 0 of the shift (w, y) -> (w + c, y - z c), "
+       "which leaves every flow of the family unchanged.",
+       claimed={"relation": THETA_RELATION}, slow=True)
 def prove_theta_all_flows(cert: Certificate, claimed: Mapping[str, str]) -> None:
     g = yz_map()
-    _theta(cert, g, C_OF_YZ, _cite_l(cert, g, "flow-general-phi0"), claimed["relation"], THETA_W)
+    _theta(cert, g, C_OF_YZ, _cite_l(cert, g, "flow-general-phi0"), claimed["relation"], {}, YZ_SHIFT)
 
 
 @claim("flow-second-theta", GROUP, "Second flow: Theta = (p^2, m^2, H4) is an HK-basis; L, g1, g2 independent",
@@ -459,7 +463,7 @@ def _cite_l(cert: Certificate, kmap: KahanMap, claim_id: str) -> Frac:
 
 
 def _theta(cert: Certificate, source: KahanMap, c_of: Sequence[str], big_l: Frac, relation: str,
-           fixed: Mapping[str, int]) -> None:
+           fixed: Mapping[str, int], shift: ParameterTranslation | None = None) -> None:
     """Th. "dC Theta" for a flow: rows i = 0, 1 of eq. "clebsch_ansatz_3a" plus a relation in L, Prop. "prop: even"."""
     f = kahan_map(source.field.specialize(fixed)) if fixed else source
     r = f.ring
@@ -474,7 +478,10 @@ def _theta(cert: Certificate, source: KahanMap, c_of: Sequence[str], big_l: Frac
     rel = Relation(coefficients, Frac(r, 0), source="L is an even integral (flow-general-phi0 / flow-second-theorem)")
     basis = [named(source, i).specialize(fixed, r) for i in ("I1", "I2", "I3")]
     h4 = named(source, "H4").specialize(fixed, r)
-    sol = prove_by_evenness(cert, f, basis, h4, ("g1", "g2", "g3"), (0, 1), [rel])
+    if shift is None:
+        sol = prove_by_evenness(cert, f, basis, h4, ("g1", "g2", "g3"), (0, 1), [rel])
+    else:
+        sol = prove_on_slice(cert, f, shift, basis, h4, ("g1", "g2", "g3"), (0, 1), [rel])
     with cert.step("K_Theta = [g1 : ... : g6 : -1], dim 1", "eq. \"Theta rels\" expands sum g_k I_k in monomials "
                    "(identity for symbolic g_k); exact rank of X_[0,6] at a rational point", r, fixed=fixed or None) as s:
         sym = r.extend(["g1", "g2", "g3"])
