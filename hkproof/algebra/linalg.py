@@ -128,7 +128,8 @@ def clear_row_denominators(row: Sequence[Frac]) -> list[flint.fmpz_mpoly]:
 
 def cramer(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac],
            columns: Sequence[int] | None = None) -> tuple[list[Frac], flint.fmpz_mpoly]:
-    """Solve A c = b for square A over Q(v) by Cramer's rule, gcds cancelled once at the end.
+    """Solve A c = b for square A over Q(v) by Cramer's rule, gcds cancelled once at the end (one big gcd: the
+    factor cancelled from the first component is divided out of the others first, when it divides them).
 
     Returns the solution (in lowest terms; only the components in `columns` if given) and det of the
     fraction-free matrix; raises SingularSystemError when that determinant vanishes identically.
@@ -141,9 +142,16 @@ def cramer(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac],
         raise SingularSystemError(
             "the determinant of the linear system vanishes identically: its solution is not unique "
             "(check that the basis functions are independent and the rows are not redundant)")
-    solution = []
+    solution, factor = [], None
     for j in (range(n) if columns is None else columns):
-        solution.append(Frac(ring, nums[j], d) / Frac(ring, common))
+        num, den = nums[j], d
+        if factor is None and not num.is_zero():
+            factor = num.gcd(d)
+        if factor is not None and not factor.is_one():  # it usually divides the other components too
+            q, rem = divmod(num, factor)
+            if rem.is_zero():
+                num, den = q, d / factor
+        solution.append(Frac(ring, num, den) / Frac(ring, common))
     return solution, d
 
 
