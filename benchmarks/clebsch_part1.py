@@ -18,7 +18,7 @@ from pathlib import Path
 
 import singular_peer
 from hkproof.algebra.fraction import Frac, homogenized_compose
-from hkproof.algebra.linalg import cleared_system, cramer, cramer_polynomials
+from hkproof.algebra.linalg import cleared_system, cramer, solve_cleared
 from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.reduced import Relation, hk_row
@@ -120,12 +120,9 @@ def theta_stages(seconds: int) -> list[tuple[str, float, str, float | None]]:
         a, b, common = cleared_system(list(rows) + [[restrict(c) for c in rel.coefficients]],
                                       list(rhs) + [restrict(rel.rhs)])
 
-        def solve():
-            d, nums = cramer_polynomials(a, b, [0])
-            return Frac(f.ring, nums[0], d) / Frac(f.ring, common), len(nums[0]), len(d)
-        (g1, n_terms, d_terms), t = timed(solve)
+        ((g1,), d), t = timed(lambda: solve_cleared(f.ring, a, b, common, [0]))
         out.append((f"Cramer component g1, dC Theta, {where}", t,
-                    f"numerator {n_terms}, det {d_terms} terms; g1 {len(g1.num)}/{len(g1.den)} terms",
+                    f"det {len(d)} terms; g1 {len(g1.num)}/{len(g1.den)} terms",
                     singular_peer.cramer_seconds(f.ring.names, a, b, [0], seconds)))
     return out
 

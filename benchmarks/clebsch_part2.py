@@ -14,7 +14,7 @@ from pathlib import Path
 import singular_peer
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.linalg import cleared_system, cramer_polynomials
+from hkproof.algebra.linalg import cleared_system, solve_cleared
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.hk.reduced import hk_row
 from hkproof.proof.registry import load_all, proven
@@ -68,10 +68,9 @@ def step4_case() -> tuple[int, float, float | None]:
     (frow,) = relation_rows(f, f"{F_TEXT} = 0", [f"a{j}" for j in range(1, 7)])
     rows.append(list(frow.coefficients[:3]))
     rhs.append(recall(al, "F", r))
-    a, b, _ = cleared_system(rows, rhs)
+    a, b, common = cleared_system(rows, rhs)
     t = time.perf_counter()
-    d, nums = cramer_polynomials(a, b)
-    solution = [Frac(r, n, d) for n in nums]
+    solution, _ = solve_cleared(r, a, b, common)
     ours = time.perf_counter() - t
     theirs = singular_peer.cramer_seconds(r.names, a, b)
     return max(len(x.num) for x in solution), ours, theirs

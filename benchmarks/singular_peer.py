@@ -9,10 +9,6 @@ from typing import Sequence
 import flint
 
 
-def available() -> bool:
-    return shutil.which("Singular") is not None
-
-
 def singular_stdout(script: str, seconds: int = 1800) -> str:
     """What the script prints (what it printed so far if it runs out of time; '' without Singular)."""
     exe = shutil.which("Singular")

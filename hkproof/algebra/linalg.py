@@ -128,22 +128,25 @@ def clear_row_denominators(row: Sequence[Frac]) -> list[flint.fmpz_mpoly]:
 
 def cramer(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac],
            columns: Sequence[int] | None = None) -> tuple[list[Frac], flint.fmpz_mpoly]:
-    """Solve A c = b for square A over Q(v) by Cramer's rule, gcds cancelled once at the end (one big gcd: the
-    factor cancelled from the first component is divided out of the others first, when it divides them).
+    """Solve A c = b for square A over Q(v) by Cramer's rule, gcds cancelled once at the end.
 
     Returns the solution (in lowest terms; only the components in `columns` if given) and det of the
     fraction-free matrix; raises SingularSystemError when that determinant vanishes identically.
     """
-    n = len(rows)
-    ring: Ring = rhs[0].ring
-    a, b, common = cleared_system(rows, rhs)
+    return solve_cleared(rhs[0].ring, *cleared_system(rows, rhs), columns)
+
+
+def solve_cleared(ring: Ring, a: PolyMatrix, b: Sequence[flint.fmpz_mpoly], common: flint.fmpz_mpoly,
+                  columns: Sequence[int] | None = None) -> tuple[list[Frac], flint.fmpz_mpoly]:
+    """The solution of A x = b / common (a `cleared_system`) by Cramer's rule, in lowest terms, with one big gcd:
+    the factor cancelled from the first component is divided out of the others first, when it divides them."""
     d, nums = cramer_polynomials(a, b, columns)
     if d.is_zero():
         raise SingularSystemError(
             "the determinant of the linear system vanishes identically: its solution is not unique "
             "(check that the basis functions are independent and the rows are not redundant)")
     solution, factor = [], None
-    for j in (range(n) if columns is None else columns):
+    for j in (range(len(a)) if columns is None else columns):
         num, den = nums[j], d
         if factor is None and not num.is_zero():
             factor = num.gcd(d)

@@ -443,7 +443,7 @@ YZ_SHIFT = ParameterTranslation(("w1", "w2", "w3"), "w3", (("y", "-z"),))
        claimed={"relation": THETA_RELATION}, slow=True)
 def prove_theta_all_flows(cert: Certificate, claimed: Mapping[str, str]) -> None:
     g = yz_map()
-    _theta(cert, g, C_OF_YZ, _cite_l(cert, g, "flow-general-phi0"), claimed["relation"], {}, YZ_SHIFT)
+    _theta(cert, g, C_OF_YZ, _cite_l(cert, g, "flow-general-phi0"), claimed["relation"], YZ_SHIFT)
 
 
 @claim("flow-second-theta", GROUP, "Second flow: Theta = (p^2, m^2, H4) is an HK-basis; L, g1, g2 independent",
@@ -454,7 +454,7 @@ def prove_theta_all_flows(cert: Certificate, claimed: Mapping[str, str]) -> None
        claimed={"relation": THETA_RELATION}, slow=True)
 def prove_second_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(FLOW2)
-    _theta(cert, f, ("w1", "w2", "w3"), _cite_l(cert, f, "flow-second-theorem"), claimed["relation"], {})
+    _theta(cert, f, ("w1", "w2", "w3"), _cite_l(cert, f, "flow-second-theorem"), claimed["relation"])
 
 
 def _cite_l(cert: Certificate, kmap: KahanMap, claim_id: str) -> Frac:
@@ -462,31 +462,30 @@ def _cite_l(cert: Certificate, kmap: KahanMap, claim_id: str) -> Frac:
     return Frac.parse(kmap.ring, require_proven(cert, claim_id).formulas["L"])
 
 
-def _theta(cert: Certificate, source: KahanMap, c_of: Sequence[str], big_l: Frac, relation: str,
-           fixed: Mapping[str, int], shift: ParameterTranslation | None = None) -> None:
-    """Th. "dC Theta" for a flow: rows i = 0, 1 of eq. "clebsch_ansatz_3a" plus a relation in L, Prop. "prop: even"."""
-    f = kahan_map(source.field.specialize(fixed)) if fixed else source
+def _theta(cert: Certificate, f: KahanMap, c_of: Sequence[str], big_l: Frac, relation: str,
+           shift: ParameterTranslation | None = None) -> None:
+    """Th. "dC Theta" for a flow: rows i = 0, 1 of eq. "clebsch_ansatz_3a" plus a relation in L, Prop. "prop: even"
+    (on the slice of `shift` if given)."""
     r = f.ring
-    with cert.step("the relation in L", "coefficients polynomials in L (an even integral); parameters "
-                   + ("fixed" if fixed else "symbolic"), r, fixed=fixed or None) as s:
+    with cert.step("the relation in L", "coefficients polynomials in L (an even integral); parameters symbolic",
+                   r) as s:
         s.require(big_l.is_even_in("eps"), "L is not even in eps")
         lhs = re.sub(r"\bc([123])\b", lambda m: c_of[int(m.group(1)) - 1], relation.split("=")[0])
-        unit = {n: Frac(source.ring, 0) for n in ("g1", "g2", "g3")}
-        coefficients = [named(source, lhs, {"L": big_l, **unit, k: Frac(source.ring, 1)}).specialize(fixed, r)
-                        for k in ("g1", "g2", "g3")]
-        s.require(named(source, relation.split("=")[1], {"L": big_l}).is_zero(), "the relation is not homogeneous")
+        unit = {n: Frac(r, 0) for n in ("g1", "g2", "g3")}
+        coefficients = [named(f, lhs, {"L": big_l, **unit, k: Frac(r, 1)}) for k in ("g1", "g2", "g3")]
+        s.require(named(f, relation.split("=")[1], {"L": big_l}).is_zero(), "the relation is not homogeneous")
     rel = Relation(coefficients, Frac(r, 0), source="L is an even integral (flow-general-phi0 / flow-second-theorem)")
-    basis = [named(source, i).specialize(fixed, r) for i in ("I1", "I2", "I3")]
-    h4 = named(source, "H4").specialize(fixed, r)
+    basis = [named(f, i) for i in ("I1", "I2", "I3")]
+    h4 = named(f, "H4")
     if shift is None:
         sol = prove_by_evenness(cert, f, basis, h4, ("g1", "g2", "g3"), (0, 1), [rel])
     else:
         sol = prove_on_slice(cert, f, shift, basis, h4, ("g1", "g2", "g3"), (0, 1), [rel])
     with cert.step("K_Theta = [g1 : ... : g6 : -1], dim 1", "eq. \"Theta rels\" expands sum g_k I_k in monomials "
-                   "(identity for symbolic g_k); exact rank of X_[0,6] at a rational point", r, fixed=fixed or None) as s:
+                   "(identity for symbolic g_k); exact rank of X_[0,6] at a rational point", r) as s:
         sym = r.extend(["g1", "g2", "g3"])
         gk = [Frac.parse(sym, n) for n in ("g1", "g2", "g3")]
-        wk = [named(source, n).specialize(fixed, r).to_ring(sym) for n in ("w1", "w2", "w3")]
+        wk = [named(f, n).to_ring(sym) for n in ("w1", "w2", "w3")]
         full = gk + [(gk[1] - gk[2]) / (wk[1] - wk[2]), (gk[2] - gk[0]) / (wk[2] - wk[0]),
                      (gk[0] - gk[1]) / (wk[0] - wk[1])]
         mono = [Frac.parse(sym, phi) for phi in PHI0]
@@ -497,11 +496,11 @@ def _theta(cert: Certificate, source: KahanMap, c_of: Sequence[str], big_l: Frac
                 for x in f.orbit_exact(point, 6)]
         s.require(flint.fmpq_mat(rows).rank() == 6, "rank X_[0,6] != 6 for Theta at the sample point")
     with cert.step("L, g1, g2 functionally independent", "exact Jacobian rank at a rational point (parameters and "
-                   "eps set first, then derivatives in x)", r, fixed=fixed or None) as s:
+                   "eps set first, then derivatives in x)", r) as s:
         point = {k: v for k, v in RANK_POINT.items() if k in r.names}
         params = {k: v for k, v in point.items() if k not in f.variables}
         small = r.drop(params)
-        funcs = [h.specialize(params, small) for h in [big_l.specialize(fixed, r), *sol]]
+        funcs = [h.specialize(params, small) for h in [big_l, *sol]]
         xs = {k: point[k] for k in f.variables}
         rank = jacobian_rank_at(funcs[:3], f.variables, xs)
         s.require(rank == 3, f"L, g1, g2 have Jacobian rank {rank} at the point")
