@@ -14,13 +14,14 @@ Rational = int | Fraction | flint.fmpq
 
 
 def to_fmpq(value: Rational | str) -> flint.fmpq:
-    """An exact rational from an int, a Fraction, an fmpq or a string such as '3/7'."""
+    """An exact rational from an int, a Fraction, an fmpq or a string such as '3/7' or '0.1' (read exactly)."""
     if isinstance(value, flint.fmpq):
         return value
     if isinstance(value, flint.fmpz):
         return flint.fmpq(value)
     if isinstance(value, str):
-        value = Fraction(value)
+        from hkproof.algebra.formula import parse_rational
+        return parse_rational(value)
     if isinstance(value, bool) or not isinstance(value, (int, Fraction)):
         raise ParseError(f"{value!r} is not an exact rational number (give an int, a fraction 'a/b' or a Fraction)")
     value = Fraction(value)
@@ -66,38 +67,6 @@ class Ring:
         return self.names.index(name)
 
     # ---- conversion -------------------------------------------------------------------------
-    def poly_from_sympy(self, expr: sympy.Expr) -> tuple[flint.fmpz_mpoly, int]:
-        """(P, d) with expr = P/d, P with integer coefficients, d a positive integer."""
-        self.check_symbols(expr)
-        poly = sympy.Poly(sympy.expand(expr), *self._symbols.values(), domain="QQ")
-        terms = poly.terms()
-        den = 1
-        for _, c in terms:
-            den = sympy.ilcm(den, sympy.Rational(c).q)
-        data = {tuple(int(e) for e in m): int(sympy.Rational(c) * den) for m, c in terms}
-        return self.ctx.from_dict(data), int(den)
-
-    def check_symbols(self, expr: sympy.Expr) -> None:
-        unknown = {str(s) for s in expr.free_symbols} - set(self.names)
-        if unknown:
-            raise UnknownSymbolError(
-                f"unknown symbol(s) {sorted(unknown)}; the ring has variables {list(self.names)}")
-
-    def sympify(self, text: str | sympy.Expr) -> sympy.Expr:
-        """Parse a string into a sympy expression over this ring's names (no implicit multiplication)."""
-        if isinstance(text, sympy.Expr):
-            return text
-        try:
-            expr = sympy.sympify(text, locals=dict(self._symbols))
-        except (sympy.SympifyError, SyntaxError, TypeError) as exc:
-            raise ParseError(f"cannot read {text!r} as a formula: {exc}") from None
-        if not isinstance(expr, sympy.Expr):
-            raise ParseError(f"{text!r} is not an algebraic expression")
-        if expr.has(sympy.zoo, sympy.nan, sympy.oo):
-            raise ParseError(f"{text!r} is undefined (division by zero)")
-        self.check_symbols(expr)
-        return expr
-
     def to_sympy(self, p: flint.fmpz_mpoly) -> sympy.Expr:
         syms = list(self._symbols.values())
         return sympy.Add(*[sympy.Integer(int(c)) * sympy.Mul(*[s**e for s, e in zip(syms, m)])

@@ -8,6 +8,7 @@ from typing import Sequence
 
 import flint
 
+from hkproof.algebra.formula import split_list
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational, Ring
 from hkproof.dynamics.kahan import KahanMap
@@ -25,20 +26,7 @@ SINGULAR = "singular"          # the orbit meets Delta = 0: the point is skipped
 
 def parse_basis(ring: Ring, text: str | Sequence[str]) -> list[Frac]:
     """Phi from 'phi1, phi2, ...' (commas inside parentheses do not split) or from a list of strings."""
-    if isinstance(text, str):
-        parts, depth, start = [], 0, 0
-        for i, ch in enumerate(text):
-            if ch in "([":
-                depth += 1
-            elif ch in ")]":
-                depth -= 1
-            elif ch == "," and depth == 0:
-                parts.append(text[start:i])
-                start = i + 1
-        parts.append(text[start:])
-    else:
-        parts = list(text)
-    parts = [p.strip() for p in parts if p.strip()]
+    parts = split_list(text, "basis") if isinstance(text, str) else [p.strip() for p in text]
     if len(parts) < 2:
         raise ParseError("a candidate HK-basis needs at least two functions")
     return [Frac.parse(ring, p) for p in parts]

@@ -60,7 +60,7 @@ class ScanResult:
 
 
 def _field_spec(field: QuadraticField) -> tuple:
-    return field.name, field.variables, field.parameters, field.rhs_text, field.description
+    return field.name, field.variables, field.parameters, field.rhs_text, field.description, field.step
 
 
 @lru_cache(maxsize=8)
