@@ -89,7 +89,7 @@ def tokens(text: str) -> Iterator[Token]:
             raise ParseError(f"cannot read {_excerpt(text, i + 1)}: unexpected character {text[i]!r} at column "
                              f"{i + 1} (formulas use numbers, names, + - * / ** ^ and parentheses)")
         if m.lastgroup != "space":
-            yield Token(m.lastgroup, m.group(), i + 1)
+            yield Token(m.lastgroup or "", m.group(), i + 1)
         i = m.end()
     yield Token("end", "", len(text) + 1)
 
@@ -192,10 +192,10 @@ class _Parser:
         self.depth -= 1
         if not exponent.is_constant():
             raise self.error("an exponent must be an integer constant, not a function of the variables", start)
-        k = exponent.constant_value()
-        if k.q != 1:
-            raise self.error(f"an exponent must be an integer, not {k}", start)
-        k = int(k.p)
+        value = exponent.constant_value()
+        if value.q != 1:
+            raise self.error(f"an exponent must be an integer, not {value}", start)
+        k = int(value.p)
         if base.is_zero() and k < 0:
             raise self.error("division by zero (0 to a negative power)", op)
         self.check_power(base, k, op)

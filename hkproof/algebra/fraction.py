@@ -4,7 +4,7 @@ from __future__ import annotations
 from enum import Enum
 from fractions import Fraction
 from functools import lru_cache
-from typing import Mapping, Sequence
+from typing import Mapping, Sequence, TypeAlias
 
 import flint
 import sympy
@@ -13,7 +13,7 @@ from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.errors import ParseError, RingMismatchError, SingularPointError
 
 
-Operand = "Frac | int | flint.fmpz | flint.fmpq | Fraction | flint.fmpz_mpoly"
+Operand: TypeAlias = "Frac | int | flint.fmpz | flint.fmpq | Fraction | flint.fmpz_mpoly"
 
 
 class Parity(str, Enum):
@@ -192,8 +192,8 @@ class Frac:
     def degrees_in(self, names: Sequence[str]) -> tuple[int, int]:
         """(total degree of num, total degree of den) in the given variables only."""
         idx = [self.ring.index(n) for n in names]
-        return tuple(max((sum(m[i] for i in idx) for m in p.monoms()), default=0)
-                     for p in (self.num, self.den))
+        num, den = (max((sum(m[i] for i in idx) for m in p.monoms()), default=0) for p in (self.num, self.den))
+        return num, den
 
     def negate_variable(self, name: str) -> "Frac":
         """The function with `name` replaced by its negative (eps -> -eps)."""

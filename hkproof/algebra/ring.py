@@ -10,7 +10,7 @@ import sympy
 
 from hkproof.errors import ParseError, UnknownSymbolError
 
-Rational = int | Fraction | flint.fmpq
+Rational = int | Fraction | flint.fmpq | str  # a str is read exactly by to_fmpq ('1/3', '0.1')
 
 
 def to_fmpq(value: Rational | str) -> flint.fmpq:
@@ -90,8 +90,8 @@ class Ring:
     def specialize_poly(self, p: flint.fmpz_mpoly, values: Mapping[str, Rational],
                         target: "Ring") -> tuple[flint.fmpz_mpoly, flint.fmpz]:
         """(P, d) with p|values = P/d in `target` (the ring without the fixed names), d > 0 an integer."""
-        ints = {k: v for k, v in values.items() if isinstance(v, int) and not isinstance(v, bool)}
-        rest = {k: to_fmpq(v) for k, v in values.items() if k not in ints}
+        ints: dict[str | int, int] = {k: v for k, v in values.items() if isinstance(v, int) and not isinstance(v, bool)}
+        rest: dict[str | int, flint.fmpq] = {k: to_fmpq(v) for k, v in values.items() if k not in ints}
         if ints:
             p = p.subs(ints)
         if not rest:

@@ -46,7 +46,7 @@ class KahanMap:
         """(M, b) with M(x, eps) x~ = b(x, eps), polynomials in Z[x, eps, params] (paper's matrix form)."""
         t = self.field.tilde_ring
         r = self.ring
-        zero_tilde = {v: 0 for v in self.field.tilde_variables}
+        zero_tilde: dict[str | int, int] = {v: 0 for v in self.field.tilde_variables}
         rows, rhs = [], []
         for e in self.equations:
             rows.append(tuple(e.derivative(t.index(w)).project_to_context(r.ctx)

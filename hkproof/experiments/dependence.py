@@ -92,7 +92,8 @@ def find_rational_relations(target: Frac, knowns: Mapping[str, Frac], values: Ma
                                     "have no value")
     funcs = [h.specialize(fixed, small) for h in (target, *knowns.values())]
     rng = random.Random(seed)
-    rows, tries = [], 0
+    rows: list[list[flint.fmpq]] = []
+    tries = 0
     while len(rows) < unknowns + extra:
         tries += 1
         if tries > 4 * (unknowns + extra) + 20:
@@ -111,7 +112,8 @@ def find_rational_relations(target: Frac, knowns: Mapping[str, Frac], values: Ma
             return out
         rows.append([t * value(m) for m in p_mons] + [-value(m) for m in q_mons])
     kernel = nullspace_q(rows)
-    found, among = [], []
+    found: list[RationalRelation] = []
+    among: list[RationalRelation] = []
     if kernel:
         # echelon form with the P coordinates first: rows with a pivot in P involve the target; the others (P = 0)
         # are relations among the knowns alone, which say nothing about the target

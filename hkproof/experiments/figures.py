@@ -53,5 +53,6 @@ def kernel_cloud(kmap: KahanMap, basis: Sequence, values: Mapping[str, float | s
     rows = []
     for x in points:
         p = problem.profile([Fraction(str(v)) for v in x], Float64())
-        rows.append(p.kernel[0] if p.verdict == HK_BASIS and p.dimension == 1 else [np.nan] * len(basis))
+        ok = p.verdict == HK_BASIS and p.dimension == 1 and p.kernel is not None
+        rows.append(p.kernel[0] if ok and p.kernel is not None else [np.nan] * len(basis))
     return np.array(rows, dtype=float)

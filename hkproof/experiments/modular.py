@@ -85,7 +85,7 @@ class ModP(FieldArithmetic):
     def solve(self, m: list[list[int]], b: list[int]) -> list[int]:
         return self._solve(flint.nmod_mat(m, self.p), flint.nmod_mat([[v] for v in b], self.p))
 
-    def prefix_ranks(self, rows: list[list[int]]) -> tuple[list[int], dict]:
+    def prefix_ranks(self, rows: list[list[int]]) -> tuple[list[int | None], dict]:
         r, rank = flint.nmod_mat(rows, self.p).transpose().rref()
         return ranks_from_pivots(pivot_columns(r, rank), len(rows)), {"prime": self.p}
 
@@ -133,7 +133,7 @@ class Modular(Arithmetic):
                 unlucky.append({"prime": f.p, "reason": str(exc)})
                 continue
             results.append((f.p, raw))
-            best = max(results, key=lambda pr: sum(pr[1].ranks))[1].ranks
+            best = max(results, key=lambda pr: sum(r or 0 for r in pr[1].ranks))[1].ranks
             agree = [q for q, r in results if r.ranks == best]
             if len(agree) > self.checks:
                 unlucky += [{"prime": q, "reason": f"ranks {r.ranks} below {best}"}

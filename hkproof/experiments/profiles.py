@@ -35,9 +35,10 @@ def parse_basis(ring: Ring, text: str | Sequence[str]) -> list[Frac]:
 def fundamental_finite(ranks: Sequence[int | None]) -> tuple[str, int | None]:
     """Verdict and d from rank X_[0,s-1], s = 1..l: condition "fundamental finite" read off the ranks."""
     l = len(ranks)
-    if any(r is None for r in ranks):
+    known = [r for r in ranks if r is not None]
+    if len(known) != l:
         return AMBIGUOUS, None
-    d = l - ranks[-1]
+    d = l - known[-1]
     expected = [min(s, l - d) for s in range(1, l + 1)]
     if list(ranks) != expected:
         return IRREGULAR, None
@@ -112,7 +113,7 @@ class ProfileProblem:
         verdict, d = fundamental_finite(raw.ranks)
         l = len(self.basis)
         kernel = None
-        if with_kernel and verdict == HK_BASIS:
+        if with_kernel and verdict == HK_BASIS and d is not None:
             kernel = [[arithmetic.to_json(v) for v in vec] for vec in arithmetic.kernel(raw, d)]
         dims = [None if r is None else l - r for r in raw.ranks]
         return KernelProfile(label, verdict, d, dims, kernel, raw.certainty, time.perf_counter() - start)

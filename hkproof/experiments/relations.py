@@ -118,8 +118,8 @@ class CoordinateSampler:
             rank = new
         if stable < extra:
             return None
-        r, rank = q_matrix(rows).rref()
-        return [[r[i, j] for j in range(self.width)] for i in range(rank)]
+        echelon, rank = q_matrix(rows).rref()
+        return [[echelon[i, j] for j in range(self.width)] for i in range(rank)]
 
 
 def _monomials(names: Sequence[str], degree: int) -> list[tuple[int, ...]]:
@@ -256,9 +256,9 @@ def _sparsest(fit: _Interpolation, found: list[list[Polynomial]], max_degree: in
             if rel:
                 candidates.append((degree, size, rel[0]))
     chosen: list[list[Polynomial]] = []
-    for _, _, rel in sorted(candidates, key=lambda c: c[:2]) + [(0, 0, r) for r in found]:
-        if len(chosen) < len(found) and _rank_at(chosen + [rel], fit.generic_t) > len(chosen):
-            chosen.append(rel)
+    for _, _, one in sorted(candidates, key=lambda c: c[:2]) + [(0, 0, r) for r in found]:
+        if len(chosen) < len(found) and _rank_at(chosen + [one], fit.generic_t) > len(chosen):
+            chosen.append(one)
     return chosen
 
 
@@ -295,7 +295,7 @@ def _restore(kmap: KahanMap, weights: Weights, free: Sequence[str], rel, bases, 
     terms = [(k, dict(zip(free, m)), c) for k, col in enumerate(rel) for m, c in col.items()]
     k0, e0, _ = terms[0]
     target = [a + b for a, b in zip(weights.of_monomial(e0), offsets[k0])]
-    extra = []
+    extra: list[dict] = []
     for k, exps, _ in terms:
         e = weights.restore(exps, offsets[k], target)
         if e is None or any(v.q != 1 for v in e.values()):

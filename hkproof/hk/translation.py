@@ -153,7 +153,7 @@ def _system_invariant(cert: Certificate, kmap: KahanMap, shift: ParameterTransla
 
 
 def _parts(kmap: KahanMap, basis: Sequence[Frac], target: Frac, relations: Sequence[Relation],
-           candidate: Mapping[object, Frac]) -> dict[str, Frac]:
+           candidate: Mapping[str, Frac] | Mapping[int, Frac]) -> dict[str, Frac]:
     """Everything a reduced system (and a candidate solution) is made of, by name."""
     parts: dict[str, Frac] = {f"component {i + 1} of f": c for i, c in enumerate(kmap.components())}
     parts.update({f"basis function {k + 1}": b for k, b in enumerate(basis)})
