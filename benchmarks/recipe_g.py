@@ -88,11 +88,11 @@ def groebner_with_timeout(label: str, seconds: float):
 def run(full: bool, gb_seconds: float) -> list[dict]:
     rows = []
     for label, kmap, h, fixed in cases(full):
-        sub, t_sub = _timed(lambda: check_integral(kmap, h).verdict)
+        sub, t_sub = _timed(lambda: check_integral(kmap, h).status.label)
         res, t_g = _timed(lambda: recipe_g(kmap, h))
         row = {"case": label, "substitution": t_sub, "sub_verdict": sub, "recipe_g": t_g,
                "cofactors": res.seconds["cofactors"], "check": res.seconds["check"], "terms": res.cofactor_terms,
-               "g_verdict": res.verdict, "gb": None, "gb_verdict": "-"}
+               "g_verdict": res.status.label, "gb": None, "gb_verdict": "-"}
         if fixed:
             verdict, t_gb = groebner_with_timeout(label, gb_seconds)
             row["gb"], row["gb_verdict"] = t_gb, {True: "in I", False: "not in I", None: "stopped"}[verdict]

@@ -272,7 +272,15 @@ def _generator(ring: Ring, name: str) -> Frac:
 
 def parse_formula(ring: Ring, text: str, known: Mapping[str, Frac] | None = None,
                   limits: Limits = LIMITS) -> Frac:
-    """The exact rational function written by `text` over `ring`; names in `known` stand for those functions."""
+    """The exact rational function written by `text` over `ring`; names in `known` stand for those functions.
+
+    >>> r = get_ring(("x", "y"))
+    >>> parse_formula(r, "(x**2 - y^2)/(x - y) + 0.5")
+    (2*x + 2*y + 1)/(2)
+    >>> parse_formula(r, "sin(x)")
+    Traceback (most recent call last):
+    hkproof.errors.ParseError: cannot read 'sin(x)': function calls such as sin(...) are not allowed (only + - * / ** ^ of numbers and names) at column 1
+    """
     if not isinstance(text, str):
         raise ParseError(f"a formula must be text, not {type(text).__name__}")
     for name, value in (known or {}).items():
@@ -285,7 +293,13 @@ _CONSTANTS = get_ring(("_",))
 
 
 def parse_rational(text: str, limits: Limits = LIMITS) -> flint.fmpq:
-    """An exact rational constant: '3', '-2/7', '0.1' (= 1/10), '1.5e-3', '(1 + 2)/3'; anything else is refused."""
+    """An exact rational constant: '3', '-2/7', '0.1' (= 1/10), '1.5e-3', '(1 + 2)/3'; anything else is refused.
+
+    >>> parse_rational("1.00000000000000001")
+    100000000000000001/100000000000000000
+    >>> parse_rational("2**-3")
+    1/8
+    """
     value = parse_formula(_CONSTANTS, text, None, limits)
     return value.constant_value()
 

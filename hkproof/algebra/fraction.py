@@ -42,7 +42,18 @@ def normalize_sign(num: flint.fmpz_mpoly, den: flint.fmpz_mpoly) -> tuple[flint.
 
 
 class Frac:
-    """A rational function num/den over Z[v]: gcd(num, den) = 1 and the last term of den positive."""
+    """A rational function num/den over Z[v]: gcd(num, den) = 1 and the last term of den positive.
+
+    Integers, rationals and polynomials of the same ring coerce into the field; elements of other rings do not.
+
+    >>> from hkproof.algebra.ring import get_ring
+    >>> r = get_ring(("x", "eps"))
+    >>> h = Frac.parse(r, "x/(1 + eps**2)")
+    >>> h + 1, h * r.gen("eps"), bool(h - h)
+    ((eps**2 + x + 1)/(eps**2 + 1), (x*eps)/(eps**2 + 1), False)
+    >>> h.parity("eps"), h.is_even_in("eps")
+    (<Parity.EVEN: 'even'>, True)
+    """
 
     __slots__ = ("ring", "num", "den")
 
@@ -195,10 +206,22 @@ class Frac:
         num, den = (max((sum(m[i] for i in idx) for m in p.monoms()), default=0) for p in (self.num, self.den))
         return num, den
 
+    def substitute(self, values: Mapping[str, flint.fmpz_mpoly | int], target: Ring | None = None) -> "Frac":
+        """The function with the named variables replaced by polynomials of `target` (Ring.substitute), reduced.
+
+        >>> from hkproof.algebra.ring import get_ring
+        >>> r = get_ring(("x", "y"))
+        >>> h = Frac.parse(r, "x/(x + y)")
+        >>> h.substitute({"y": r.gen("x")})
+        (1)/(2)
+        """
+        target = target or self.ring
+        return Frac(target, self.ring.substitute(self.num, values, target),
+                    self.ring.substitute(self.den, values, target))
+
     def negate_variable(self, name: str) -> "Frac":
         """The function with `name` replaced by its negative (eps -> -eps)."""
-        args = [(-g if n == name else g) for n, g in zip(self.ring.names, self.ring.gens())]
-        return Frac(self.ring, self.num.compose(*args), self.den.compose(*args))
+        return self.substitute({name: -self.ring.gen(name)})
 
     def parity(self, name: str) -> Parity:
         """Exact parity in one variable: even, odd or neither (lowest terms make this a polynomial test)."""

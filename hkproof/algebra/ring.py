@@ -72,6 +72,23 @@ class Ring:
         return sympy.Add(*[sympy.Integer(int(c)) * sympy.Mul(*[s**e for s, e in zip(syms, m)])
                            for m, c in p.to_dict().items()])
 
+    def substitute(self, p: flint.fmpz_mpoly, values: Mapping[str, flint.fmpz_mpoly | int],
+                   target: "Ring | None" = None) -> flint.fmpz_mpoly:
+        """p with the named variables replaced by polynomials of `target` (default: this ring) and every other
+        variable sent to the variable of the same name in `target`: one compose.
+
+        >>> r = get_ring(("x", "y"))
+        >>> r.substitute(r.gen("x") ** 2 + r.gen("y"), {"x": r.gen("y") + 1})
+        y^2 + 3*y + 1
+        """
+        target = target or self
+        unknown = sorted(set(values) - set(self.names))
+        if unknown:
+            raise UnknownSymbolError(f"{unknown} are not variables of {self}")
+        args = [values[n] if n in values else target.gen(n) for n in self.names]
+        args = [a if isinstance(a, flint.fmpz_mpoly) else target.constant(int(a)) for a in args]
+        return p.compose(*args, ctx=target.ctx)
+
     def to_q(self, p: flint.fmpz_mpoly) -> flint.fmpq_mpoly:
         return flint.fmpq_mpoly(p, self.qctx)
 

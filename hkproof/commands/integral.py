@@ -55,7 +55,7 @@ def run_integral(args: argparse.Namespace) -> Result:
     if args.method == "groebner":
         return _run_recipe_g(f, h, args.expr, status, payload)
     verdict = check_integral(f, h)
-    ok = verdict.verdict == "verified"
+    ok = verdict.status is Status.VERIFIED
     label = status.label if ok else Status.REFUTED.label
     payload.update({**verdict.to_dict(), "verdict": label})
     text = (f"{label}: {args.expr} is {'an' if ok else 'not an'} integral of the Kahan map of {f.field.name} "
@@ -67,8 +67,8 @@ def _run_recipe_g(f: KahanMap, h: Frac, expr: str, status: Status, payload: dict
     """The --method groebner branch: recipe (G) with a cofactor certificate."""
     res = recipe_g(f, h)
     ring = f"Z[{', '.join(f.field.tilde_ring.names)}]"
-    ok = res.verdict == "verified"
-    label = status.label if ok else res.verdict
+    ok = res.status is Status.VERIFIED
+    label = status.label if ok else res.status.label
     payload.update({"ring": ring, "method": "recipe (G): elimination of x~, cofactors checked by expansion",
                     **res.to_dict(), "verdict": label})
     text = (f"{label}: {expr} is {'an' if ok else 'not an'} integral of the Kahan map of "

@@ -9,7 +9,7 @@ import flint
 from hkproof.algebra.fraction import Frac, homogenized_compose, normalize_sign
 from hkproof.algebra.linalg import cramer_polynomials
 from hkproof.algebra.ring import Rational, to_fmpq
-from hkproof.dynamics.field import EPS, QuadraticField
+from hkproof.dynamics.field import EPS, TILDE, QuadraticField
 from hkproof.errors import ParseError, SingularPointError
 
 
@@ -37,7 +37,7 @@ class KahanMap:
             g = f.to_ring(t)
             # 2*F^(x, x~) = 4 F((x + x~)/2) - F(x) - F(x~), split by degree to stay in Z[...]
             polar = _twice_polarization(t, g.num, x, xt, self.variables, self.field.tilde_variables)
-            e = (t.gen(v + "_t") - t.gen(v)) * g.den - eps * polar
+            e = (t.gen(v + TILDE) - t.gen(v)) * g.den - eps * polar
             out.append(e)
         return tuple(out)
 
@@ -81,8 +81,7 @@ class KahanMap:
 
     # ---- composition and iterates ---------------------------------------------------------------
     def negate_eps(self, p: flint.fmpz_mpoly) -> flint.fmpz_mpoly:
-        args = [(-g if n == EPS else g) for n, g in zip(self.ring.names, self.ring.gens())]
-        return p.compose(*args)
+        return self.ring.substitute(p, {EPS: -self.ring.gen(EPS)})
 
     @cached_property
     def inverse_explicit(self) -> tuple[tuple[flint.fmpz_mpoly, ...], flint.fmpz_mpoly]:
@@ -93,10 +92,10 @@ class KahanMap:
     def equations_reversible(self) -> bool:
         """E(x~, x, -eps) = -E(x, x~, eps) for every equation: the symmetry behind f^-1(x, eps) = f(x, -eps)."""
         t = self.field.tilde_ring
-        swap = {v: w for v, w in zip(self.variables, self.field.tilde_variables)}
-        swap.update({w: v for v, w in swap.items()})
-        args = [(-g if n == EPS else t.gen(swap[n]) if n in swap else g) for n, g in zip(t.names, t.gens())]
-        return all(e.compose(*args) == -e for e in self.equations)
+        swap = {v: t.gen(w) for v, w in zip(self.variables, self.field.tilde_variables, strict=True)}
+        swap.update({w: t.gen(v) for v, w in zip(self.variables, self.field.tilde_variables, strict=True)})
+        swap[EPS] = -t.gen(EPS)
+        return all(t.substitute(e, swap) == -e for e in self.equations)
 
     def pullback(self, h: Frac, power: int = 1) -> Frac:
         """h o f^power, in lowest terms; negative powers use f^-1(x, eps) = f(x, -eps)."""

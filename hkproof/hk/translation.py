@@ -76,9 +76,9 @@ class ParameterTranslation:
         """The invariant function of `ring` whose restriction is h0: n -> n - velocity_n w_pivot (an automorphism,
         so lowest terms are kept; the sign is normalized again, the last term having changed)."""
         pivot = ring.gen(self.pivot)
-        moves = dict(self._velocities(ring))
-        args = [ring.gen(n) - moves[n] * pivot if n in moves else ring.gen(n) for n in h0.ring.names]
-        return Frac(ring, *normalize_sign(h0.num.compose(*args), h0.den.compose(*args)), reduced=True)
+        moves = {n: ring.gen(n) - v * pivot for n, v in self._velocities(ring) if n in h0.ring.names}
+        num, den = (h0.ring.substitute(p, moves, ring) for p in (h0.num, h0.den))
+        return Frac(ring, *normalize_sign(num, den), reduced=True)
 
     def restrict_relation(self, rel: Relation) -> Relation:
         return Relation([self.restrict(c) for c in rel.coefficients], self.restrict(rel.rhs), rel.source)

@@ -47,8 +47,7 @@ def cycled(text: str, times: int = 1) -> str:
 
 def shift(ring: Ring, p: flint.fmpz_mpoly) -> flint.fmpz_mpoly:
     """p with every index shifted cyclically (the renaming of `cycled`, done by one compose)."""
-    args = [ring.gen(_CYCLE[n]) if n in _CYCLE else g for n, g in zip(ring.names, ring.gens())]
-    return p.compose(*args)
+    return ring.substitute(p, {n: ring.gen(_CYCLE[n]) for n in ring.names if n in _CYCLE})
 
 
 _FOUND: dict[str, Frac] = {}

@@ -11,7 +11,7 @@ from typing import Mapping
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import clear_row_denominators, cramer, det
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.dynamics.field import EPS
+from hkproof.dynamics.field import EPS, TILDE
 from hkproof.errors import ParseError
 from hkproof.hk.expansion import coefficients_in, taylor
 from hkproof.hk.independence import jacobian_rank_at, sample_point
@@ -76,8 +76,7 @@ def prove_basis1_relations(cert: Certificate, claimed: Mapping[str, str]) -> Non
             g = h.to_ring(t)
             if not tilde:
                 return g
-            args = [t.gen(n + "_t") if n in X else gen for n, gen in zip(t.names, t.gens())]
-            return Frac(t, g.num.compose(*args), g.den.compose(*args))
+            return g.substitute({n: t.gen(n + TILDE) for n in X})
         delta = at(J, True).num * at(J, False).den - at(J, False).num * at(J, True).den
         printed = Frac.parse(t, claimed["equivalent_form"])
         s.require(printed.is_polynomial() and (printed.num == delta or printed.num == -delta),
@@ -88,7 +87,7 @@ def prove_basis1_relations(cert: Certificate, claimed: Mapping[str, str]) -> Non
     with cert.step("J(x~) = J(x) modulo the equations eq. \"dC\"", "explicit cofactors, checked by expansion", t) as s:
         e = dict(zip(X, f.equations))
         x = {n: t.gen(n) for n in X}
-        xt = {n: t.gen(n + "_t") for n in X}
+        xt = {n: t.gen(n + TILDE) for n in X}
         eps = t.gen(EPS)
         cofactors = {f"p{i}": xt[f"p{i}"] + x[f"p{i}"] for i in (1, 2, 3)}
         for i, j, k in ((1, 2, 3), (2, 3, 1), (3, 1, 2)):
