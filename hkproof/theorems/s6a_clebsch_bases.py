@@ -1,11 +1,9 @@
 """Section 6.4-6.6: Th. "dC basis 1" (J), Th. "dC basis 2" (d7, d8, d9) and Th. "dC Theta" (g1..g6)."""
 from __future__ import annotations
 
-import resource
 import time
 import tracemalloc
 
-import flint
 from typing import Mapping
 
 from hkproof.algebra.fraction import Frac
@@ -14,6 +12,8 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS, TILDE
 from hkproof.errors import ParseError
 from hkproof.hk.expansion import coefficients_in, taylor
+from hkproof.hk.balance import orbit_matrix
+from hkproof.proof.resources import peak_rss_mb
 from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals, prove_by_evenness
 from hkproof.hk.translation import prove_on_slice, slice_decides, verify_on_slice
@@ -101,7 +101,7 @@ def prove_basis1_relations(cert: Certificate, claimed: Mapping[str, str]) -> Non
         s.require(f.pullback(J) == J, "J o f != J")
     with cert.step("dim K_Phi0 <= 1 at generic points", "exact rank of X_[0,2] at a rational point (orbit in Q)",
                    r) as s:
-        rank = _orbit_rank(f, p2 + [Frac(r, 1)], 3)
+        rank = orbit_matrix(f, p2 + [Frac(r, 1)], sample_point(r.names, seed=3), 3).rank()
         s.require(rank == 3, f"rank X_[0,2] = {rank} at the sample point")
         s.note("a non-zero 3x3 minor at one point is a non-zero rational function: rank 3, hence dim K <= 1, "
                "off a proper algebraic subset; with the integrals c_k, K_Phi0 = [c1 : c2 : c3 : -1] there")
@@ -121,7 +121,7 @@ def prove_basis1_even(cert: Certificate, claimed: Mapping[str, str]) -> None:
         rel = _relation(f, claimed["relation_12"], ("c1", "c2", "c3"))
         s.note("proven below as a row of a system whose solution is proven to consist of integrals")
     tracemalloc.start()
-    rss0, start = _peak_rss_mb(), time.perf_counter()
+    rss0, start = peak_rss_mb(), time.perf_counter()
     c = prove_by_evenness(cert, f, _functions(f, P2), Frac(r, 1), ("c1", "c2", "c3"), (0, 1), [rel])
     seconds, (_, peak) = time.perf_counter() - start, tracemalloc.get_traced_memory()
     tracemalloc.stop()
@@ -129,7 +129,7 @@ def prove_basis1_even(cert: Certificate, claimed: Mapping[str, str]) -> None:
         for k in range(3):
             s.require_equal(c[k], named(f, claimed[f"c{k + 1}"]), f"c{k + 1}")
         s.note(f"solve and checks: {seconds:.2f} s, Python heap peak {peak / 2**20:.1f} MB, process peak RSS "
-               f"{_peak_rss_mb():.0f} MB (was {rss0:.0f} MB before); paper: 22.33 s, 32.43 MB (Maple, 1.83 GHz)")
+               f"{peak_rss_mb():.0f} MB (was {rss0:.0f} MB before); paper: 22.33 s, 32.43 MB (Maple, 1.83 GHz)")
 
 
 # ---- Th. "dC basis 2" ------------------------------------------------------------------------------------------
@@ -355,19 +355,6 @@ def _homogeneous_degree(r, p) -> int | None:
     idx = [r.index(n) for n in X]
     degs = {sum(m[i] for i in idx) for m in p.monoms()}
     return None if not degs else degs.pop() if len(degs) == 1 else -1
-
-
-def _orbit_rank(f, functions, rows: int, seed: int = 3) -> int:
-    """Exact rank of X_[0, rows-1] at a rational sample point (the orbit computed in Q)."""
-
-    point = sample_point(f.ring.names, seed=seed)
-    fixed = {k: v for k, v in point.items() if k not in X}
-    orbit = f.orbit_exact(point, rows - 1)
-    return flint.fmpq_mat([[h.evaluate({**fixed, **x}) for h in functions] for x in orbit]).rank()
-
-
-def _peak_rss_mb() -> float:
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
 J_VIA_ABCD = "((A - B)/(w1 - w2) - D)/(eps**2*(w3*D - (w1*A - w2*B)/(w1 - w2)))"
