@@ -341,3 +341,33 @@ def parse_matrix(ring: Ring, text: str, known: Mapping[str, Frac] | None = None)
     if len(widths) != 1:
         raise ParseError(f"the matrix {_excerpt(text, 1)} has rows of different lengths {[len(r) for r in rows]}")
     return [[Frac.parse(ring, e, known) for e in r] for r in rows]
+
+
+def rename(text: str, names: Mapping[str, str]) -> str:
+    """The formula with whole names replaced (by tokens, never inside a longer name): a cyclic shift of indices, or
+    a name replaced by a parenthesized formula.
+
+    >>> rename("x1*x12 + a1", {"x1": "x2", "a1": "(b + 1)"})
+    'x2*x12 + (b + 1)'
+    """
+    out, last = [], 0
+    for tok in tokens(text):
+        if tok.kind == "name" and tok.text in names:
+            out += [text[last:tok.pos - 1], names[tok.text]]
+            last = tok.pos - 1 + len(tok.text)
+    return "".join(out) + text[last:]
+
+
+def indexed(text: str, **indices: int) -> str:
+    """A formula template with its index placeholders filled: with i=1, j=2 the names a_i, x_j, E_i become a1, x2, E1.
+
+    >>> indexed("a_j*x_i**2 - a_i*x_j**2", i=1, j=3)
+    'a3*x1**2 - a1*x3**2'
+    """
+    found = {t.text for t in tokens(text) if t.kind == "name"}
+    mapping = {}
+    for name in found:
+        base, sep, index = name.rpartition("_")
+        if sep and base and index in indices:
+            mapping[name] = f"{base}{indices[index]}"
+    return rename(text, mapping)

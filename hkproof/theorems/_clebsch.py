@@ -1,13 +1,12 @@
 """Shared data of section 6: the Clebsch integrals (eqs. "Clebsch H1" ... "Clebsch I") and the cyclic symmetry."""
 from __future__ import annotations
 
-import re
 from functools import lru_cache
 from typing import Mapping
 
 import flint
 
-from hkproof.algebra.formula import parse_rational
+from hkproof.algebra.formula import parse_rational, rename
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import lcm
 from hkproof.algebra.ring import Ring
@@ -41,7 +40,7 @@ _CYCLE = {"m1": "m2", "m2": "m3", "m3": "m1", "p1": "p2", "p2": "p3", "p3": "p1"
 def cycled(text: str, times: int = 1) -> str:
     """The formula with every index shifted cyclically 1 -> 2 -> 3 -> 1, `times` times."""
     for _ in range(times % 3):
-        text = re.sub(r"\b(m[123]|p[123]|w[123]|d[789]|g[123])\b", lambda m: _CYCLE[m.group(1)], text)
+        text = rename(text, _CYCLE)
     return text
 
 
@@ -77,8 +76,7 @@ def number(text: str) -> flint.fmpq:
 
 def substitute(text: str, values: dict[str, str]) -> str:
     """Replace whole-word names in a formula by parenthesized formulas (H1 -> (m1**2 + ...))."""
-    pattern = r"\b(" + "|".join(re.escape(k) for k in sorted(values, key=len, reverse=True)) + r")\b"
-    return re.sub(pattern, lambda m: f"({values[m.group(1)]})", text)
+    return rename(text, {k: f"({v})" for k, v in values.items()})
 
 
 def named(kmap: KahanMap, text: str, values: dict[str, str | Frac] | None = None) -> Frac:

@@ -6,6 +6,7 @@ import tracemalloc
 
 from typing import Mapping
 
+from hkproof.algebra.formula import indexed
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import clear_row_denominators, cramer, det
 from hkproof.dynamics.catalogue import kahan_map
@@ -67,7 +68,7 @@ def prove_basis1_relations(cert: Certificate, claimed: Mapping[str, str]) -> Non
         J = named(f, claimed["J"])
         for k in range(3):
             s.require_equal(c[k], named(f, claimed[f"c{k + 1}"]), f"c{k + 1}")
-            via_j = named(f, claimed["c_k_via_J"].replace("w_k", f"w{k + 1}"), {"J": J})
+            via_j = named(f, indexed(claimed["c_k_via_J"], k=k + 1), {"J": J})
             s.require_equal(c[k], via_j, f"c{k + 1} = 1/J + eps^2 w{k + 1}")
             record(cert, f"c{k + 1}", c[k])
         record(cert, "J", J)
@@ -317,7 +318,7 @@ def prove_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
             for q in range(4):
                 piece = Frac(r, coeffs[2 * q], top.den) if 2 * q < len(coeffs) else Frac(r, 0)
                 s.require(_homogeneous_degree(r, piece.num) in (None, 2 * q + 4), f"g{k}^({2 * q + 4}) degree")
-            s.require_equal(Frac(r, coeffs[0], top.den), named(f, claimed["g_4"].replace("w_k", f"w{k}")),
+            s.require_equal(Frac(r, coeffs[0], top.den), named(f, indexed(claimed["g_4"], k=k)),
                             f"g{k}^(4)")
     with cert.step("g4, g5, g6 and the expansion in monomials", "exact identity in Q(m, p, eps, w)", r) as s:
         gs = dict(zip(names, g))
