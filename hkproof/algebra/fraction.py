@@ -330,7 +330,7 @@ def homogenized_compose(ring: Ring, p: flint.fmpz_mpoly, moved: Sequence[str],
         data[m + (d - sum(m[i] for i in idx),)] = c
     ph = hring.ctx.from_dict(data)
     args = list(ring.gens())
-    for i, img in zip(idx, images):
+    for i, img in zip(idx, images, strict=True):
         args[i] = img
     args.append(den)
     return ph.compose(*args), d

@@ -20,7 +20,7 @@ class MembershipCertificate:
     def check(self) -> bool:
         """Expand both sides and compare: the only step the conclusion rests on."""
         total = self.target.context().constant(0)
-        for lam, g in zip(self.cofactors, self.generators):
+        for lam, g in zip(self.cofactors, self.generators, strict=True):
             total += lam * g
         return total == self.multiplier ** self.power * self.target
 

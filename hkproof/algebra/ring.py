@@ -69,7 +69,7 @@ class Ring:
     # ---- conversion -------------------------------------------------------------------------
     def to_sympy(self, p: flint.fmpz_mpoly) -> sympy.Expr:
         syms = list(self._symbols.values())
-        return sympy.Add(*[sympy.Integer(int(c)) * sympy.Mul(*[s**e for s, e in zip(syms, m)])
+        return sympy.Add(*[sympy.Integer(int(c)) * sympy.Mul(*[s**e for s, e in zip(syms, m, strict=True)])
                            for m, c in p.to_dict().items()])
 
     def substitute(self, p: flint.fmpz_mpoly, values: Mapping[str, flint.fmpz_mpoly | int],

@@ -50,7 +50,7 @@ def run_relations(args: argparse.Namespace) -> Result:
                      f"{len(ps.relations)} relation(s), {right} in the exact span, recovering {recovered} of "
                      f"{search.dimension}; {ps.rejected} candidate(s) rejected as inconsistent across points")
         cols = [sympy.Symbol(n) for n in search.names] + [sympy.Integer(1)]
-        lines += [f"  {sympy.Add(*[a * c for a, c in zip(rel, cols)])} = 0" for rel in ps.relations]
+        lines += [f"  {sympy.Add(*[a * c for a, c in zip(rel, cols, strict=True)])} = 0" for rel in ps.relations]
     return Result(payload, "\n".join(lines), 0 if len(search.relations) == search.dimension else 1)
 
 

@@ -33,7 +33,7 @@ class KahanMap:
         xt = [t.gen(v) for v in self.field.tilde_variables]
         eps = t.gen(EPS)
         out = []
-        for v, f in zip(self.variables, self.field.rhs):
+        for v, f in zip(self.variables, self.field.rhs, strict=True):
             g = f.to_ring(t)
             # 2*F^(x, x~) = 4 F((x + x~)/2) - F(x) - F(x~), split by degree to stay in Z[...]
             polar = _twice_polarization(t, g.num, x, xt, self.variables, self.field.tilde_variables)
@@ -178,7 +178,7 @@ def _twice_polarization(t, num, x, xt, names, tilde_names) -> flint.fmpz_mpoly:
     q, lin, const = (t.ctx.from_dict(parts[k]) for k in (2, 1, 0))
     gens = list(t.gens())
     sum_args, tilde_args = list(gens), list(gens)
-    for i, j, a, b in zip(idx, [t.index(n) for n in tilde_names], x, xt):
+    for i, j, a, b in zip(idx, [t.index(n) for n in tilde_names], x, xt, strict=True):
         sum_args[i] = a + b
         tilde_args[i] = b
     q_sum = q.compose(*sum_args)

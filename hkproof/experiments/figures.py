@@ -41,7 +41,7 @@ def euler_orbit(kmap: KahanMap, values: Mapping[str, float | str], x0: Sequence[
     x = [float(v) for v in x0]
     out = [x]
     for _ in range(steps):
-        x = [xi + h * arithmetic.evaluate(num, x) / arithmetic.evaluate(den, x) for xi, (num, den) in zip(x, rhs)]
+        x = [xi + h * arithmetic.evaluate(num, x) / arithmetic.evaluate(den, x) for xi, (num, den) in zip(x, rhs, strict=True)]
         out.append(x)
     return np.array(out)
 

@@ -65,9 +65,9 @@ def near_singular_point(scene: Scene, rng: random.Random, offset: Fraction = Fra
         ts = np.linspace(-2.0, 2.0, n + 1)
         dets = []
         for t in ts:
-            x = [float(a) + t * float(b) for a, b in zip(x0, v)]
+            x = [float(a) + t * float(b) for a, b in zip(x0, v, strict=True)]
             dets.append(np.linalg.det(np.array([[arithmetic.affine(e, x) for e in row] for row in prep.matrix])))
         roots = [r.real for r in np.roots(np.polyfit(ts, dets, n)) if abs(r.imag) < 1e-9 and abs(r.real) < 10]
         if roots:
             t = Fraction(min(roots, key=abs)).limit_denominator(10**12) + offset
-            return [a + t * b for a, b in zip(x0, v)]
+            return [a + t * b for a, b in zip(x0, v, strict=True)]

@@ -97,7 +97,7 @@ def pslq_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], values
                     search.rejected += 1
                     continue
                 full = [0] * width
-                for k, v in zip(cols, vecs.pop()):
+                for k, v in zip(cols, vecs.pop(), strict=True):
                     full[k] = v
                 if rank_q(found + [full]) > len(found):
                     found.append(full)

@@ -38,7 +38,7 @@ class Relation:
 
     def text(self) -> str:
         lhs = sympy.Add(*[sympy.factor(c.to_sympy()) * sympy.Symbol(n)
-                          for n, c in zip(self.names, self.coefficients) if not c.is_zero()])
+                          for n, c in zip(self.names, self.coefficients, strict=True) if not c.is_zero()])
         rhs = sympy.factor(self.rhs.to_sympy())
         if self.normalized_name:
             return f"{lhs + rhs * sympy.Symbol(self.normalized_name)} = 0"
@@ -51,7 +51,7 @@ class Relation:
         return [c.evaluate(at) for c in self.coefficients] + [-self.rhs.evaluate(at)]
 
     def to_dict(self) -> dict:
-        return {"relation": self.text(), "coefficients": {n: str(c) for n, c in zip(self.names, self.coefficients)},
+        return {"relation": self.text(), "coefficients": {n: str(c) for n, c in zip(self.names, self.coefficients, strict=True)},
                 "rhs": str(self.rhs), "checked_at_fresh_samples": self.checked}
 
 
@@ -136,7 +136,7 @@ def _monomials(names: Sequence[str], degree: int) -> list[tuple[int, ...]]:
 
 def _monomial_value(exps: Sequence[int], point: Sequence[flint.fmpq]) -> flint.fmpq:
     v = flint.fmpq(1)
-    for x, e in zip(point, exps):
+    for x, e in zip(point, exps, strict=True):
         if e:
             v *= x ** e
     return v
@@ -166,7 +166,7 @@ def find_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], *, nam
     def sample() -> tuple[list[flint.fmpq], list[list[flint.fmpq]]]:
         for _ in range(20):
             t = [to_fmpq(random_rational(rng, 30)) for _ in free]
-            vals = {**fixed, **{n: flint.fmpq(1) for n in weights.normalized}, **dict(zip(free, t))}
+            vals = {**fixed, **{n: flint.fmpq(1) for n in weights.normalized}, **dict(zip(free, t, strict=True))}
             space = sampler.relation_space(vals)
             if space is not None:
                 search.samples += 1
@@ -284,7 +284,7 @@ def _column_weights(weights: Weights, bases: Sequence[Sequence[Frac]]) -> list[l
     out = []
     for b in bases:
         last = weights.of_frac(b[-1])
-        out += [[a - c for a, c in zip(last, weights.of_frac(phi))] for phi in b[:-1]]
+        out += [[a - c for a, c in zip(last, weights.of_frac(phi), strict=True)] for phi in b[:-1]]
     return out + [[flint.fmpq(0)] * len(weights.basis)]
 
 
@@ -292,9 +292,9 @@ def _restore(kmap: KahanMap, weights: Weights, free: Sequence[str], rel, bases, 
     """Multiply each term by the monomial in the normalized names that makes the relation weighted homogeneous."""
     ring = kmap.ring
     offsets = _column_weights(weights, bases)
-    terms = [(k, dict(zip(free, m)), c) for k, col in enumerate(rel) for m, c in col.items()]
+    terms = [(k, dict(zip(free, m, strict=True)), c) for k, col in enumerate(rel) for m, c in col.items()]
     k0, e0, _ = terms[0]
-    target = [a + b for a, b in zip(weights.of_monomial(e0), offsets[k0])]
+    target = [a + b for a, b in zip(weights.of_monomial(e0), offsets[k0], strict=True)]
     extra: list[dict] = []
     for k, exps, _ in terms:
         e = weights.restore(exps, offsets[k], target)
@@ -309,7 +309,7 @@ def _restore(kmap: KahanMap, weights: Weights, free: Sequence[str], rel, bases, 
     for _, _, c in terms:
         den = den.lcm(c.q)
     columns = [ring.ctx.from_dict({}) for _ in rel]
-    for (k, exps, c), e in zip(terms, extra):
+    for (k, exps, c), e in zip(terms, extra, strict=True):
         mono = [0] * len(ring.names)
         for n, v in exps.items():
             mono[ring.index(n)] += v

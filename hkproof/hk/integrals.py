@@ -41,6 +41,6 @@ def lie_derivative(field: QuadraticField, h: Frac) -> Frac:
     """dh/dt along the continuous flow x' = F(x): sum_i dh/dx_i F_i."""
     ring = field.ring
     total = Frac(ring, 0)
-    for v, f in zip(field.variables, field.rhs):
+    for v, f in zip(field.variables, field.rhs, strict=True):
         total = total + h.derivative(v) * f
     return total

@@ -98,12 +98,12 @@ def verify_on_slice(cert: Certificate, kmap: KahanMap, shift: ParameterTranslati
     Parity in eps is untouched by the shift. So `verify_by_evenness` on the slice proves the full statement;
     if something is not invariant, the checks run in the full ring.
     """
-    if not _system_invariant(cert, kmap, shift, basis, target, relations, dict(zip(names, candidate))):
+    if not _system_invariant(cert, kmap, shift, basis, target, relations, dict(zip(names, candidate, strict=True))):
         return verify_by_evenness(cert, kmap, basis, target, names, candidate, point, iterates, relations)
     small, sbasis, starget, srelations = _restricted(kmap, shift, basis, target, relations)
     verify_by_evenness(cert, small, sbasis, starget, names, [shift.restrict(a) for a in candidate],
                        {k: v for k, v in point.items() if k != shift.pivot}, iterates, srelations)
-    for n, a in zip(names, candidate):
+    for n, a in zip(names, candidate, strict=True):
         cert.formula(n, a)
     return list(candidate)
 
@@ -121,7 +121,7 @@ def prove_on_slice(cert: Certificate, kmap: KahanMap, shift: ParameterTranslatio
     small, sbasis, starget, srelations = _restricted(kmap, shift, basis, target, relations)
     solution = prove_by_evenness(cert, small, sbasis, starget, names, iterates, srelations)
     lifted = [shift.lift(a, kmap.ring) for a in solution]
-    for n, a in zip(names, lifted):
+    for n, a in zip(names, lifted, strict=True):
         cert.formula(n, a)
     return lifted
 
