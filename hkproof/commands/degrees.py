@@ -24,7 +24,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run_degrees(args: argparse.Namespace) -> Result:
     f = kahan_map(args.system)
-    res = degree_growth(f, args.iterates, scene_values(args), seed=args.seed, runs=max(1, args.runs))
+    fixed = scene_values(args)
+    res = degree_growth(f, args.iterates, fixed, seed=args.seed, runs=max(1, args.runs))
     status = Status.EVIDENCE_EXACT
     payload = {"system": res.system, "degrees": res.degrees, "second_differences": res.second_differences,
                **res.growth.to_dict(), "status": status.label, "agree": res.agree,
@@ -35,8 +36,8 @@ def run_degrees(args: argparse.Namespace) -> Result:
              f"growth: {res.growth.kind}, deg f^n = {res.growth.formula()}"
              + (f", algebraic entropy log lambda = {res.growth.entropy:.6g}" if res.growth.entropy else "")]
     for r in res.runs:
-        lines.append(f"  run mod p = {r.prime} at " + ", ".join(f"{k} = {v}" for k, v in r.values.items())
-                     + f": {r.degrees}")
+        at = ", ".join(f"{k} = {fixed[k]}" if k in fixed else f"{k} = {v} (random)" for k, v in r.values.items())
+        lines.append(f"  run mod p = {r.prime} at {at}: {r.degrees}")
     lines.append(("the runs agree" if res.agree else "the runs DISAGREE (the largest degree is kept: a special "
                   "choice only lowers degrees)") + f"; status {status.label}: degrees computed mod p on random "
                  "lines at random values, not a proof")
