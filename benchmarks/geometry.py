@@ -60,8 +60,9 @@ def degrees_section() -> list[str]:
         f.explicit
         res, sec = timed(degree_growth, f, 10)
         lines.append(f"| {name} | 10 | {res.degrees} | {res.growth.kind}: {res.growth.formula()} | {sec:.2f} |")
-    lines += ["", f"Peer: `KahanMap.iterate(n)` with eps and the parameters symbolic (all gcds cancelled), the route the "
-              f"issue timed; stopped after {PEER_LIMIT:.0f} s. The degree in x of its result is the same number.", "",
+    lines += ["", "Peer: `KahanMap.iterate(n)` with eps and the parameters symbolic (all gcds cancelled), the route "
+              f"the issue timed; stopped after {PEER_LIMIT:.0f} s. The degree in x of its result is the same number.",
+              "",
               "| system | n | symbolic iterate: seconds | its degree in x | mod p, one run: seconds | ratio |",
               "|---|---|---|---|---|---|"]
     for name, ks in (("euler-top", (3, 4, 5)), ("lotka-volterra", (4, 5, 6)), ("clebsch", (2,))):

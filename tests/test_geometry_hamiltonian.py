@@ -63,4 +63,5 @@ def test_bad_input_exit_2(capsys, h, j):
 
 
 def test_non_constant_poisson_structure_is_refused_for_the_euler_top(capsys):
-    assert main(["hamiltonian", "euler-top", "--hamiltonian", "x1*x2*x3", "--poisson", "[[0,1,0],[-1,0,0],[0,0,0]]"]) == 2
+    j = "[[0,1,0],[-1,0,0],[0,0,0]]"
+    assert main(["hamiltonian", "euler-top", "--hamiltonian", "x1*x2*x3", "--poisson", j]) == 2

@@ -5,8 +5,8 @@ import argparse
 
 from hkproof.algebra.fraction import Frac
 from hkproof.commands import Result, add_command
-from hkproof.commands._geometry import EPS_CONVENTION
-from hkproof.dynamics.catalogue import SYSTEMS, kahan_map
+from hkproof.commands._geometry import EPS_CONVENTION, add_system_argument
+from hkproof.dynamics.catalogue import kahan_map
 from hkproof.hk.modified_hamiltonian import parse_matrix, verify
 from hkproof.proof.status import Status
 
@@ -18,8 +18,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                     "Hamiltonian H~ = H + (h/3) grad H^T (I - (h/2) F')^-1 F and the measure dx / det(I - (h/2) F') "
                     "of Celledoni-McLachlan-Owren-Quispel (2013) and verify exactly that the Kahan map preserves "
                     f"both. {EPS_CONVENTION}.", run_hamiltonian)
-    p.add_argument("system", help=f"a catalogue name ({', '.join(SYSTEMS)}) or a TOML file")
-    p.add_argument("--hamiltonian", required=True, metavar="H", help="a polynomial of degree <= 3, e.g. 'p**2/2 + q**3'")
+    add_system_argument(p)
+    p.add_argument("--hamiltonian", required=True, metavar="H",
+                   help="a polynomial of degree <= 3, e.g. 'p**2/2 + q**3'")
     p.add_argument("--poisson", required=True, metavar="J",
                    help="a constant skew matrix, e.g. '[[0, 1], [-1, 0]]' or '0, 1; -1, 0'")
 

@@ -5,8 +5,8 @@ import argparse
 
 from hkproof.algebra.fraction import poly_str
 from hkproof.commands import Result, add_command
-from hkproof.commands._geometry import EPS_CONVENTION
-from hkproof.dynamics.catalogue import SYSTEMS, kahan_map
+from hkproof.commands._geometry import EPS_CONVENTION, add_system_argument
+from hkproof.dynamics.catalogue import kahan_map
 from hkproof.hk.darboux import search_darboux
 
 JACOBIAN = "det Df(x) = det M(f(x), -eps) / det M(x, eps), from M(x, eps) Df(x) = M(f(x), -eps)"
@@ -17,7 +17,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                     "factors of det Df, invariant measures dx/P (rho(f(x)) det Df(x) = rho(x)) and the integrals "
                     "P_i/P_j of equal cofactors: searched mod p at random rational eps and parameters, reconstructed "
                     f"with them symbolic, each checked exactly. {EPS_CONVENTION}.", run_measure)
-    p.add_argument("system", help=f"a catalogue name ({', '.join(SYSTEMS)}) or a TOML file")
+    add_system_argument(p)
     p.add_argument("--degree", type=int, default=4, help="largest degree of P (default 4)")
     p.add_argument("--seed", type=int, default=0, help="seed of the values, prime and points (default 0)")
 

@@ -91,7 +91,8 @@ class DarbouxSearch:
             if not any(exps):
                 out += [(poly_str(d.poly), d.status) for d in group]
                 continue
-            out += [(f"({poly_str(d.poly)})/({poly_str(group[0].poly)})", min(d.status, group[0].status)) for d in group[1:]]
+            base = group[0]
+            out += [(f"({poly_str(d.poly)})/({poly_str(base.poly)})", min(d.status, base.status)) for d in group[1:]]
         return out
 
 
@@ -247,7 +248,7 @@ def _kernel_mod_p(rows: list[list[int]], ncols: int, p: int) -> list[tuple[int, 
     return basis
 
 
-# ---- reconstruction with eps and parameters symbolic -------------------------------------------------------------------
+# ---- reconstruction with eps and parameters symbolic ---------------------------------------------------------
 class SymbolicRows:
     """Rows m(f(x)) - K(x) m(x) at rational points x, with eps and the parameters symbolic (ring Z[eps, params])."""
 

@@ -48,7 +48,9 @@ def _point_text(point: Mapping[str, flint.fmpq]) -> str:
        "f1 o f2 != f2 o f1 for the Kahan maps f1 (catalogue clebsch) and f2 (clebsch-flow2) with the same eps and w: "
        "at the witness point (m, p) = (1, 2, -1, 3, 1, 2), eps = 1/5, w = (1, 2, 3) the m1-components differ by the "
        "claimed exact rational.",
-       claimed={"commute": "no", "difference_m1": "-24056552791507520886873984228237120482025360/6373907870547081326057869926502922773491157"})
+       claimed={"commute": "no",
+                "difference_m1": "-24056552791507520886873984228237120482025360/"
+                                 "6373907870547081326057869926502922773491157"})
 def prove_commutation(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f1, f2 = kahan_map(FLOW1), kahan_map(FLOW2)
     answer = claimed["commute"].strip()
