@@ -56,3 +56,16 @@ def test_growth_fit_is_not_fooled():
 def test_bad_input_exit_2(capsys, args):
     assert main(["degrees", "euler-top", *args]) == 2
     assert "error" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("command", ["degrees", "orbit", "measure", "hamiltonian"])
+def test_help_states_the_eps_convention(capsys, command):
+    with pytest.raises(SystemExit):
+        main([command, "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "HALF the time step" in text and "h = 2 eps" in text
+
+
+def test_iterates_stop_before_the_degree_explodes():
+    res = degree_growth(kahan_map("lotka-volterra"), 40, runs=1)
+    assert len(res.degrees) == 15 and res.degrees[-1] == 2 ** 15

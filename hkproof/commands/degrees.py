@@ -7,7 +7,7 @@ from hkproof.commands import Result, add_command
 from hkproof.commands._geometry import EPS_CONVENTION, add_system_options
 from hkproof.commands.scan import scene_values
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.dynamics.degrees import degree_growth
+from hkproof.dynamics.degrees import MAX_DEGREE, degree_growth
 from hkproof.proof.status import Status
 
 
@@ -29,6 +29,7 @@ def run_degrees(args: argparse.Namespace) -> Result:
     status = Status.EVIDENCE_EXACT
     payload = {"system": res.system, "degrees": res.degrees, "second_differences": res.second_differences,
                **res.growth.to_dict(), "status": status.label, "agree": res.agree,
+               "stopped": len(res.degrees) < args.iterates,
                "runs": [{"prime": r.prime, "values_mod_p": r.values, "degrees": r.degrees} for r in res.runs],
                "eps_convention": EPS_CONVENTION}
     lines = [f"deg f^n of the Kahan map of {res.system}, n = 1..{len(res.degrees)}: {res.degrees}",
@@ -38,6 +39,8 @@ def run_degrees(args: argparse.Namespace) -> Result:
     for r in res.runs:
         at = ", ".join(f"{k} = {fixed[k]}" if k in fixed else f"{k} = {v} (random)" for k, v in r.values.items())
         lines.append(f"  run mod p = {r.prime} at {at}: {r.degrees}")
+    if len(res.degrees) < args.iterates:
+        lines.append(f"stopped after {len(res.degrees)} iterates: the next degree could exceed {MAX_DEGREE}")
     lines.append(("the runs agree" if res.agree else "the runs DISAGREE (the largest degree is kept: a special "
                   "choice only lowers degrees)") + f"; status {status.label}: degrees computed mod p on random "
                  "lines at random values, not a proof")
