@@ -47,7 +47,7 @@ def _point_text(point: Mapping[str, flint.fmpq]) -> str:
        "sec. 7, Conclusions (\"the maps ... of various flows do not commute with each other\")",
        "f1 o f2 != f2 o f1 for the Kahan maps f1 (catalogue clebsch) and f2 (clebsch-flow2) with the same eps and w: "
        "at the witness point (m, p) = (1, 2, -1, 3, 1, 2), eps = 1/5, w = (1, 2, 3) the m1-components differ by the "
-       "claimed exact rational.",
+       "claimed exact rational (hkproof's eps: half the time step).",
        claimed={"commute": "no",
                 "difference_m1": "-24056552791507520886873984228237120482025360/"
                                  "6373907870547081326057869926502922773491157"})
@@ -123,7 +123,8 @@ def _names(text: str, known: Mapping[str, Frac]) -> list[str]:
        "here", "sec. 7, Conclusions (commutativity of the discrete flows)",
        "None of the first-flow integrals c1, c2, c3 (dc-basis1-even), d7, d8, d9 (dc-basis2), g1..g6 (dc-theta), "
        "A, B, C, D (dc345-abcd) is an integral of the second flow's Kahan map, and the second-flow integral L "
-       "(flow-second-theorem) is not an integral of the first flow's Kahan map (same eps and w for both maps).",
+       "(flow-second-theorem) is not an integral of the first flow's Kahan map (same eps and w for both maps; eps is half "
+       "the time step).",
        claimed={"shared_by_second_flow": "none", "shared_by_first_flow": "none"})
 def prove_shared_integrals(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f1, f2 = kahan_map(FLOW1), kahan_map(FLOW2)
