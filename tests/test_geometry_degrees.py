@@ -69,3 +69,10 @@ def test_help_states_the_eps_convention(capsys, command):
 def test_iterates_stop_before_the_degree_explodes():
     res = degree_growth(kahan_map("lotka-volterra"), 40, runs=1)
     assert len(res.degrees) == 15 and res.degrees[-1] == 2 ** 15
+
+
+def test_symbolic_iterates_make_small_degrees_exact(capsys):
+    code, out = run(capsys, "degrees", "lotka-volterra", "--iterates", "3", "--symbolic-up-to", "3")
+    assert code == 0 and out["symbolic_degrees"] == [2, 4, 8] and out["status"] == "verified"
+    code, out = run(capsys, "degrees", "lotka-volterra", "--iterates", "5", "--symbolic-up-to", "2")
+    assert out["status"] == "evidence(exact)" and out["symbolic_agree"]

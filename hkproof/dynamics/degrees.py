@@ -82,6 +82,13 @@ def degrees_on_line(kmap: KahanMap, values: Mapping[str, int], prime: int, itera
     return degrees
 
 
+def symbolic_degree(kmap: KahanMap, n: int) -> int:
+    """deg f^n from the symbolic iterate (eps and parameters symbolic, common gcd cancelled): an exact value."""
+    nums, den = kmap.iterate(n)
+    idx = [kmap.ring.index(v) for v in kmap.variables]
+    return int(max(max((sum(int(m[i]) for i in idx) for m in p.monoms()), default=0) for p in (*nums, den)))
+
+
 @dataclass
 class DegreeRun:
     """One computation: the prime, the values of eps and the parameters mod p, the degrees found."""
