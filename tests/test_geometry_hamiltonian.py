@@ -65,3 +65,10 @@ def test_bad_input_exit_2(capsys, h, j):
 def test_non_constant_poisson_structure_is_refused_for_the_euler_top(capsys):
     j = "[[0,1,0],[-1,0,0],[0,0,0]]"
     assert main(["hamiltonian", "euler-top", "--hamiltonian", "x1*x2*x3", "--poisson", j]) == 2
+
+
+def test_fixed_parameters_give_specialized_status(capsys):
+    assert main(["hamiltonian", CUBIC, "--hamiltonian", H_CUBIC, "--poisson", J2, "--param", "a=3", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["modified_hamiltonian"]["status"] == "verified(specialized: a=3)"
+    assert main(["hamiltonian", CUBIC, "--hamiltonian", H_CUBIC, "--poisson", J2, "--param", "eps=3"]) == 2

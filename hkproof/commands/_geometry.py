@@ -2,8 +2,16 @@
 from __future__ import annotations
 
 import argparse
+from fractions import Fraction
 
-from hkproof.dynamics.catalogue import SYSTEMS
+import flint
+
+from hkproof.dynamics.catalogue import SYSTEMS, kahan_map
+from hkproof.dynamics.field import EPS
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.dynamics.values import exact_values
+from hkproof.errors import ParseError
+from hkproof.proof.status import Status
 
 EPS_CONVENTION = ("hkproof's eps is HALF the time step: x~ - x = 2 eps * (polarized field), i.e. h = 2 eps in the "
                   "convention of Celledoni-McLachlan-Owren-Quispel")
@@ -20,3 +28,35 @@ def add_system_options(p: argparse.ArgumentParser, eps_help: str = "a rational e
     p.add_argument("--eps", help=eps_help)
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                    help="fix a parameter to an exact rational (repeatable)")
+
+
+def add_param_option(p: argparse.ArgumentParser) -> None:
+    """--param NAME=VALUE for commands that keep eps symbolic: a specialized system, results verified(specialized)."""
+    p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                   help="fix a parameter to an exact rational (repeatable); results then hold for these values only "
+                        "(verified(specialized))")
+
+
+def specialized_map(args: argparse.Namespace) -> tuple[KahanMap, KahanMap, dict[str, flint.fmpq]]:
+    """(map of SYSTEM, map of SYSTEM with the --param values fixed, those values); the same map twice without them."""
+    f = kahan_map(args.system)
+    values = {}
+    for item in args.param:
+        name, sep, value = item.partition("=")
+        if not sep:
+            raise ParseError(f"--param expects NAME=VALUE, got {item!r}")
+        values[name.strip()] = value.strip()
+    if EPS in values:
+        raise ParseError("this command keeps eps symbolic: --param fixes parameters only")
+    fixed = exact_values(f.field, values)
+    if not fixed:
+        return f, f, {}
+    field = f.field.specialize({k: Fraction(int(v.p), int(v.q)) for k, v in fixed.items()})
+    return f, kahan_map(field), fixed
+
+
+def specialized_status(status: Status, fixed: dict) -> str:
+    """The label of a status, lowered to verified(specialized: ...) when parameters were fixed."""
+    if fixed and status is Status.VERIFIED:
+        return f"verified(specialized: {', '.join(f'{k}={v}' for k, v in fixed.items())})"
+    return status.label

@@ -5,8 +5,8 @@ import argparse
 
 from hkproof.algebra.fraction import Frac
 from hkproof.commands import Result, add_command
-from hkproof.commands._geometry import EPS_CONVENTION, add_system_argument
-from hkproof.dynamics.catalogue import kahan_map
+from hkproof.commands._geometry import (EPS_CONVENTION, add_param_option, add_system_argument, specialized_map,
+                                        specialized_status)
 from hkproof.hk.modified_hamiltonian import parse_matrix, verify
 from hkproof.proof.status import Status
 
@@ -23,19 +23,26 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="a polynomial of degree <= 3, e.g. 'p**2/2 + q**3'")
     p.add_argument("--poisson", required=True, metavar="J",
                    help="a constant skew matrix, e.g. '[[0, 1], [-1, 0]]' or '0, 1; -1, 0'")
+    add_param_option(p)
 
 
 def run_hamiltonian(args: argparse.Namespace) -> Result:
-    f = kahan_map(args.system)
-    h = Frac.parse(f.ring, args.hamiltonian)
-    res = verify(f, h, parse_matrix(f, args.poisson))
+    original, f, fixed = specialized_map(args)
+    h = Frac.parse(original.ring, args.hamiltonian)
+    j = parse_matrix(original, args.poisson)
+    if fixed:
+        h = h.specialize(fixed, f.ring)
+        j = [[e.specialize(fixed, f.ring) for e in row] for row in j]
+    res = verify(f, h, j)
     payload = {"system": f.field.name, "eps_convention": EPS_CONVENTION, "formula": FORMULA,
-               "hamiltonian": str(h), "modified_hamiltonian": {"expr": str(res.h_tilde), "status": res.integral.label},
-               "density": {"expr": f"1/({res.density_denominator})", "status": res.measure.label},
+               "hamiltonian": str(h), "fixed": {k: str(v) for k, v in fixed.items()},
+               "modified_hamiltonian": {"expr": str(res.h_tilde), "status": specialized_status(res.integral, fixed)},
+               "density": {"expr": f"1/({res.density_denominator})",
+                           "status": specialized_status(res.measure, fixed)},
                "jacobian_identity": "verified" if res.jacobian_identity else "refuted"}
     lines = [f"Kahan map of {f.field.name}; {FORMULA} ({EPS_CONVENTION})",
-             f"[{res.integral.label}] H~ o f = H~ with H~ = {res.h_tilde}",
-             f"[{res.measure.label}] the density 1/({res.density_denominator}) is invariant: "
+             f"[{specialized_status(res.integral, fixed)}] H~ o f = H~ with H~ = {res.h_tilde}",
+             f"[{specialized_status(res.measure, fixed)}] the density 1/({res.density_denominator}) is invariant: "
              "rho(f(x)) det Df(x) = rho(x), det Df = det M(f(x), -eps)/det M(x, eps)"]
     ok = res.integral is Status.VERIFIED and res.measure is Status.VERIFIED
     return Result(payload, "\n".join(lines), 0 if ok else 1)

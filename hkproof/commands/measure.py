@@ -5,8 +5,8 @@ import argparse
 
 from hkproof.algebra.fraction import poly_str
 from hkproof.commands import Result, add_command
-from hkproof.commands._geometry import EPS_CONVENTION, add_system_argument
-from hkproof.dynamics.catalogue import kahan_map
+from hkproof.commands._geometry import (EPS_CONVENTION, add_param_option, add_system_argument, specialized_map,
+                                        specialized_status)
 from hkproof.hk.darboux import search_darboux
 
 JACOBIAN = "det Df(x) = det M(f(x), -eps) / det M(x, eps), from M(x, eps) Df(x) = M(f(x), -eps)"
@@ -19,26 +19,27 @@ def register(sub: argparse._SubParsersAction) -> None:
                     f"with them symbolic, each checked exactly. {EPS_CONVENTION}.", run_measure)
     add_system_argument(p)
     p.add_argument("--degree", type=int, default=4, help="largest degree of P (default 4)")
+    add_param_option(p)
     p.add_argument("--seed", type=int, default=0, help="seed of the values, prime and points (default 0)")
 
 
 def run_measure(args: argparse.Namespace) -> Result:
-    f = kahan_map(args.system)
+    _, f, fixed = specialized_map(args)
     res = search_darboux(f, args.degree, seed=args.seed)
     atoms = {a.name: (f"det M(x, -eps) o f = {poly_str(a.poly)} at x = f(x)" if a.pulled else poly_str(a.poly))
              for a in res.atoms}
-    darboux = [{"expr": poly_str(d.poly), "cofactor": d.cofactor.text(res.atoms), "status": d.status.label,
+    darboux = [{"expr": poly_str(d.poly), "cofactor": d.cofactor.text(res.atoms), "status": specialized_status(d.status, fixed),
                 "method": d.detail} for d in res.darboux]
-    densities = [{"expr": e, "status": s.label} for e, s in res.densities()]
-    integrals = [{"expr": e, "status": s.label} for e, s in res.integrals()]
-    payload = {"system": res.system, "degree": res.degree, "eps_convention": EPS_CONVENTION,
+    densities = [{"expr": e, "status": specialized_status(s, fixed)} for e, s in res.densities()]
+    integrals = [{"expr": e, "status": specialized_status(s, fixed)} for e, s in res.integrals()]
+    payload = {"system": res.system, "degree": res.degree, "fixed": {k: str(v) for k, v in fixed.items()}, "eps_convention": EPS_CONVENTION,
                "jacobian": {"formula": JACOBIAN, "identity": "verified" if res.jacobian_lemma else "refuted",
                             "as_atoms": res.jacobian.text(res.atoms)},
                "atoms": atoms, "darboux": darboux, "densities": densities, "integrals": integrals,
                "search": {"values": {k: str(v) for k, v in res.values.items()}, "prime": res.prime},
                "unverified": res.unverified}
     lines = [f"Kahan map of {res.system} ({EPS_CONVENTION})",
-             f"{JACOBIAN}: identity {payload['jacobian']['identity']} (exact, parameters symbolic)",
+             f"{JACOBIAN}: identity {payload['jacobian']['identity']} (exact, in Q(x, eps, parameters not fixed))",
              f"det Df = {res.jacobian.text(res.atoms)} with"]
     lines += [f"  {k} = {v}" for k, v in atoms.items()]
     lines.append(f"Darboux polynomials of degree <= {res.degree} (cofactors: products of these factors):")
