@@ -6,6 +6,7 @@ from fractions import Fraction
 
 import flint
 
+from hkproof.commands.scan import scene_values
 from hkproof.dynamics.catalogue import SYSTEMS, kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
@@ -40,12 +41,7 @@ def add_param_option(p: argparse.ArgumentParser) -> None:
 def specialized_map(args: argparse.Namespace) -> tuple[KahanMap, KahanMap, dict[str, flint.fmpq]]:
     """(map of SYSTEM, map of SYSTEM with the --param values fixed, those values); the same map twice without them."""
     f = kahan_map(args.system)
-    values = {}
-    for item in args.param:
-        name, sep, value = item.partition("=")
-        if not sep:
-            raise ParseError(f"--param expects NAME=VALUE, got {item!r}")
-        values[name.strip()] = value.strip()
+    values = scene_values(argparse.Namespace(param=args.param, eps=None))
     if EPS in values:
         raise ParseError("this command keeps eps symbolic: --param fixes parameters only")
     fixed = exact_values(f.field, values)

@@ -56,7 +56,7 @@ def plot_orbit(kmap: KahanMap, values: Mapping[str, object], x0: Sequence[object
     orbit = orbit[np.all(np.isfinite(orbit), axis=1)]
     names = kmap.variables
     groups = panels(names)
-    fig = plt.figure(figsize=(5 * len(groups), 4.5))
+    fig = plt.figure(figsize=(max(7.0, 5 * len(groups)), 5))
     shown = ", ".join(f"{k} = {v}" for k, v in values.items())
     for i, cols in enumerate(groups):
         ax = fig.add_subplot(1, len(groups), i + 1, **({"projection": "3d"} if len(cols) == 3 else {}))
@@ -67,7 +67,7 @@ def plot_orbit(kmap: KahanMap, values: Mapping[str, object], x0: Sequence[object
             setter(label)
         _percentile_limits(ax, np.array(data).T)
         ax.set_title(f"({', '.join(labels)})", fontsize=9)
-    fig.suptitle(f"Kahan map of {kmap.field.name}, {len(orbit)} points, {shown} (eps = half the step)",
+    fig.suptitle(f"Kahan map of {kmap.field.name}, {len(orbit)} points (float64)\n{shown} (eps = half the time step)",
                  fontsize=10)
     fig.tight_layout()
     try:
