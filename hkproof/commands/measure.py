@@ -36,7 +36,8 @@ def run_measure(args: argparse.Namespace) -> Result:
                "jacobian": {"formula": JACOBIAN, "identity": "verified" if res.jacobian_lemma else "refuted",
                             "as_atoms": res.jacobian.text(res.atoms)},
                "atoms": atoms, "darboux": darboux, "densities": densities, "integrals": integrals,
-               "search": {"values": {k: str(v) for k, v in res.values.items()}, "prime": res.prime},
+               "search": {"values": {k: str(v) for k, v in res.values.items()}, "prime": res.prime,
+                          "symbolic": res.symbolic},
                "unverified": res.unverified}
     lines = [f"Kahan map of {res.system} ({EPS_CONVENTION})",
              f"{JACOBIAN}: identity {payload['jacobian']['identity']} (exact, in Q(x, eps, parameters not fixed))",
@@ -51,5 +52,8 @@ def run_measure(args: argparse.Namespace) -> Result:
     for u in res.unverified:
         lines.append(f"  not reported: {u}")
     lines.append("searched at " + ", ".join(f"{k} = {v}" for k, v in res.values.items())
-                 + f", reduced mod p = {res.prime}; every P above reconstructed with eps and the parameters symbolic")
+                 + f", reduced mod p = {res.prime}; " + (
+                     "every P above reconstructed with eps and the parameters symbolic" if res.symbolic else
+                     "the system is too large for the symbolic reconstruction: every P above holds at these values "
+                     "only (evidence)"))
     return Result(payload, "\n".join(lines))

@@ -73,6 +73,7 @@ class DarbouxSearch:
     values: dict[str, flint.fmpq] = field(default_factory=dict)
     prime: int = 0
     jacobian_lemma: bool = False
+    symbolic: bool = True
 
     def densities(self) -> list[tuple[str, Status]]:
         """1/P for each P with cofactor det Df (rho(f(x)) det Df(x) = rho(x)); 1 itself when det Df = 1."""
@@ -328,6 +329,51 @@ def reconstruct(rows: SymbolicRows, scene: ModularScene, cofactor: Cofactor, mon
     return _poly_in_ring(rows.kmap.ring, coeffs, rows.kmap.variables)
 
 
+def reconstruct_at_values(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, values: dict[str, flint.fmpq],
+                          monos: Sequence[tuple[int, ...]], free: int, vector: Sequence[int],
+                          rng: random.Random) -> flint.fmpz_mpoly:
+    """The kernel vector over Q at the search's fixed eps and parameters (for maps too large for the symbolic
+    reconstruction): rows at rational points x, on the modular vector's support, solved exactly."""
+    support = [j for j, c in enumerate(vector) if c]
+    unknowns = [j for j in support if j != free]
+    rows: list[list[flint.fmpq]] = []
+    rank = 0
+    while rank < len(unknowns):
+        x = {v: flint.fmpq(rng.randint(-9, 9), rng.randint(1, 5)) for v in kmap.variables}
+        point = {**values, **x}
+        try:
+            fx = {**point, **kmap.step_exact(point)}
+        except HKProofError:
+            continue
+        k = flint.fmpq(1)
+        for a, e in zip(atoms, cofactor.exponents):
+            if e:
+                k *= kmap.ring.evaluate(a.poly, fx if a.pulled else point) ** e
+        xs, fs = [x[v] for v in kmap.variables], [fx[v] for v in kmap.variables]
+        row = [_monomial_q(fs, monos[j]) - k * _monomial_q(xs, monos[j]) for j in support]
+        cols = [support.index(j) for j in unknowns]
+        if flint.fmpq_mat([[r[c] for c in cols] for r in rows + [row]]).rank() > rank:
+            rows.append(row)
+            rank += 1
+    coeffs = {monos[free]: flint.fmpq(1)}
+    if unknowns:
+        a = flint.fmpq_mat([[r[support.index(j)] for j in unknowns] for r in rows])
+        b = flint.fmpq_mat([[-r[support.index(free)]] for r in rows])
+        sol = a.solve(b)
+        coeffs.update({monos[j]: sol[i, 0] for i, j in enumerate(unknowns)})
+    ring = kmap.ring
+    small = get_ring((EPS,) + kmap.field.parameters)
+    return _poly_in_ring(ring, {m: Frac.rational(small, c) for m, c in coeffs.items()}, kmap.variables)
+
+
+def _monomial_q(values: Sequence[flint.fmpq], m: tuple[int, ...]) -> flint.fmpq:
+    out = flint.fmpq(1)
+    for v, e in zip(values, m):
+        if e:
+            out *= v ** e
+    return out
+
+
 def _rank_mod(rows: Sequence[Sequence[Frac]], cols: Sequence[int], p: int) -> int:
     """Rank mod p of the columns `cols` at a random value of eps and the parameters (a lower bound of the rank)."""
     rng = random.Random(p + len(rows))
@@ -377,12 +423,13 @@ def cofactor_value(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor) ->
 
 
 def check_at_points(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, p: flint.fmpz_mpoly,
-                    rng: random.Random, points: int = 3) -> bool:
-    """P(f(x)) = K(x) P(x) at random rational x, eps and parameters, exactly (evidence, not proof)."""
+                    rng: random.Random, points: int = 3, fixed: dict[str, flint.fmpq] | None = None) -> bool:
+    """P(f(x)) = K(x) P(x) at random rational x, eps and parameters (those in `fixed` kept), exactly (evidence)."""
     ring = kmap.ring
     done = 0
     while done < points:
         pt = {n: flint.fmpq(rng.randint(-9, 9) or 1, rng.randint(1, 7)) for n in ring.names}
+        pt.update(fixed or {})
         try:
             fx = kmap.step_exact(pt)
         except HKProofError:
@@ -419,22 +466,27 @@ def search_darboux(kmap: KahanMap, degree: int = 4, *, seed: int = 0, symbolic_l
                    progress=None) -> DarbouxSearch:
     """Darboux polynomials of degree <= `degree` with cofactors among the products of the factors of det Df, each
     reconstructed with eps and the parameters symbolic and checked exactly (verified) when the system has at most
-    `symbolic_limit` phase variables, else at random exact points (evidence(exact))."""
+    `symbolic_limit` phase variables; otherwise reconstructed at the search's rational eps and parameters and checked
+    at random exact points there (evidence(exact) at those values only)."""
     if degree < 1:
         raise HKProofError(f"the degree must be at least 1, got {degree}")
     rng = random.Random(seed)
     atoms, jac = jacobian_atoms(kmap, expand_limit=symbolic_limit)
     cofactors = candidate_cofactors(jac)
     monos = monomials(len(kmap.variables), degree)
-    values = {n: flint.fmpq(rng.randint(2, 40) * rng.choice((-1, 1)), rng.randint(1, 40))
-              for n in (EPS,) + kmap.field.parameters}
+    symbolic = len(kmap.variables) <= symbolic_limit
+    if symbolic:        # values for the modular search only: large random rationals avoid special cases
+        values = {n: flint.fmpq(rng.randint(2, 40) * rng.choice((-1, 1)), rng.randint(1, 40))
+                  for n in (EPS,) + kmap.field.parameters}
+    else:               # the results hold at these values: small ones give readable polynomials
+        ints = rng.sample([k for k in range(-9, 10) if k], len(kmap.field.parameters))
+        values = {EPS: flint.fmpq(1, rng.randint(3, 11)), **dict(zip(kmap.field.parameters, map(flint.fmpq, ints)))}
     prime = random_prime(rng)
     scene = ModularScene(kmap, atoms, values, prime)
     kernels = modular_kernels(scene, cofactors, monos, rng)
     result = DarbouxSearch(kmap.field.name, degree, atoms, jac, values=values, prime=prime,
-                           jacobian_lemma=matrix_identity_holds(kmap))
+                           jacobian_lemma=matrix_identity_holds(kmap), symbolic=symbolic)
     rows = SymbolicRows(kmap, atoms, random.Random(seed + 1))
-    symbolic = len(kmap.variables) <= symbolic_limit
     one = tuple(0 for _ in atoms)
     for k, basis in kernels.items():
         cof = cofactors[k]
@@ -443,11 +495,20 @@ def search_darboux(kmap: KahanMap, degree: int = 4, *, seed: int = 0, symbolic_l
             if cof.exponents == one and sum(monos[free]) == 0:
                 continue            # P = 1 with K = 1
             try:
-                p = reconstruct(rows, scene, cof, monos, free, vec)
+                if symbolic:
+                    p = reconstruct(rows, scene, cof, monos, free, vec)
+                else:
+                    p = reconstruct_at_values(kmap, atoms, cof, values, monos, free, vec, rng)
             except (SingularSystemError, ZeroDivisionError) as exc:
                 result.unverified.append(f"K = {cof.text(atoms)}: reconstruction failed ({exc})")
                 continue
-            status, how = check_darboux(kmap, atoms, cof, p, value if symbolic else None, rng)
+            if symbolic:
+                status, how = check_darboux(kmap, atoms, cof, p, value, rng)
+            else:
+                ok = check_at_points(kmap, atoms, cof, p, rng, fixed=values)
+                status = Status.EVIDENCE_EXACT if ok else Status.REFUTED
+                how = (f"at {', '.join(f'{k} = {v}' for k, v in values.items())} only: P(f(x)) = K(x) P(x) at 3 "
+                       "random exact points x")
             if status is Status.REFUTED:
                 result.unverified.append(f"K = {cof.text(atoms)}: the reconstructed {p} fails the exact check")
                 continue
