@@ -36,7 +36,7 @@ def groebner_basis(generators: Sequence[flint.fmpz_mpoly],
     ctx = generators[0].context()
     vec = flint.fmpz_mpoly_vec(list(generators), ctx)
     if limits is None:
-        return vec.buchberger_naive().autoreduction()  # type: ignore[attr-defined]  # missing from flint's stubs
+        return vec.buchberger_naive().autoreduction()
     basis, complete = vec.buchberger_naive(limits=limits)
     return basis.autoreduction() if complete else None  # type: ignore[attr-defined]  # missing from flint's stubs
 

@@ -85,8 +85,8 @@ class Ring:
         unknown = sorted(set(values) - set(self.names))
         if unknown:
             raise UnknownSymbolError(f"{unknown} are not variables of {self}")
-        args = [values[n] if n in values else target.gen(n) for n in self.names]
-        args = [a if isinstance(a, flint.fmpz_mpoly) else target.constant(int(a)) for a in args]
+        given = [values[n] if n in values else target.gen(n) for n in self.names]
+        args = [a if isinstance(a, flint.fmpz_mpoly) else target.constant(int(a)) for a in given]
         return p.compose(*args, ctx=target.ctx)
 
     def to_q(self, p: flint.fmpz_mpoly) -> flint.fmpq_mpoly:

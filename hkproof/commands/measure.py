@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 from hkproof.algebra.fraction import poly_str
 from hkproof.commands import Result, add_command, at_least
@@ -32,7 +33,7 @@ def run_measure(args: argparse.Namespace) -> Result:
                 "method": d.detail} for d in res.darboux]
     densities = [{"expr": e, "status": specialized_status(s, fixed)} for e, s in res.densities()]
     integrals = [{"expr": e, "status": specialized_status(s, fixed)} for e, s in res.integrals()]
-    payload = {"system": res.system, "degree": res.degree, "fixed": {k: str(v) for k, v in fixed.items()}, "eps_convention": EPS_CONVENTION,
+    payload: dict[str, Any] = {"system": res.system, "degree": res.degree, "fixed": {k: str(v) for k, v in fixed.items()}, "eps_convention": EPS_CONVENTION,
                "jacobian": {"formula": JACOBIAN, "identity": "verified" if res.jacobian_lemma else "refuted",
                             "as_atoms": res.jacobian.text(res.atoms)},
                "atoms": atoms, "darboux": darboux, "densities": densities, "integrals": integrals,

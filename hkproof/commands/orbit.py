@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+from typing import Any
 import random
 
 from hkproof.commands import Result, add_command, at_least, fixed_values
@@ -36,7 +37,7 @@ def run_orbit(args: argparse.Namespace) -> Result:
     values = {k: given.get(k, v) for k, v in random_values(f, random.Random(args.seed), given).items()}
     orbit = exact_orbit(f, point, values, args.steps, args.max_digits)
     at = ", ".join(f"{k} = {v}" for k, v in values.items())
-    payload = {"system": f.field.name, "values": {k: str(v) for k, v in values.items()},
+    payload: dict[str, Any] = {"system": f.field.name, "values": {k: str(v) for k, v in values.items()},
                "eps_convention": EPS_CONVENTION, "variables": list(f.variables),
                "orbit": [[str(x[v]) for v in f.variables] for x in orbit.points],
                "period": orbit.period, "preperiod": orbit.preperiod, "closes": orbit.closes, "stopped": orbit.stopped,
@@ -50,7 +51,7 @@ def run_orbit(args: argparse.Namespace) -> Result:
         lines.append(f"  x_{i} = ({text})")
     if orbit.closes:
         lines.append(f"periodic: f^{orbit.period}(x_0) = x_0 exactly (period {orbit.period})")
-    elif orbit.period:
+    elif orbit.period and orbit.preperiod is not None:
         lines.append(f"eventually periodic: x_{orbit.preperiod + orbit.period} = x_{orbit.preperiod} "
                      f"(period {orbit.period})")
     elif orbit.stopped:

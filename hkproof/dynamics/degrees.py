@@ -42,7 +42,7 @@ def homogenized_map_mod(kmap: KahanMap, values: Mapping[str, int], prime: int
     xi = [names.index(v) for v in kmap.variables]
     fixed = [(names.index(k), v) for k, v in values.items()]
     d = max(sum(m[i] for i in xi) for p in (*nums, delta) for m in p.monoms())
-    ctx = flint.nmod_mpoly_ctx.get(kmap.variables + (HOM,), prime, "degrevlex")
+    ctx = flint.nmod_mpoly_ctx.get(kmap.variables + (HOM,), prime, "degrevlex")  # type: ignore[call-arg, arg-type]  # flint's stubs lag the API
     out = []
     for p in (*nums, delta):
         data: dict[tuple[int, ...], int] = {}
@@ -62,10 +62,10 @@ def degrees_on_line(kmap: KahanMap, values: Mapping[str, int], prime: int, itera
     """deg f^n, n = 1..iterates: the map iterated on x = a + t b (a, b random mod p), common factors in t cancelled;
     stops early when the next degree could exceed max_degree (d times the last one)."""
     hom, d = homogenized_map_mod(kmap, values, prime)
-    tctx = flint.nmod_mpoly_ctx.get(("t",), prime, "lex")
+    tctx = flint.nmod_mpoly_ctx.get(("t",), prime, "lex")  # type: ignore[call-arg, arg-type]  # flint's stubs lag the API
     t = tctx.gen(0)
     point = [rng.randrange(prime) + rng.randrange(1, prime) * t for _ in kmap.variables] + [tctx.constant(1)]
-    degrees = []
+    degrees: list[int] = []
     for _ in range(iterates):
         if degrees and degrees[-1] * d > max_degree:
             break
@@ -112,7 +112,7 @@ class Growth:
     @property
     def entropy(self) -> float | None:
         """log lambda for exponential growth, 0 for polynomial growth."""
-        if self.kind == "exponential":
+        if self.kind == "exponential" and self.lam is not None:
             return math.log(self.lam)
         return 0.0 if self.order is not None else None
 
@@ -121,7 +121,7 @@ class Growth:
             return f"~ {self.lam:.6g}^{var}"
         if self.kind == "undecided":
             return "?"
-        if self.period and self.period > 1:
+        if self.period and self.period > 1 and self.order is not None:
             lead = Fraction(sum(self.pattern), self.period * math.factorial(self.order))
             return (f"{lead} {var}^{self.order} + O({var}^{self.order - 1}) (differences of order {self.order} "
                     f"periodic: {self.pattern})")

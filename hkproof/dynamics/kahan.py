@@ -151,6 +151,14 @@ class KahanMap:
         return orbit
 
 
+def commutator_at(f: KahanMap, g: KahanMap, point: Mapping[str, Rational]) -> dict[str, flint.fmpq]:
+    """f(g(x)) - g(f(x)), exactly, at a rational point fixing x, eps and the parameters (the same for both maps)."""
+    def step(kmap: KahanMap, at: Mapping[str, Rational]) -> dict[str, Rational]:
+        return {**at, **kmap.step_exact(at)}
+    fg, gf = step(f, step(g, point)), step(g, step(f, point))
+    return {v: to_fmpq(fg[v]) - to_fmpq(gf[v]) for v in f.variables}
+
+
 def _complete(names: Sequence[str], point: Mapping[str, Rational]) -> list[flint.fmpq]:
     missing = [n for n in names if n not in point]
     if missing:

@@ -7,12 +7,13 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
+from hkproof.algebra.ring import Rational
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ParseError, SingularPointError
 from hkproof.experiments.figures import kahan_orbit
 
 
-def float_orbit(kmap: KahanMap, values: Mapping[str, object], x0: Sequence[object], steps: int) -> np.ndarray:
+def float_orbit(kmap: KahanMap, values: Mapping[str, object], x0: Sequence[Rational], steps: int) -> np.ndarray:
     """The orbit in float64 (rows x_0..x_steps), by experiments.figures.kahan_orbit."""
     try:
         return kahan_orbit(kmap, {k: str(v) for k, v in values.items()}, [float(v) for v in x0], steps)
@@ -44,7 +45,7 @@ def check_plot_path(path: str | Path) -> Path:
     return path
 
 
-def plot_orbit(kmap: KahanMap, values: Mapping[str, object], x0: Sequence[object], steps: int,
+def plot_orbit(kmap: KahanMap, values: Mapping[str, object], x0: Sequence[Rational], steps: int,
                path: str | Path) -> int:
     """Write a PNG of the float orbit of x0 (matplotlib, Agg); returns the number of points drawn."""
     path = check_plot_path(path)
@@ -64,7 +65,8 @@ def plot_orbit(kmap: KahanMap, values: Mapping[str, object], x0: Sequence[object
         ax.plot(*data, ".", ms=1)
         labels = [names[c] for c in cols] if len(cols) > 1 else ["n", names[cols[0]]]
         for setter, label in zip((ax.set_xlabel, ax.set_ylabel, getattr(ax, "set_zlabel", None)), labels):
-            setter(label)
+            if setter is not None:
+                setter(label)
         _percentile_limits(ax, np.array(data).T)
         ax.set_title(f"({', '.join(labels)})", fontsize=9)
     fig.suptitle(f"Kahan map of {kmap.field.name}, {len(orbit)} points (float64)\n{shown} (eps = half the time step)",

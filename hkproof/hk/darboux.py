@@ -165,7 +165,7 @@ class ModularScene:
         self.kmap, self.atoms, self.prime = kmap, atoms, prime
         names = kmap.ring.names
         self.fixed = [(names.index(k), int(v.p) * pow(int(v.q), -1, prime) % prime) for k, v in values.items()]
-        self.ctx = flint.nmod_mpoly_ctx.get(kmap.variables, prime, "degrevlex")
+        self.ctx = flint.nmod_mpoly_ctx.get(kmap.variables, prime, "degrevlex")  # type: ignore[call-arg, arg-type]  # flint's stubs lag the API
         nums, delta = kmap.explicit
         self.nums = [self.reduce(p) for p in nums]
         self.delta = self.reduce(delta)
@@ -214,7 +214,7 @@ def modular_kernels(scene: ModularScene, cofactors: Sequence[Cofactor], monos: S
                     rng: random.Random, extra: int = 8) -> dict[int, list[tuple[int, list[int]]]]:
     """For each cofactor (by index), the rref kernel basis of P -> P o f - K P on the monomials, mod p."""
     p = scene.prime
-    samples = []
+    samples: list = []
     while len(samples) < len(monos) + extra:
         s = scene.sample(rng)
         if s is not None:
@@ -357,9 +357,9 @@ def reconstruct_at_values(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofac
             rank += 1
     coeffs = {monos[free]: flint.fmpq(1)}
     if unknowns:
-        a = flint.fmpq_mat([[r[support.index(j)] for j in unknowns] for r in rows])
-        b = flint.fmpq_mat([[-r[support.index(free)]] for r in rows])
-        sol = a.solve(b)
+        lhs = flint.fmpq_mat([[r[support.index(j)] for j in unknowns] for r in rows])
+        rhs = flint.fmpq_mat([[-r[support.index(free)]] for r in rows])
+        sol = lhs.solve(rhs)
         coeffs.update({monos[j]: sol[i, 0] for i, j in enumerate(unknowns)})
     ring = kmap.ring
     small = get_ring((EPS,) + kmap.field.parameters)
@@ -405,8 +405,8 @@ def _poly_in_ring(ring: Ring, coeffs: dict[tuple[int, ...], Frac], variables: Se
             mono = mono * ring.gen(v) ** e
         total += (c.num * (common / c.den)).project_to_context(ring.ctx) * mono
     content = flint.fmpz(0)
-    for c in total.coeffs():
-        content = content.gcd(c)
+    for coefficient in total.coeffs():
+        content = content.gcd(coefficient)
     total = total / content if content > 1 else total
     return total if total.coefficient(0) > 0 else -total
 

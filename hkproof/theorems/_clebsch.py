@@ -79,7 +79,7 @@ def substitute(text: str, values: dict[str, str]) -> str:
     return rename(text, {k: f"({v})" for k, v in values.items()})
 
 
-def named(kmap: KahanMap, text: str, values: dict[str, str | Frac] | None = None) -> Frac:
+def named(kmap: KahanMap, text: str, values: Mapping[str, str | Frac] | None = None) -> Frac:
     """A formula in the map's ring, with H1..H4, I1..I3 (and `values`) as known functions, read exactly."""
     ring = kmap.ring
     known = {**_integrals(ring), **{k: (v if isinstance(v, Frac) else Frac.parse(ring, v))

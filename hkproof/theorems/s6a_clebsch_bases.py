@@ -310,16 +310,16 @@ def prove_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
             s.require_equal(named(f, form, d), rel.rhs, f"right-hand side {form.strip()}")
     with cert.step("g_k = (g_k^(4) + ...)/(2 H3 Delta), g_k^(4)", "normalization, eps^0 piece", r) as s:
         h3 = named(f, "H3")
-        for k, gk in enumerate(g, start=1):
+        for index, gk in enumerate(g, start=1):
             top = gk * 2 * h3 * delta
-            s.require(top.is_polynomial(), f"g{k} 2 H3 Delta is not a polynomial")
+            s.require(top.is_polynomial(), f"g{index} 2 H3 Delta is not a polynomial")
             coeffs = coefficients_in(r, top.num, EPS)
-            s.require(all(c.is_zero() for c in coeffs[1::2]) and len(coeffs) <= 7, f"g{k}: not of the stated form")
+            s.require(all(c.is_zero() for c in coeffs[1::2]) and len(coeffs) <= 7, f"g{index}: not of the stated form")
             for q in range(4):
                 piece = Frac(r, coeffs[2 * q], top.den) if 2 * q < len(coeffs) else Frac(r, 0)
-                s.require(_homogeneous_degree(r, piece.num) in (None, 2 * q + 4), f"g{k}^({2 * q + 4}) degree")
-            s.require_equal(Frac(r, coeffs[0], top.den), named(f, indexed(claimed["g_4"], k=k)),
-                            f"g{k}^(4)")
+                s.require(_homogeneous_degree(r, piece.num) in (None, 2 * q + 4), f"g{index}^({2 * q + 4}) degree")
+            s.require_equal(Frac(r, coeffs[0], top.den), named(f, indexed(claimed["g_4"], k=index)),
+                            f"g{index}^(4)")
     with cert.step("g4, g5, g6 and the expansion in monomials", "exact identity in Q(m, p, eps, w)", r) as s:
         gs = dict(zip(names, g))
         for k in ("g4", "g5", "g6"):

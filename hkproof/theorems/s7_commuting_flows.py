@@ -7,9 +7,10 @@ from typing import Mapping
 
 import flint
 
+from hkproof.algebra.ring import Rational
 from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.dynamics.kahan import KahanMap
+from hkproof.dynamics.kahan import KahanMap, commutator_at
 from hkproof.errors import ParseError
 from hkproof.hk.integrals import check_integral
 from hkproof.proof.certificate import Certificate
@@ -19,7 +20,7 @@ from hkproof.theorems._clebsch import recall
 
 GROUP = "commuting-flows"
 FLOW1, FLOW2 = "clebsch", "clebsch-flow2"
-WITNESS = {"m1": 1, "m2": 2, "m3": -1, "p1": 3, "p2": 1, "p3": 2, "eps": flint.fmpq(1, 5), "w1": 1, "w2": 2, "w3": 3}
+WITNESS: dict[str, Rational] = {"m1": 1, "m2": 2, "m3": -1, "p1": 3, "p2": 1, "p3": 2, "eps": flint.fmpq(1, 5), "w1": 1, "w2": 2, "w3": 3}
 FIRST_FLOW_INTEGRALS = {"dc-basis1-even": ("c1", "c2", "c3"), "dc-basis2": ("d7", "d8", "d9"),
                         "dc-theta": ("g1", "g2", "g3", "g4", "g5", "g6"), "dc345-abcd": ("A", "B", "C", "D")}
 SECOND_FLOW_INTEGRALS = {"flow-second-theorem": ("L",)}
@@ -28,18 +29,7 @@ WITNESS_RING = "Q(m, p, eps, w) (identity refuted at one rational point)"
 SYMBOLIC_LIMIT = 2000     # terms of an integral above which a point check that passes is not followed by substitution
 
 
-def step(kmap: KahanMap, point: Mapping[str, flint.fmpq]) -> dict[str, flint.fmpq]:
-    """f(x) at a point fixing x, eps and the parameters; the point's eps and parameters are kept."""
-    return {**point, **kmap.step_exact(point)}
-
-
-def commutator_at(f: KahanMap, g: KahanMap, point: Mapping[str, flint.fmpq]) -> dict[str, flint.fmpq]:
-    """f(g(x)) - g(f(x)), exactly, at a rational point (same eps and parameters for both maps)."""
-    fg, gf = step(f, step(g, point)), step(g, step(f, point))
-    return {v: fg[v] - gf[v] for v in f.variables}
-
-
-def _point_text(point: Mapping[str, flint.fmpq]) -> str:
+def _point_text(point: Mapping[str, Rational]) -> str:
     return ", ".join(f"{k} = {v}" for k, v in point.items())
 
 
@@ -87,7 +77,7 @@ def _integrals(cert: Certificate, sources: Mapping[str, tuple[str, ...]], kmap: 
 
 def _shared(cert: Certificate, integrals: Mapping[str, Frac], other: KahanMap, label: str) -> list[str]:
     """Those integrals also preserved by `other`: refuted at the witness point, else by substitution (or evidence)."""
-    moved = step(other, WITNESS)
+    moved = {**WITNESS, **other.step_exact(WITNESS)}
     shared = []
     with cert.step(f"{label}: values at x and at the other map's image of x",
                    f"exact evaluation over Q at {_point_text(WITNESS)}", WITNESS_RING) as s:
