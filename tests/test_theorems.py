@@ -5,7 +5,7 @@ import re
 
 import pytest
 
-from hkproof.proof.registry import load_all
+from hkproof.orchestration.registry import load_all
 from hkproof.proof.status import Status
 from tests.conftest import THEOREM_RESULTS
 

@@ -8,7 +8,6 @@ from typing import Iterator, Mapping
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Ring
-from hkproof.errors import HKProofError
 from hkproof.proof.status import Status
 
 
@@ -91,6 +90,7 @@ class Certificate:
     corrections: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     error: str = ""
+    cites: list[str] = field(default_factory=list)
 
     @property
     def status(self) -> Status:
@@ -107,7 +107,8 @@ class Certificate:
     @contextmanager
     def step(self, name: str, method: str, ring: Ring | str,
              fixed: Mapping[str, object] | None = None) -> Iterator[StepRecorder]:
-        """Run one step; a Refuted or HKProofError inside ends the proof with that outcome."""
+        """Run one step; a Refuted inside refutes the claim, any other exception (HKProofError, or an error of the
+        prover itself: IndexError, RecursionError, ...) stops the proof as `unknown` with the error recorded."""
         record = Step(name, method, describe_ring(ring, fixed))
         recorder = StepRecorder(record, specialized=bool(fixed))
         self.steps.append(record)
@@ -122,7 +123,7 @@ class Certificate:
             record.status = Status.UNKNOWN
             record.detail = str(exc)
             raise
-        except (HKProofError, ZeroDivisionError) as exc:
+        except Exception as exc:  # noqa: BLE001 -- KeyboardInterrupt passes; everything else is recorded
             record.status = Status.UNKNOWN
             record.detail = f"{type(exc).__name__}: {exc}"
             raise ProofStopped(record.detail) from None
@@ -145,7 +146,7 @@ class Certificate:
                 "statement": self.statement, "status": self.status.label,
                 "seconds": round(self.seconds, 4), "steps": [s.to_dict() for s in self.steps],
                 "formulas": dict(self.formulas), "corrections": list(self.corrections),
-                "notes": list(self.notes), "error": self.error}
+                "notes": list(self.notes), "error": self.error, "cites": list(self.cites)}
 
     def render(self) -> str:
         """A readable certificate for the terminal."""

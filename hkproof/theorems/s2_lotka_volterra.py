@@ -6,7 +6,7 @@ from typing import Mapping
 from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.registry import claim
+from hkproof.orchestration.registry import claim
 from hkproof.theorems._common import parse, parse_matrix, require_matrix_form
 
 GROUP = "lotka-volterra"

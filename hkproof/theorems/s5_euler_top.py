@@ -11,7 +11,7 @@ from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.integrals import lie_derivative
 from hkproof.hk.reduced import prove_by_evenness
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.registry import claim, proven, require_proven
+from hkproof.orchestration.registry import claim, proven, require_proven
 from hkproof.theorems._common import monomial_squares, parse, parse_matrix, require_matrix_form
 
 GROUP = "euler-top"
@@ -146,7 +146,7 @@ def prove_et_first(cert: Certificate, claimed: Mapping[str, str]) -> None:
            "d2": "a1*(1 - eps**2*a2*a3*x1**2)/(a1*x2**2 - a2*x1**2)",
            "det_factorization": f"4*eps*a_i*(1 - eps**2*a_j*a_k*x_i**2)*{PRODUCT}/Delta**2",
            "relation": "a1*d1 + a2*d2 - eps**2*a1*a2*a3",
-       })
+       }, uses=["et-first-hk-basis"])
 def prove_et_second(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(GROUP)
     r = f.ring
@@ -193,7 +193,7 @@ def prove_et_symmetric(cert: Certificate, claimed: Mapping[str, str]) -> None:
        "sec. 5.3, Th. \"dET full basis\"",
        "The 1-dimensional null-spaces of Phi1, Phi2 lie in K_Phi and are independent, and rank X_[0,1] = 2, so "
        "dim K_Phi = 2 (generic x); K_Phi0 lies in K_Phi1 + K_Phi2; any two of the four null-spaces span K_Phi.",
-       claimed={"dimension": "2"})
+       claimed={"dimension": "2"}, uses=["et-first-hk-basis", "et-second-hk-basis", "et-symmetric-bases"])
 def prove_et_full(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(GROUP)
     r = f.ring

@@ -18,7 +18,7 @@ from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals, prove_by_evenness
 from hkproof.hk.translation import prove_on_slice, slice_decides, verify_on_slice
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.registry import claim, require_proven
+from hkproof.orchestration.registry import claim, require_proven
 from hkproof.theorems._clebsch import (SYSTEM, TRANSLATION, X, cycled, named, number, recall, record, shift_frac,
                                        substituted)
 
@@ -220,7 +220,7 @@ def prove_basis2(cert: Certificate, claimed: Mapping[str, str]) -> None:
        "d7/d8 - 1 - eps^2 (w2 - w1) J = eps^4 X + O(eps^6) with X involving H1, so the limits H3, H4, X are "
        "independent.",
        claimed={"J_limit": "H3", "J_over_d_limit": "H4", "ratio_eps2": "(w2 - w1)*H3",
-                "ratio_eps4": "(w2 - w1)*(2*H4**2 + w2*H3**2 - 2*H3*H1)"})
+                "ratio_eps4": "(w2 - w1)*(2*H4**2 + w2*H3**2 - 2*H3*H1)"}, uses=["dc-basis1-relations", "dc-basis2"])
 def prove_basis2_independence(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -278,7 +278,8 @@ THETA_BASIS, THETA_TARGET = ("I1", "I2", "I3"), "H4"   # eq. "clebsch_ansatz_3a"
        claimed={"additional": "(w2 - w3)*g1 + (w3 - w1)*g2 + (w1 - w2)*g3 = (w2 - w3)*(w3 - w1)*(d8 - d7)/2",
                 "rhs_forms": "(w3 - w1)*(w1 - w2)*(d9 - d8)/2 = (w1 - w2)*(w2 - w3)*(d7 - d9)/2",
                 "g_4": G4_PRINTED,
-                "g4": "(g2 - g3)/(w2 - w3)", "g5": "(g3 - g1)/(w3 - w1)", "g6": "(g1 - g2)/(w1 - w2)"})
+                "g4": "(g2 - g3)/(w2 - w3)", "g5": "(g3 - g1)/(w3 - w1)", "g6": "(g1 - g2)/(w1 - w2)"},
+                uses=["dc-basis2"])
 def prove_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -388,7 +389,8 @@ _ABC_CYCLE = {"A": "B", "B": "C", "C": "A"}
        "d7, d8 linear in A, B, C, D and D on the quadric eq. \"ABCD dependence\" (dc345-abcd), J, d7, d8, g_k are "
        "functions of A, B, C, so the Jacobian of (J, d7, d8, g_k) has generic rank `rank` (not 4) for k = 1, 2, 3: "
        "at most 3 by these relations, at least 3 by a non-zero minor at a point.",
-       claimed={"rank": "3", "J": J_VIA_ABCD, "g1": G1_VIA_ABCD})
+       claimed={"rank": "3", "J": J_VIA_ABCD, "g1": G1_VIA_ABCD},
+       uses=["dc-basis1-relations", "dc-basis2", "dc-theta", "dc345-abcd"])
 def prove_theta_dependence(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring

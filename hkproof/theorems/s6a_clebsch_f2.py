@@ -14,7 +14,7 @@ from hkproof.dynamics.field import EPS
 from hkproof.errors import HKProofError
 from hkproof.hk.expansion import support_stats
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.registry import claim, require_proven
+from hkproof.orchestration.registry import claim, require_proven
 from hkproof.theorems._clebsch import SYSTEM, X, number
 
 GROUP = "clebsch-f2"
@@ -77,7 +77,7 @@ def _compare_table(cert: Certificate, s, found: dict[str, str], claimed: str, pr
        claimed={"table": "26 24 24 24 12 12 12; 27 25 24 24 12 12 12; 27 24 25 24 12 12 12; 27 24 24 25 12 12 12; "
                          "32 28 28 28 15 14 14; 32 28 28 28 14 15 14; 32 28 28 28 14 14 15",
                 "p1_monomials": "64059", "p1_terms": "1647594"},
-       slow=True)
+       slow=True, uses=["dc-map-symmetries"])
 def prove_f2_plain(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -110,7 +110,7 @@ def prove_f2_plain(cert: Certificate, claimed: Mapping[str, str]) -> None:
        claimed={"g_degree": "8",
                 "table": "18 16 16 16 8 8 8; 19 17 16 16 8 8 8; 19 16 17 16 8 8 8; 19 16 16 17 8 8 8; "
                          "19 16 16 16 9 8 8; 19 16 16 16 8 9 8; 19 16 16 16 8 8 9"},
-       slow=True)
+       slow=True, uses=["dc-map-symmetries"])
 def prove_f2_reduced(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring

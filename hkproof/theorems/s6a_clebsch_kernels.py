@@ -12,7 +12,7 @@ from hkproof.experiments.profiles import HK_BASIS, ProfileProblem
 from hkproof.experiments.scene import make_scene
 from hkproof.algebra.ring import to_fmpq
 from hkproof.proof.certificate import Certificate, ProofStopped
-from hkproof.proof.registry import REGISTRY, claim, require_proven
+from hkproof.orchestration.registry import REGISTRY, claim, require_proven
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import PHI_MAX, SYSTEM, X, named, number, recall
 
@@ -43,7 +43,7 @@ def _profiles(basis_idx, points=POINTS):
        "At generic (m, p): K_Phi contains the null-vectors of Phi0, Psi and Theta (placed in R^10), which are "
        "independent, and rank X_[0,5] = 6; so `lower` <= dim K_Phi <= `upper` (part I alone; with Phi1, Phi2, Phi3 "
        "of part II, dim K_Phi = 4 is proven in dc345-max-basis).",
-       claimed={"lower": "3", "upper": "4"})
+       claimed={"lower": "3", "upper": "4"}, uses=["dc-basis1-relations", "dc-basis2", "dc-theta"])
 def prove_max_basis_bounds(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring

@@ -11,7 +11,7 @@ from hkproof.hk.expansion import support_stats, weighted_degrees
 from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.integrals import lie_derivative
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.registry import claim
+from hkproof.orchestration.registry import claim
 from hkproof.theorems._clebsch import H, SYSTEM, X, cycled, named, number, shift
 from hkproof.theorems._common import parse, parse_matrix, require_matrix_form
 

@@ -1,0 +1,200 @@
+"""Where proofs run: one small executor interface (in process, a process pool, Dask distributed) and the schedule
+that walks the claim graph on it -- dependencies first, each claim proven once per run, a worker handed the
+certificates its claim cites. The certificates do not depend on the executor."""
+from __future__ import annotations
+
+import concurrent.futures
+import logging
+import signal
+import uuid
+from typing import Callable, Hashable, Iterable, Mapping, Sequence
+
+from hkproof.errors import HKProofError
+from hkproof.orchestration.graph import in_dependency_order
+from hkproof.orchestration.registry import REGISTRY, cached, get_claim, load_all, remember
+from hkproof.proof.certificate import Certificate
+
+EXECUTORS = ("process", "dask")
+
+
+def prove_citing(claim_id: str, cited: Mapping[str, Certificate]) -> Certificate:
+    """A worker's task: the run's cache seeded with the certificates `claim_id` cites, then the claim proven once."""
+    load_all()
+    remember(cited.values())
+    return get_claim(claim_id).prove()
+
+
+def worker_failed(claim_id: str, exc: BaseException) -> Certificate:
+    """An `unknown` certificate for a claim whose worker died or could not return (not the prover's verdict)."""
+    c = get_claim(claim_id)
+    cert = Certificate(c.id, c.title, c.paper_ref, c.statement)
+    cert.error = f"the worker proving {claim_id} failed: {type(exc).__name__}: {exc}"
+    return cert
+
+
+class Executor:
+    """Runs proofs somewhere: `submit` one claim with the certificates it cites, `wait` until some finish.
+    `slots` is how many proofs it runs at once."""
+
+    slots = 1
+
+    def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
+        raise NotImplementedError
+
+    def wait(self, handles: Sequence[Hashable]) -> list[tuple[Hashable, Certificate]]:
+        """Block until at least one of `handles` is done; their certificates."""
+        raise NotImplementedError
+
+    def close(self, interrupted: bool = False) -> None:
+        """Release the workers; after an interrupt, stop running proofs at once."""
+
+    def __enter__(self) -> Executor:
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        self.close(interrupted=exc_type is not None)
+
+
+class InProcessExecutor(Executor):
+    """`--jobs 1`: a plain loop in this process (no pool), for debugging; the cited claims are in the run's cache."""
+
+    def __init__(self) -> None:
+        self._done: dict[int, Certificate] = {}
+
+    def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
+        handle = len(self._done)
+        self._done[handle] = get_claim(claim_id).prove()
+        return handle
+
+    def wait(self, handles: Sequence[Hashable]) -> list[tuple[Hashable, Certificate]]:
+        return [(h, self._done.pop(h)) for h in handles]
+
+
+def _ignore_sigint() -> None:
+    """Pool workers leave Ctrl-C to the parent, which stops them (no traceback from every worker)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+class ProcessPoolExecutor(Executor):
+    """`--jobs N`: N worker processes on this machine; a pool broken by a dead worker is replaced."""
+
+    def __init__(self, jobs: int) -> None:
+        self.slots = jobs
+        self._pool = self._new_pool()
+        self._claims: dict[concurrent.futures.Future, str] = {}
+
+    def _new_pool(self) -> concurrent.futures.ProcessPoolExecutor:
+        return concurrent.futures.ProcessPoolExecutor(self.slots, initializer=_ignore_sigint)
+
+    def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
+        try:
+            future = self._pool.submit(prove_citing, claim_id, dict(cited))
+        except concurrent.futures.process.BrokenProcessPool:
+            self._pool = self._new_pool()
+            future = self._pool.submit(prove_citing, claim_id, dict(cited))
+        self._claims[future] = claim_id
+        return future
+
+    def wait(self, handles: Sequence[Hashable]) -> list[tuple[Hashable, Certificate]]:
+        done, _ = concurrent.futures.wait(handles, return_when=concurrent.futures.FIRST_COMPLETED)
+        return [(f, _result(f, self._claims.pop(f))) for f in done]
+
+    def close(self, interrupted: bool = False) -> None:
+        processes = list((getattr(self._pool, "_processes", None) or {}).values())
+        self._pool.shutdown(wait=not interrupted, cancel_futures=True)
+        if interrupted:
+            for p in processes:
+                p.terminate()
+
+
+def _result(future, claim_id: str) -> Certificate:
+    try:
+        return future.result()
+    except Exception as exc:  # noqa: BLE001 -- a dead worker costs its claim, never the run
+        return worker_failed(claim_id, exc)
+
+
+class DaskExecutor(Executor):
+    """`--executor dask`: the same graph on Dask distributed, on the cluster at `scheduler`, or on a LocalCluster
+    of `jobs` worker processes that this executor starts and stops."""
+
+    def __init__(self, jobs: int, scheduler: str | None = None) -> None:
+        try:
+            import distributed
+        except ImportError:
+            raise HKProofError("--executor dask needs Dask distributed: pip install 'hkproof[dask]'") from None
+        self._distributed = distributed
+        self._cluster = None
+        try:
+            if scheduler:
+                self._client = distributed.Client(scheduler, timeout=10)
+            else:
+                self._cluster = distributed.LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
+                                                         dashboard_address=None, silence_logs=logging.ERROR)
+                self._client = distributed.Client(self._cluster)
+        except (OSError, TimeoutError) as exc:
+            if self._cluster is not None:
+                self._cluster.close()
+            raise HKProofError(f"cannot reach the Dask scheduler {scheduler or '(local cluster)'}: {exc}") from None
+        self.slots = max(1, sum(self._client.nthreads().values()))
+        self._claims: dict[Hashable, str] = {}
+
+    def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
+        future = self._client.submit(prove_citing, claim_id, dict(cited), key=f"prove-{claim_id}-{uuid.uuid4().hex}")
+        self._claims[future] = claim_id
+        return future
+
+    def wait(self, handles: Sequence[Hashable]) -> list[tuple[Hashable, Certificate]]:
+        done, _ = self._distributed.wait(list(handles), return_when="FIRST_COMPLETED")
+        return [(f, _result(f, self._claims.pop(f))) for f in done]
+
+    def close(self, interrupted: bool = False) -> None:
+        if interrupted:
+            self._client.cancel(list(self._claims))
+        self._client.close()
+        if self._cluster is not None:
+            self._cluster.close()
+
+
+def make_executor(kind: str, jobs: int, scheduler: str | None, tasks: int) -> Executor:
+    """The executor for `--executor kind --jobs jobs [--scheduler ADDRESS]`, for `tasks` proofs to run."""
+    if kind not in EXECUTORS:
+        raise HKProofError(f"unknown executor '{kind}'; executors are {', '.join(EXECUTORS)}")
+    if scheduler and kind != "dask":
+        raise HKProofError("--scheduler ADDRESS is the address of a Dask scheduler: use it with --executor dask")
+    if kind == "dask":
+        return DaskExecutor(jobs, scheduler)
+    return ProcessPoolExecutor(min(jobs, tasks)) if min(jobs, tasks) > 1 else InProcessExecutor()
+
+
+def run_graph(claim_ids: Iterable[str], executor: Executor,
+              on_done: Callable[[Certificate], None] = lambda cert: None) -> dict[str, Certificate]:
+    """Prove `claim_ids` and the claims they cite, each at most once per run (the run's cache), dependencies first,
+    up to `executor.slots` at a time (slow claims first among those ready); `on_done` sees each certificate of
+    `claim_ids` as it completes. Every certificate of an unperturbed claim goes into the run's cache."""
+    load_all()
+    wanted = list(dict.fromkeys(claim_ids))
+    order = in_dependency_order(wanted, REGISTRY)
+    done: dict[str, Certificate] = {}
+    for cid in order:
+        cert = cached(cid)
+        if cert is not None:
+            done[cid] = cert
+            if cid in wanted:
+                on_done(cert)
+    pending = [cid for cid in order if cid not in done]
+    if executor.slots > 1:
+        pending.sort(key=lambda cid: not REGISTRY[cid].slow)  # stable: long proofs start early
+    running: dict[Hashable, str] = {}
+    while pending or running:
+        ready = [cid for cid in pending if all(u in done for u in REGISTRY[cid].uses)]
+        for cid in ready[:max(0, executor.slots - len(running))]:
+            running[executor.submit(cid, {u: done[u] for u in REGISTRY[cid].uses})] = cid
+            pending.remove(cid)
+        for handle, cert in executor.wait(list(running)):
+            cid = running.pop(handle)
+            done[cid] = cert
+            remember([cert])
+            if cid in wanted:
+                on_done(cert)
+    return {cid: done[cid] for cid in wanted}
