@@ -91,6 +91,7 @@ class Certificate:
     notes: list[str] = field(default_factory=list)
     error: str = ""
     cites: list[str] = field(default_factory=list)
+    values: dict[str, Frac] = field(default_factory=dict, compare=False, repr=False)  # exact values of `formulas`
 
     @property
     def status(self) -> Status:
@@ -134,8 +135,10 @@ class Certificate:
             record.seconds = time.perf_counter() - start
 
     def formula(self, name: str, value: Frac | str) -> None:
-        """Record a formula found (sympy-parsable, in the system's own names)."""
+        """Record a formula found (sympy-parsable, in the system's own names), and its exact value if given one."""
         self.formulas[name] = str(value)
+        if isinstance(value, Frac):
+            self.values[name] = value
 
     def correction(self, text: str) -> None:
         """Record a place where the paper is wrong or imprecise, with the corrected statement."""
@@ -147,6 +150,15 @@ class Certificate:
                 "seconds": round(self.seconds, 4), "steps": [s.to_dict() for s in self.steps],
                 "formulas": dict(self.formulas), "corrections": list(self.corrections),
                 "notes": list(self.notes), "error": self.error, "cites": list(self.cites)}
+
+    def __getstate__(self) -> dict:
+        """Pickled (for a worker process or a Dask worker) with its exact values as integer terms."""
+        return {**self.__dict__, "values": {k: _frac_terms(v) for k, v in self.values.items()}}
+
+    def __setstate__(self, state: dict) -> None:
+        rings: dict[tuple[str, ...], Ring] = {}
+        self.__dict__.update(state)
+        self.values = {k: _frac_from_terms(v, rings) for k, v in state["values"].items()}
 
     def render(self) -> str:
         """A readable certificate for the terminal."""
@@ -164,3 +176,17 @@ class Certificate:
         if self.error:
             lines.append(f"    stopped: {self.error}")
         return "\n".join(lines)
+
+
+def _frac_terms(q: Frac) -> tuple:
+    """A rational function as picklable data: its ring's names and the integer terms of num and den."""
+    return (q.ring.names, [(e, int(c)) for e, c in q.num.to_dict().items()],
+            [(e, int(c)) for e, c in q.den.to_dict().items()])
+
+
+def _frac_from_terms(terms: tuple, rings: dict[tuple[str, ...], Ring]) -> Frac:
+    names, num, den = terms
+    if names not in rings:
+        rings[names] = Ring(names)
+    ring = rings[names]
+    return Frac(ring, ring.ctx.from_dict(dict(num)), ring.ctx.from_dict(dict(den)), reduced=True)
