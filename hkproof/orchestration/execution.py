@@ -3,10 +3,12 @@ that walks the claim graph on it -- dependencies first, each claim proven once p
 certificates its claim cites. The certificates do not depend on the executor."""
 from __future__ import annotations
 
-import concurrent.futures
 import logging
+import multiprocessing
+import multiprocessing.connection
 import signal
 import uuid
+from multiprocessing.connection import Connection
 from typing import Callable, Hashable, Iterable, Mapping, Sequence
 
 from hkproof.errors import HKProofError
@@ -81,43 +83,94 @@ class InProcessExecutor(Executor):
 
 
 def _ignore_sigint() -> None:
-    """Pool workers leave Ctrl-C to the parent, which stops them (no traceback from every worker)."""
+    """Workers leave Ctrl-C to the parent, which stops them (no traceback from every worker)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
+def _serve(conn: Connection) -> None:
+    """A worker process: prove the claims the parent sends, one at a time, until it sends None."""
+    _ignore_sigint()
+    while (task := conn.recv()) is not None:
+        claim_id, cited = task
+        cert = prove_citing(claim_id, cited)
+        try:
+            conn.send(cert)
+        except Exception as exc:  # noqa: BLE001 -- e.g. a certificate that cannot be pickled
+            conn.send(worker_failed(claim_id, exc))
+
+
+class _Worker:
+    """One worker process and the pipe to it."""
+
+    def __init__(self) -> None:
+        self.conn, child = multiprocessing.Pipe()
+        self.process = multiprocessing.Process(target=_serve, args=(child,), daemon=True)
+        self.process.start()
+        child.close()
+
+
+class _Task:
+    """A claim being proven by a worker (the handle `submit` returns)."""
+
+    def __init__(self, claim_id: str, worker: _Worker) -> None:
+        self.claim_id, self.worker = claim_id, worker
+
+
 class ProcessPoolExecutor(Executor):
-    """`--jobs N`: N worker processes on this machine; a pool broken by a dead worker is replaced."""
+    """`--jobs N`: N worker processes on this machine, each proving one claim at a time; a worker that dies costs
+    its claim (an `unknown` certificate) and is replaced. Plain pipes, no helper threads: Ctrl-C stops it at once."""
 
     def __init__(self, jobs: int) -> None:
         self.slots = jobs
-        self._pool = self._new_pool()
-        self._claims: dict[concurrent.futures.Future, str] = {}
-
-    def _new_pool(self) -> concurrent.futures.ProcessPoolExecutor:
-        return concurrent.futures.ProcessPoolExecutor(self.slots, initializer=_ignore_sigint)
+        self._idle: list[_Worker] = []
+        self._busy: list[_Worker] = []
 
     def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
+        worker = self._idle.pop() if self._idle else _Worker()
         try:
-            future = self._pool.submit(prove_citing, claim_id, dict(cited))
-        except concurrent.futures.process.BrokenProcessPool:
-            self._pool = self._new_pool()
-            future = self._pool.submit(prove_citing, claim_id, dict(cited))
-        self._claims[future] = claim_id
-        return future
+            worker.conn.send((claim_id, dict(cited)))
+        except OSError:  # the worker died while idle
+            self._discard(worker)
+            worker = _Worker()
+            worker.conn.send((claim_id, dict(cited)))
+        self._busy.append(worker)
+        return _Task(claim_id, worker)
 
     def wait(self, handles: Sequence[Hashable]) -> list[tuple[Hashable, Certificate]]:
-        done, _ = concurrent.futures.wait(handles, return_when=concurrent.futures.FIRST_COMPLETED)
-        return [(f, _result(f, self._claims.pop(f))) for f in done]
+        tasks = {task.worker.conn: task for task in handles}
+        done = []
+        for conn in multiprocessing.connection.wait(list(tasks)):
+            task = tasks[conn]
+            self._busy.remove(task.worker)
+            try:
+                cert = conn.recv()
+            except (EOFError, OSError) as exc:
+                self._discard(task.worker)
+                cert = worker_failed(task.claim_id, exc if str(exc) else
+                                     RuntimeError(f"exit code {task.worker.process.exitcode}"))
+            else:
+                self._idle.append(task.worker)
+            done.append((task, cert))
+        return done
+
+    def _discard(self, worker: _Worker) -> None:
+        worker.process.kill()
+        worker.conn.close()
 
     def close(self, interrupted: bool = False) -> None:
-        processes = list((getattr(self._pool, "_processes", None) or {}).values())
-        self._pool.shutdown(wait=not interrupted, cancel_futures=True)
-        if interrupted:
-            for p in processes:
-                p.terminate()
+        for worker in self._busy + self._idle:
+            if interrupted or worker in self._busy:
+                worker.process.terminate()
+            else:
+                worker.conn.send(None)
+        for worker in self._busy + self._idle:
+            worker.process.join()
+            worker.conn.close()
+        self._busy, self._idle = [], []
 
 
 def _result(future, claim_id: str) -> Certificate:
+    """The certificate a Dask future holds, or an `unknown` one if its worker failed."""
     try:
         return future.result()
     except Exception as exc:  # noqa: BLE001 -- a dead worker costs its claim, never the run

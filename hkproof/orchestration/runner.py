@@ -108,6 +108,22 @@ def _sigint_ignored() -> Iterator[None]:
         signal.signal(signal.SIGINT, previous)
 
 
+@contextmanager
+def _sigint_deferred() -> Iterator[None]:
+    """Ctrl-C inside the block takes effect at its end (a line of output is never cut in half)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if caught:
+        raise KeyboardInterrupt
+
+
 def execute(claims: Sequence[Claim], args: argparse.Namespace,
             on_done: Callable[[Certificate], None] = lambda cert: None) -> Run:
     """Prove `claims` (and what they cite) with the executor of `args`; Ctrl-C returns the partial run."""
@@ -116,8 +132,9 @@ def execute(claims: Sequence[Claim], args: argparse.Namespace,
     tasks = sum(cached(cid) is None for cid in in_dependency_order(ids, REGISTRY))
 
     def done(cert: Certificate) -> None:
-        run.certs[cert.claim_id] = cert
-        on_done(cert)
+        with _sigint_deferred():  # a certificate is recorded and printed whole, or not at all
+            run.certs[cert.claim_id] = cert
+            on_done(cert)
 
     executor = None
     try:
