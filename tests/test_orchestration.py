@@ -224,3 +224,21 @@ def test_report_writes_atomically(tmp_path):
     write_atomically(target, "new")
     assert target.read_text() == "new"
     assert [p.name for p in tmp_path.iterdir()] == ["theorems.md"]
+
+
+# -- layers -----------------------------------------------------------------------------------------------------------
+def _imports(path) -> set[str]:
+    import ast
+    tree = ast.parse(path.read_text())
+    found = {alias.name for node in ast.walk(tree) if isinstance(node, ast.Import) for alias in node.names}
+    return found | {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom) and node.module}
+
+
+def test_only_theorems_and_front_ends_import_orchestration():
+    from pathlib import Path
+    package = Path(__file__).resolve().parents[1] / "hkproof"
+    lower = [p for layer in ("algebra", "dynamics", "hk", "experiments") for p in (package / layer).glob("*.py")]
+    lower += [package / "proof" / "status.py", package / "proof" / "certificate.py"]
+    offenders = [str(p.relative_to(package)) for p in lower
+                 if any(m.startswith("hkproof.orchestration") for m in _imports(p))]
+    assert offenders == []
