@@ -3,6 +3,7 @@ that walks the claim graph on it -- dependencies first, each claim proven once p
 certificates its claim cites. The certificates do not depend on the executor."""
 from __future__ import annotations
 
+import itertools
 import logging
 import multiprocessing
 import multiprocessing.connection
@@ -72,9 +73,10 @@ class InProcessExecutor(Executor):
 
     def __init__(self) -> None:
         self._done: dict[int, Certificate] = {}
+        self._handles = itertools.count()
 
     def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
-        handle = len(self._done)
+        handle = next(self._handles)
         self._done[handle] = get_claim(claim_id).prove()
         return handle
 
