@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import time
+from array import array
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Iterator, Mapping
@@ -152,13 +153,18 @@ class Certificate:
                 "notes": list(self.notes), "error": self.error, "cites": list(self.cites)}
 
     def __getstate__(self) -> dict:
-        """Pickled (for a worker process or a Dask worker) with its exact values as integer terms."""
-        return {**self.__dict__, "values": {k: _frac_terms(v) for k, v in self.values.items()}}
+        """Pickled (for a worker process or a Dask worker) with its exact values packed as exponent bytes and
+        integer coefficients; a certificate that arrived pickled is passed on without packing it again."""
+        state = {k: v for k, v in self.__dict__.items() if k != "_packed"}
+        packed = self.__dict__.get("_packed")
+        state["values"] = packed if packed is not None else {k: _pack(v) for k, v in self.values.items()}
+        return state
 
     def __setstate__(self, state: dict) -> None:
         rings: dict[tuple[str, ...], Ring] = {}
         self.__dict__.update(state)
-        self.values = {k: _frac_from_terms(v, rings) for k, v in state["values"].items()}
+        self.values = {k: _unpack(v, rings) for k, v in state["values"].items()}
+        self._packed = state["values"]
 
     def render(self) -> str:
         """A readable certificate for the terminal."""
@@ -178,15 +184,23 @@ class Certificate:
         return "\n".join(lines)
 
 
-def _frac_terms(q: Frac) -> tuple:
-    """A rational function as picklable data: its ring's names and the integer terms of num and den."""
-    return (q.ring.names, [(e, int(c)) for e, c in q.num.to_dict().items()],
-            [(e, int(c)) for e, c in q.den.to_dict().items()])
+def _pack(q: Frac) -> tuple:
+    """A rational function as compact picklable data: its ring's names; exponents (bytes) and coefficients of
+    num and den."""
+    return (q.ring.names,) + tuple((array("L", [e for m in p.monoms() for e in m]).tobytes(), p.coeffs())
+                                   for p in (q.num, q.den))
 
 
-def _frac_from_terms(terms: tuple, rings: dict[tuple[str, ...], Ring]) -> Frac:
-    names, num, den = terms
+def _unpack(packed: tuple, rings: dict[tuple[str, ...], Ring]) -> Frac:
+    names, *polys = packed
     if names not in rings:
         rings[names] = Ring(names)
     ring = rings[names]
-    return Frac(ring, ring.ctx.from_dict(dict(num)), ring.ctx.from_dict(dict(den)), reduced=True)
+    num, den = (ring.ctx.from_dict(dict(zip(_exponents(raw, len(names)), coeffs))) for raw, coeffs in polys)
+    return Frac(ring, num, den, reduced=True)
+
+
+def _exponents(raw: bytes, nvars: int) -> Iterator[tuple[int, ...]]:
+    flat = array("L")
+    flat.frombytes(raw)
+    return zip(*[iter(flat)] * nvars)
