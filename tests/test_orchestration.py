@@ -221,8 +221,10 @@ def test_report_writes_atomically(tmp_path):
     from hkproof.commands.report import write_atomically
     target = tmp_path / "theorems.md"
     target.write_text("old")
+    target.chmod(0o644)
     write_atomically(target, "new")
     assert target.read_text() == "new"
+    assert target.stat().st_mode & 0o777 == 0o644  # not the temporary file's 0600
     assert [p.name for p in tmp_path.iterdir()] == ["theorems.md"]
 
 
