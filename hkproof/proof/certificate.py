@@ -157,7 +157,8 @@ class Certificate:
         integer coefficients; a certificate that arrived pickled is passed on without packing it again."""
         state = {k: v for k, v in self.__dict__.items() if k != "_packed"}
         packed = self.__dict__.get("_packed")
-        state["values"] = packed if packed is not None else {k: _pack(v) for k, v in self.values.items()}
+        fresh = packed is not None and packed.keys() == self.values.keys()
+        state["values"] = packed if fresh else {k: _pack(v) for k, v in self.values.items()}
         return state
 
     def __setstate__(self, state: dict) -> None:
