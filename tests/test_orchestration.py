@@ -244,3 +244,14 @@ def test_only_theorems_and_front_ends_import_orchestration():
     offenders = [str(p.relative_to(package)) for p in lower
                  if any(m.startswith("hkproof.orchestration") for m in _imports(p))]
     assert offenders == []
+
+
+def test_certificate_travels_with_its_exact_values():
+    import pickle
+    cert = proven("dc-basis2")
+    assert cert.values  # d7, d8, ... kept exactly
+    copy = pickle.loads(pickle.dumps(cert))
+    assert copy.to_dict() == cert.to_dict()
+    assert all(copy.values[k] == v and copy.values[k].ring == v.ring for k, v in cert.values.items())
+    again = pickle.loads(pickle.dumps(copy))  # passed on by the scheduler without packing again
+    assert all(again.values[k] == v for k, v in cert.values.items())
