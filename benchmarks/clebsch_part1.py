@@ -22,7 +22,7 @@ from hkproof.algebra.linalg import cleared_system, cramer, solve_cleared
 from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.reduced import Relation, hk_row
-from hkproof.proof.registry import get_claim, proven, select
+from hkproof.orchestration.registry import get_claim, proven, select
 from hkproof.theorems._clebsch import TRANSLATION, X, named, recall
 from hkproof.theorems.s6a_clebsch_bases import THETA_BASIS, THETA_TARGET, theta_relation
 from hkproof.theorems.s6a_clebsch_f2 import _interpolated_gcd
@@ -132,7 +132,7 @@ def items_from_scratch() -> float:
     with the claims they cite."""
     code = textwrap.dedent(f"""
         import time
-        from hkproof.proof.registry import load_all, proven
+        from hkproof.orchestration.registry import load_all, proven
         load_all()
         t = time.perf_counter()
         assert all(proven(c).status.label == "verified" for c in {ITEMS!r})

@@ -17,7 +17,7 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import cleared_system, solve_cleared
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.hk.reduced import hk_row
-from hkproof.proof.registry import load_all, proven
+from hkproof.orchestration.registry import load_all, proven
 from hkproof.theorems._clebsch import recall
 from hkproof.theorems.s6b_clebsch_bases_345 import F_TEXT, bases, relation_rows
 

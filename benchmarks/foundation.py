@@ -13,7 +13,7 @@ from pathlib import Path
 from docs_section import write_section
 from hkproof.dynamics.catalogue import SYSTEMS
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.proof.registry import select
+from hkproof.orchestration.registry import select
 
 DOC = Path(__file__).resolve().parent.parent / "docs" / "performance.md"
 
@@ -68,7 +68,7 @@ def time_suite() -> tuple[float, int]:
         SYSTEMS[name]  # fields are cheap; maps are rebuilt below
     from hkproof.dynamics import catalogue
     catalogue._MAPS.clear()
-    from hkproof.proof import registry
+    from hkproof.orchestration import registry
     registry._CACHE.clear()
     start = time.perf_counter()
     certs = [c.prove() for c in select(groups=["lotka-volterra", "euler-top"])]

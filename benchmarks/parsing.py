@@ -18,7 +18,7 @@ from docs_section import write_section
 from hkproof.algebra.formula import parse_formula
 from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.proof.registry import proven
+from hkproof.orchestration.registry import proven
 
 DOC = Path(__file__).resolve().parent.parent / "docs" / "performance.md"
 

@@ -47,3 +47,7 @@ class DependentBasisError(ParseError):
 
 class UsageError(HKProofError):
     """A command line that does not fit the command's options (a missing argument, a bad count, an unknown name)."""
+
+
+class ShapeError(HKProofError):
+    """Matrices or vectors whose sizes do not fit (a row of another length, a vector of the wrong dimension)."""

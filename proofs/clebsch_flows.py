@@ -5,7 +5,7 @@ flow with w fixed (verified(specialized), slow); they succeed when they reach th
 """
 import sys
 
-from hkproof.proof.runner import run_script
+from hkproof.orchestration.runner import run_script
 
 if __name__ == "__main__":
     sys.exit(run_script(groups=["clebsch-flows"]))

@@ -5,7 +5,7 @@ are open claims: they promise exact evidence only, and are reported as such.
 """
 import sys
 
-from hkproof.proof.runner import run_script
+from hkproof.orchestration.runner import run_script
 
 if __name__ == "__main__":
     sys.exit(run_script(groups=["clebsch-map", "clebsch-bases", "clebsch-kernels", "clebsch-f2"]))

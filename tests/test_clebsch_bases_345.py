@@ -4,7 +4,7 @@ from __future__ import annotations
 import pytest
 
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.proof.registry import get_claim, proven
+from hkproof.orchestration.registry import get_claim, proven
 from hkproof.proof.status import Status
 from hkproof.theorems.s6a_clebsch_bases import G1_VIA_ABCD
 from hkproof.theorems.s6b_clebsch_bases_345 import REL18, relation_rows

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import pytest
 
-from hkproof.proof.registry import get_claim, proven
+from hkproof.orchestration.registry import get_claim, proven
 from hkproof.proof.status import Status
 from hkproof.theorems.s6c_clebsch_flows import GENERAL_CLAIM, SECOND, THETA_RELATION, conjecture_evidence
 

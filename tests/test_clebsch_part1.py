@@ -7,7 +7,7 @@ from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.hk.expansion import taylor
 from hkproof.proof.certificate import Certificate, ProofStopped
-from hkproof.proof.registry import get_claim, proven
+from hkproof.orchestration.registry import get_claim, proven
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import named
 from hkproof.theorems.s6a_clebsch_bases import G1_VIA_ABCD, J_VIA_ABCD

@@ -12,7 +12,7 @@ from hkproof.cli import main
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.experiments.dependence import DependenceSearchError, find_rational_relations, monomials
 from hkproof.experiments.points import random_rational
-from hkproof.proof.registry import proven
+from hkproof.orchestration.registry import proven
 from hkproof.theorems._clebsch import X, named, recall
 
 AT = {"w1": 2, "w2": -3, "w3": 5, "eps": flint.fmpq(1, 3)}

@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.proof.registry import get_claim
+from hkproof.orchestration.registry import get_claim
 from hkproof.proof.status import Status
 from hkproof.theorems.s7_commuting_flows import WITNESS, commutator_at
 

@@ -51,7 +51,7 @@ def test_toml_decimal_coefficient_is_exact(capsys, tmp_path):
 
 
 def test_overrides_read_decimals_exactly():
-    from hkproof.proof.registry import get_claim
+    from hkproof.orchestration.registry import get_claim
     claim = get_claim("et-first-hk-basis")
     perturbed = claim.claimed["c1"].replace("a3*x2**2", "1.00000000000000001*a3*x2**2")
     assert claim.prove({"c1": perturbed}).status.label == "refuted"

@@ -7,7 +7,7 @@ import flint
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
-from hkproof.errors import SingularSystemError
+from hkproof.errors import ShapeError, SingularSystemError
 
 PolyMatrix = Sequence[Sequence[flint.fmpz_mpoly]]
 
@@ -187,6 +187,8 @@ def rank_over_fraction_field(rows: Sequence[Sequence[Frac]]) -> int:
     the smallest entries, and a row's content is divided out (its gcd stops as soon as it is constant).
     """
     rows = [list(r) for r in rows if r]
+    if len({len(r) for r in rows}) > 1:
+        raise ShapeError(f"a matrix needs rows of one length, got lengths {[len(r) for r in rows]}")
     if not rows:
         return 0
     lcms = [lcm([row[j].den for row in rows]) for j in range(len(rows[0]))]

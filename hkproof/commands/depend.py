@@ -12,7 +12,7 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ParseError
 from hkproof.experiments.dependence import find_rational_relations
 from hkproof.experiments.points import random_values
-from hkproof.proof.registry import proven
+from hkproof.orchestration.registry import proven
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -4,8 +4,8 @@ from __future__ import annotations
 import argparse
 
 from hkproof.commands import Result, add_command
-from hkproof.proof.registry import select
-from hkproof.proof.runner import summary
+from hkproof.orchestration.registry import select
+from hkproof.orchestration.runner import add_run_options, prove_claims
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -16,6 +16,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--all", action="store_true", help="every theorem, slow ones included")
     p.add_argument("--group", action="append", default=[], help="every theorem of this group (repeatable)")
     p.add_argument("--no-slow", action="store_true", help="with --all or --group: skip theorems marked slow")
+    p.add_argument("--jsonl", action="store_true",
+                   help="print each certificate as one JSON line as it completes, then a summary line")
+    add_run_options(p)
 
 
 def run_list(args: argparse.Namespace) -> Result:
@@ -32,8 +35,5 @@ def run_prove(args: argparse.Namespace) -> Result:
     if not (args.ids or args.all or args.group):
         args.all = True
     claims = select(ids=args.ids, groups=args.group, include_slow=not args.no_slow)
-    certs = [c.prove() for c in claims]
-    text = "\n".join(cert.render() for cert in certs) + summary(claims, certs)
-    ok = all(c.succeeded(cert) for c, cert in zip(claims, certs, strict=True))
-    return Result([{**cert.to_dict(), "expected": c.expected.label} for c, cert in zip(claims, certs, strict=True)], text,
-                  0 if ok else 1)
+    payload, closing, code = prove_claims(claims, args)  # certificates are printed as they complete
+    return Result(payload, closing, code)

@@ -1,7 +1,5 @@
-"""Claims, steps, certificates and the registry of the paper's theorems."""
+"""The proof kernel: the status ladder, steps and certificates (orchestration lives in hkproof.orchestration)."""
 from hkproof.proof.certificate import Certificate, ProofStopped, Refuted, Step
-from hkproof.proof.registry import REGISTRY, Claim, claim, get_claim, load_all, proven, require_proven, select
 from hkproof.proof.status import Status
 
-__all__ = ["Certificate", "Claim", "ProofStopped", "REGISTRY", "Refuted", "Status", "Step", "claim", "get_claim",
-           "load_all", "proven", "require_proven", "select"]
+__all__ = ["Certificate", "ProofStopped", "Refuted", "Status", "Step"]

@@ -2,13 +2,13 @@
 from __future__ import annotations
 
 import time
+from array import array
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Iterator, Mapping
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Ring
-from hkproof.errors import HKProofError
 from hkproof.proof.status import Status
 
 
@@ -91,6 +91,8 @@ class Certificate:
     corrections: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     error: str = ""
+    cites: list[str] = field(default_factory=list)
+    values: dict[str, Frac] = field(default_factory=dict, compare=False, repr=False)  # exact values of `formulas`
 
     @property
     def status(self) -> Status:
@@ -107,7 +109,8 @@ class Certificate:
     @contextmanager
     def step(self, name: str, method: str, ring: Ring | str,
              fixed: Mapping[str, object] | None = None) -> Iterator[StepRecorder]:
-        """Run one step; a Refuted or HKProofError inside ends the proof with that outcome."""
+        """Run one step; a Refuted inside refutes the claim, any other exception (HKProofError, or an error of the
+        prover itself: IndexError, RecursionError, ...) stops the proof as `unknown` with the error recorded."""
         record = Step(name, method, describe_ring(ring, fixed))
         recorder = StepRecorder(record, specialized=bool(fixed))
         self.steps.append(record)
@@ -122,7 +125,7 @@ class Certificate:
             record.status = Status.UNKNOWN
             record.detail = str(exc)
             raise
-        except (HKProofError, ZeroDivisionError) as exc:
+        except Exception as exc:  # noqa: BLE001 -- KeyboardInterrupt passes; everything else is recorded
             record.status = Status.UNKNOWN
             record.detail = f"{type(exc).__name__}: {exc}"
             raise ProofStopped(record.detail) from None
@@ -133,8 +136,10 @@ class Certificate:
             record.seconds = time.perf_counter() - start
 
     def formula(self, name: str, value: Frac | str) -> None:
-        """Record a formula found (sympy-parsable, in the system's own names)."""
+        """Record a formula found (sympy-parsable, in the system's own names), and its exact value if given one."""
         self.formulas[name] = str(value)
+        if isinstance(value, Frac):
+            self.values[name] = value
 
     def correction(self, text: str) -> None:
         """Record a place where the paper is wrong or imprecise, with the corrected statement."""
@@ -145,7 +150,22 @@ class Certificate:
                 "statement": self.statement, "status": self.status.label,
                 "seconds": round(self.seconds, 4), "steps": [s.to_dict() for s in self.steps],
                 "formulas": dict(self.formulas), "corrections": list(self.corrections),
-                "notes": list(self.notes), "error": self.error}
+                "notes": list(self.notes), "error": self.error, "cites": list(self.cites)}
+
+    def __getstate__(self) -> dict:
+        """Pickled (for a worker process or a Dask worker) with its exact values packed as exponent bytes and
+        integer coefficients; a certificate that arrived pickled is passed on without packing it again."""
+        state = {k: v for k, v in self.__dict__.items() if k != "_packed"}
+        packed = self.__dict__.get("_packed")
+        fresh = packed is not None and packed.keys() == self.values.keys()
+        state["values"] = packed if fresh else {k: _pack(v) for k, v in self.values.items()}
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        rings: dict[tuple[str, ...], Ring] = {}
+        self.__dict__.update(state)
+        self.values = {k: _unpack(v, rings) for k, v in state["values"].items()}
+        self._packed = state["values"]
 
     def render(self) -> str:
         """A readable certificate for the terminal."""
@@ -163,3 +183,25 @@ class Certificate:
         if self.error:
             lines.append(f"    stopped: {self.error}")
         return "\n".join(lines)
+
+
+def _pack(q: Frac) -> tuple:
+    """A rational function as compact picklable data: its ring's names; exponents (bytes) and coefficients of
+    num and den."""
+    return (q.ring.names,) + tuple((array("L", [e for m in p.monoms() for e in m]).tobytes(), p.coeffs())
+                                   for p in (q.num, q.den))
+
+
+def _unpack(packed: tuple, rings: dict[tuple[str, ...], Ring]) -> Frac:
+    names, *polys = packed
+    if names not in rings:
+        rings[names] = Ring(names)
+    ring = rings[names]
+    num, den = (ring.ctx.from_dict(dict(zip(_exponents(raw, len(names)), coeffs))) for raw, coeffs in polys)
+    return Frac(ring, num, den, reduced=True)
+
+
+def _exponents(raw: bytes, nvars: int) -> Iterator[tuple[int, ...]]:
+    flat = array("L")
+    flat.frombytes(raw)
+    return zip(*[iter(flat)] * nvars)

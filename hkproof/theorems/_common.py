@@ -35,8 +35,13 @@ def require_matrix_form(s: StepRecorder, kmap: KahanMap, want_m: Sequence[Sequen
     r = kmap.ring
     m, b = kmap.matrix
     want_b = want_b if want_b is not None else [Frac(r, r.gen(v)) for v in kmap.variables]
-    for i in range(len(b)):
+    n = len(b)
+    s.require(len(want_m) == n and all(len(row) == n for row in want_m),
+              f"the claimed M has shape {[len(row) for row in want_m]} (entries per row), the Kahan equations are "
+              f"{n} x {n}")
+    s.require(len(want_b) == n, f"the claimed right-hand side has {len(want_b)} entries, the Kahan equations {n}")
+    for i in range(n):
         scale = Frac(r, m[i][i]) if normalize_rows else Frac(r, 1)
         s.require_equal(Frac(r, b[i]) / scale, want_b[i], f"right-hand side {i + 1}")
-        for j in range(len(b)):
+        for j in range(n):
             s.require_equal(Frac(r, m[i][j]) / scale, want_m[i][j], f"M[{i + 1},{j + 1}]")

@@ -6,7 +6,7 @@ from typing import Mapping
 from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.registry import claim
+from hkproof.orchestration.registry import claim
 from hkproof.theorems._common import parse, parse_matrix, require_matrix_form
 
 GROUP = "lotka-volterra"
@@ -28,7 +28,7 @@ def prove_lv_explicit(cert: Certificate, claimed: Mapping[str, str]) -> None:
     with cert.step("matrix form of the Kahan equations", "coefficients of x~ in E(x, x~, eps)", r) as s:
         require_matrix_form(s, f, parse_matrix(f, claimed["M"]), [row[0] for row in parse_matrix(f, claimed["b"])])
     with cert.step("explicit map", "Cramer's rule, gcd cancelled", r) as s:
-        for name, comp in zip(("x_tilde", "y_tilde"), f.components()):
+        for name, comp in zip(("x_tilde", "y_tilde"), f.components(), strict=True):
             s.require_equal(comp, parse(f, claimed[name]), name)
             cert.formula(name, comp)
         cert.formula("Delta", Frac(r, f.denominator))

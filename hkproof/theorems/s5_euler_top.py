@@ -12,7 +12,7 @@ from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.integrals import lie_derivative
 from hkproof.hk.reduced import prove_by_evenness
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.registry import claim, proven, require_proven
+from hkproof.orchestration.registry import claim, proven, require_proven
 from hkproof.theorems._common import monomial_squares, parse, parse_matrix, require_matrix_form
 
 GROUP = "euler-top"
@@ -42,7 +42,7 @@ def prove_et_continuous(cert: Certificate, claimed: Mapping[str, str]) -> None:
         g = r.extend(["g1", "g2", "g3"])
         field_g = Frac.parse(g, "g1*x1**2 + g2*x2**2 + g3*x3**2")
         rhs = [fc.to_ring(g) for fc in field.rhs]
-        deriv = sum((field_g.derivative(v) * fc for v, fc in zip(X, rhs)), Frac(g, 0))
+        deriv = sum((field_g.derivative(v) * fc for v, fc in zip(X, rhs, strict=True)), Frac(g, 0))
         expected = Frac.parse(g, "2*(g1*a1 + g2*a2 + g3*a3)*x1*x2*x3")
         s.require_equal(deriv, expected, "dH/dt")
         s.note("dH/dt = 2 <gamma, alpha> x1 x2 x3")
@@ -74,7 +74,7 @@ def prove_et_explicit(cert: Certificate, claimed: Mapping[str, str]) -> None:
         require_matrix_form(s, f, parse_matrix(f, claimed["A"]))
     with cert.step("explicit map and Delta = det A", "Cramer's rule, gcd cancelled", r) as s:
         s.require_equal(Frac(r, f.denominator), parse(f, claimed["Delta"]), "Delta")
-        for v, comp in zip(X, f.components()):
+        for v, comp in zip(X, f.components(), strict=True):
             s.require_equal(comp, parse(f, claimed[f"{v}_tilde"]), f"{v}~")
             cert.formula(f"{v}_tilde", comp)
         cert.formula("Delta", Frac(r, f.denominator))
@@ -144,7 +144,7 @@ def prove_et_first(cert: Certificate, claimed: Mapping[str, str]) -> None:
            "d2": "a1*(1 - eps**2*a2*a3*x1**2)/(a1*x2**2 - a2*x1**2)",
            "det_factorization": f"4*eps*a_i*(1 - eps**2*a_j*a_k*x_i**2)*{PRODUCT}/Delta**2",
            "relation": "a1*d1 + a2*d2 - eps**2*a1*a2*a3",
-       })
+       }, uses=["et-first-hk-basis"])
 def prove_et_second(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(GROUP)
     r = f.ring
@@ -182,7 +182,7 @@ def prove_et_symmetric(cert: Certificate, claimed: Mapping[str, str]) -> None:
         names = (f"{label}_{pair[0]}", f"{label}_{pair[1]}")
         sol = prove_by_evenness(cert, f, monomial_squares(f, pair), Frac(f.ring, 1), names)
         with cert.step(f"{label}: solution is the cyclic image of (d1, d2)", "exact comparison", f.ring) as s:
-            for got, key in zip(sol, ("d1", "d2")):
+            for got, key in zip(sol, ("d1", "d2"), strict=True):
                 s.require_equal(got, parse(f, _cycled(claimed[key], shift)), f"{label} coefficient")
 
 
@@ -190,7 +190,7 @@ def prove_et_symmetric(cert: Certificate, claimed: Mapping[str, str]) -> None:
        "sec. 5.3, Th. \"dET full basis\"",
        "The 1-dimensional null-spaces of Phi1, Phi2 lie in K_Phi and are independent, and rank X_[0,1] = 2, so "
        "dim K_Phi = 2 (generic x); K_Phi0 lies in K_Phi1 + K_Phi2; any two of the four null-spaces span K_Phi.",
-       claimed={"dimension": "2"})
+       claimed={"dimension": "2"}, uses=["et-first-hk-basis", "et-second-hk-basis", "et-symmetric-bases"])
 def prove_et_full(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(GROUP)
     r = f.ring

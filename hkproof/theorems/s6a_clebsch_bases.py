@@ -19,7 +19,7 @@ from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals, prove_by_evenness
 from hkproof.hk.translation import prove_on_slice, slice_decides, verify_on_slice
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.registry import claim, require_proven
+from hkproof.orchestration.registry import claim, require_proven
 from hkproof.theorems._clebsch import (SYSTEM, TRANSLATION, X, cycled, named, number, recall, record, shift_frac,
                                        substituted)
 
@@ -86,7 +86,7 @@ def prove_basis1_relations(cert: Certificate, claimed: Mapping[str, str]) -> Non
         s.require(Frac.parse(t, claimed["twelve_variable_identity"]).is_zero(),
                   "the printed twelve-variable equation is not an identity")
     with cert.step("J(x~) = J(x) modulo the equations eq. \"dC\"", "explicit cofactors, checked by expansion", t) as s:
-        e = dict(zip(X, f.equations))
+        e = dict(zip(X, f.equations, strict=True))
         x = {n: t.gen(n) for n in X}
         xt = {n: t.gen(n + TILDE) for n in X}
         eps = t.gen(EPS)
@@ -159,12 +159,12 @@ def prove_basis2(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.note("proven below as a row of the system of Prop. \"prop: even\"")
     basis, target = _functions(f, MP), named(f, "H3")
     d = prove_on_slice(cert, f, TRANSLATION, basis, target, names, (0, 1), [rel])
-    for k, dk in zip(names, d):
+    for k, dk in zip(names, d, strict=True):
         record(cert, k, dk)
     with cert.step("the cancelled common factor of Cramer's rule", "det of the fraction-free system / denominator",
                    r) as s:
-        rows, rhs = zip(*(hk_row(f, basis, target, i) for i in (0, 1)))
-        matrix = [clear_row_denominators(list(row) + [b])[:3] for row, b in zip(rows, rhs)]
+        rows, rhs = zip(*(hk_row(f, basis, target, i) for i in (0, 1)), strict=True)
+        matrix = [clear_row_denominators(list(row) + [b])[:3] for row, b in zip(rows, rhs, strict=True)]
         common = det(matrix + [[c.num for c in rel.coefficients]]) / d[0].den
         factors = [(Frac(r, q), e) for q, e in common.factor()[1]]
         s.note("det = (denominator of d_k) x " + " x ".join(
@@ -173,7 +173,7 @@ def prove_basis2(cert: Certificate, claimed: Mapping[str, str]) -> None:
             for q, e in factors) + " (up to a constant): the non-even factors cancel ('miraculous cancellation')")
     with cert.step("the printed relation row of eq. \"dC ansatz_2_final\"", "exact evaluation at the solution", r) as s:
         printed = _relation(f, PRINTED_ROW, names)
-        value = sum((c * x for c, x in zip(printed.coefficients, d)), Frac(r, 0))
+        value = sum((c * x for c, x in zip(printed.coefficients, d, strict=True)), Frac(r, 0))
         if value != printed.rhs:
             cert.correction("eq. \"dC ansatz_2_final\" prints the relation row (w2 - w3) d7 + (w3 - w1) d8 + "
                             "(w2 - w2) d9 = 0, which the integrals d_k do not satisfy; the row is eq. \"dC basis 2 "
@@ -187,7 +187,7 @@ def prove_basis2(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.require(not scale.variables() & set(X), "the eps^0 part of the denominator is not a multiple of H4")
         delta = delta / scale
         pieces = {}
-        for k, dk in zip(names, d):
+        for k, dk in zip(names, d, strict=True):
             bracket = dk * delta / h3
             s.require(bracket.is_polynomial(), f"{k} Delta / H3 is not a polynomial")
             coeffs = coefficients_in(r, bracket.num, EPS)
@@ -220,7 +220,7 @@ def prove_basis2(cert: Certificate, claimed: Mapping[str, str]) -> None:
        "d7/d8 - 1 - eps^2 (w2 - w1) J = eps^4 X + O(eps^6) with X involving H1, so the limits H3, H4, X are "
        "independent.",
        claimed={"J_limit": "H3", "J_over_d_limit": "H4", "ratio_eps2": "(w2 - w1)*H3",
-                "ratio_eps4": "(w2 - w1)*(2*H4**2 + w2*H3**2 - 2*H3*H1)"})
+                "ratio_eps4": "(w2 - w1)*(2*H4**2 + w2*H3**2 - 2*H3*H1)"}, uses=["dc-basis1-relations", "dc-basis2"])
 def prove_basis2_independence(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -278,7 +278,8 @@ THETA_BASIS, THETA_TARGET = ("I1", "I2", "I3"), "H4"   # eq. "clebsch_ansatz_3a"
        claimed={"additional": "(w2 - w3)*g1 + (w3 - w1)*g2 + (w1 - w2)*g3 = (w2 - w3)*(w3 - w1)*(d8 - d7)/2",
                 "rhs_forms": "(w3 - w1)*(w1 - w2)*(d9 - d8)/2 = (w1 - w2)*(w2 - w3)*(d7 - d9)/2",
                 "g_4": G4_PRINTED,
-                "g4": "(g2 - g3)/(w2 - w3)", "g5": "(g3 - g1)/(w3 - w1)", "g6": "(g1 - g2)/(w1 - w2)"})
+                "g4": "(g2 - g3)/(w2 - w3)", "g5": "(g3 - g1)/(w3 - w1)", "g6": "(g1 - g2)/(w1 - w2)"},
+                uses=["dc-basis2"])
 def prove_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -295,7 +296,7 @@ def prove_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
                    "shift (the system and f are cyclically symmetric, dc-map-symmetries)", r) as s:
         small = TRANSLATION.slice_map(f)
         sliced = [TRANSLATION.restrict(b) for b in basis]
-        rows, rhs = zip(*(hk_row(small, sliced, TRANSLATION.restrict(target), i) for i in (0, 1)))
+        rows, rhs = zip(*(hk_row(small, sliced, TRANSLATION.restrict(target), i) for i in (0, 1)), strict=True)
         srel = TRANSLATION.restrict_relation(rel)
         (g1,), _ = cramer(list(rows) + [srel.coefficients], list(rhs) + [srel.rhs], columns=[0])
         g1 = TRANSLATION.lift(g1, r)
@@ -303,7 +304,7 @@ def prove_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.note("the candidate is only a candidate: the next steps prove it is the unique solution")
     g = verify_on_slice(cert, f, TRANSLATION, basis, target, names, candidate, sample_point(r.names, seed=5),
                         (0, 1), [rel])
-    for k, gk in zip(names, g):
+    for k, gk in zip(names, g, strict=True):
         record(cert, k, gk)
     with cert.step("the other forms of the right-hand side", "exact, using the d_k of dc-basis2", r) as s:
         for form in claimed["rhs_forms"].split("="):
@@ -321,7 +322,7 @@ def prove_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
             s.require_equal(Frac(r, coeffs[0], top.den), named(f, indexed(claimed["g_4"], k=index)),
                             f"g{index}^(4)")
     with cert.step("g4, g5, g6 and the expansion in monomials", "exact identity in Q(m, p, eps, w)", r) as s:
-        gs = dict(zip(names, g))
+        gs = dict(zip(names, g, strict=True))
         for k in ("g4", "g5", "g6"):
             gs[k] = named(f, claimed[k], gs)
             record(cert, k, gs[k])
@@ -375,7 +376,8 @@ _ABC_CYCLE = {"A": "B", "B": "C", "C": "A"}
        "d7, d8 linear in A, B, C, D and D on the quadric eq. \"ABCD dependence\" (dc345-abcd), J, d7, d8, g_k are "
        "functions of A, B, C, so the Jacobian of (J, d7, d8, g_k) has generic rank `rank` (not 4) for k = 1, 2, 3: "
        "at most 3 by these relations, at least 3 by a non-zero minor at a point.",
-       claimed={"rank": "3", "J": J_VIA_ABCD, "g1": G1_VIA_ABCD})
+       claimed={"rank": "3", "J": J_VIA_ABCD, "g1": G1_VIA_ABCD},
+       uses=["dc-basis1-relations", "dc-basis2", "dc-theta", "dc345-abcd"])
 def prove_theta_dependence(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring

@@ -14,7 +14,7 @@ from hkproof.dynamics.field import EPS
 from hkproof.errors import HKProofError
 from hkproof.hk.expansion import support_stats
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.registry import claim, require_proven
+from hkproof.orchestration.registry import claim, require_proven
 from hkproof.theorems._clebsch import SYSTEM, X, number
 
 GROUP = "clebsch-f2"
@@ -60,7 +60,7 @@ def _rows(stats: dict[str, dict]) -> dict[str, str]:
 
 
 def _compare_table(cert: Certificate, s, found: dict[str, str], claimed: str, printed: str, what: str) -> None:
-    for row, want, paper in zip(ROWS, claimed.split(";"), printed.split(";")):
+    for row, want, paper in zip(ROWS, claimed.split(";"), printed.split(";"), strict=True):
         s.require(found[row] == want.strip(), f"{what}, row {row}: computed {found[row]}, claimed {want.strip()}")
         if found[row] != paper.strip():
             cert.correction(f"Table \"f2\", row '{row}': printed (deg, deg_p1..deg_m3) = {paper.strip()}, "
@@ -77,7 +77,7 @@ def _compare_table(cert: Certificate, s, found: dict[str, str], claimed: str, pr
        claimed={"table": "26 24 24 24 12 12 12; 27 25 24 24 12 12 12; 27 24 25 24 12 12 12; 27 24 24 25 12 12 12; "
                          "32 28 28 28 15 14 14; 32 28 28 28 14 15 14; 32 28 28 28 14 14 15",
                 "p1_monomials": "64059", "p1_terms": "1647594"},
-       slow=True)
+       slow=True, uses=["dc-map-symmetries"])
 def prove_f2_plain(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -110,7 +110,7 @@ def prove_f2_plain(cert: Certificate, claimed: Mapping[str, str]) -> None:
        claimed={"g_degree": "8",
                 "table": "18 16 16 16 8 8 8; 19 17 16 16 8 8 8; 19 16 17 16 8 8 8; 19 16 16 17 8 8 8; "
                          "19 16 16 16 9 8 8; 19 16 16 16 8 9 8; 19 16 16 16 8 8 9"},
-       slow=True)
+       slow=True, uses=["dc-map-symmetries"])
 def prove_f2_reduced(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -139,7 +139,7 @@ def prove_f2_reduced(cert: Certificate, claimed: Mapping[str, str]) -> None:
         stats = {"denominator": support_stats(r, den, X), "p1": support_stats(r, p1, X),
                  "m1": support_stats(r, m1, X)}
         found = _rows(stats)
-        for row, want in zip(ROWS, claimed["table"].split(";")):
+        for row, want in zip(ROWS, claimed["table"].split(";"), strict=True):
             s.require(found[row] == want.strip(), f"reduced row {row}: computed {found[row]}, claimed {want.strip()}")
         s.note("; ".join(f"{k}: {v['monomials']} monomials in (m, p), {v['terms']} terms" for k, v in stats.items()))
 
@@ -188,5 +188,5 @@ def _solve_overdetermined(system: flint.fmpq_mat, values: list[int]) -> list[fli
 def _to_ring_exponent(r, key: tuple) -> tuple:
     """(m1, m2, m3, p1, p2, p3, eps, w1, w2, w3) exponents in the order of the map's ring."""
     names = X + (EPS, "w1", "w2", "w3")
-    exps = dict(zip(names, key))
+    exps = dict(zip(names, key, strict=True))
     return tuple(exps.get(n, 0) for n in r.names)

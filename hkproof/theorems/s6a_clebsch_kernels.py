@@ -12,7 +12,7 @@ from hkproof.experiments.profiles import HK_BASIS, ProfileProblem
 from hkproof.experiments.scene import make_scene
 from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.proof.certificate import Certificate, ProofStopped
-from hkproof.proof.registry import REGISTRY, claim, require_proven
+from hkproof.orchestration.registry import REGISTRY, claim, require_proven
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import PHI_MAX, SYSTEM, X, named, number, recall
 
@@ -43,7 +43,7 @@ def _profiles(basis_idx, points=POINTS):
        "At generic (m, p): K_Phi contains the null-vectors of Phi0, Psi and Theta (placed in R^10), which are "
        "independent, and rank X_[0,5] = 6; so `lower` <= dim K_Phi <= `upper` (part I alone; with Phi1, Phi2, Phi3 "
        "of part II, dim K_Phi = 4 is proven in dc345-max-basis).",
-       claimed={"lower": "3", "upper": "4"})
+       claimed={"lower": "3", "upper": "4"}, uses=["dc-basis1-relations", "dc-basis2", "dc-theta"])
 def prove_max_basis_bounds(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -57,7 +57,7 @@ def prove_max_basis_bounds(cert: Certificate, claimed: Mapping[str, str]) -> Non
         [recall(th, f"g{k}", r) for k in range(1, 7)] + [minus] * 3 + [zero],
     ]
     values, x = POINTS[0]
-    point = {**dict(zip(X, x)), **values}
+    point = {**dict(zip(X, x, strict=True)), **values}
     with cert.step("lower bound: K_Phi0, K_Psi, K_Theta in K_Phi, independent", "exact rank at a rational point",
                    r) as s:
         rank = rank_q([[v.evaluate(point) for v in vec] for vec in vectors])
@@ -113,7 +113,7 @@ def _kernel_evidence(cert: Certificate, points, profile: str) -> None:
             rows = []
             for name, idx in PHI_SUB.items():
                 vec = [flint.fmpq(0)] * 10
-                for i, v in zip(idx, subs[name][j].kernel[0]):
+                for i, v in zip(idx, subs[name][j].kernel[0], strict=True):
                     vec[i] = to_fmpq(str(v))
                 rows.append(vec)
             span = rank_q(rows)

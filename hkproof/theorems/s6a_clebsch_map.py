@@ -11,7 +11,7 @@ from hkproof.hk.expansion import support_stats, weighted_degrees
 from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.integrals import lie_derivative
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.registry import claim
+from hkproof.orchestration.registry import claim
 from hkproof.theorems._clebsch import H, SYSTEM, X, cycled, named, number, shift
 from hkproof.theorems._common import parse, parse_matrix, require_matrix_form
 
@@ -49,7 +49,7 @@ def prove_continuous(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     field, r = f.field, f.ring
     with cert.step("the catalogue system is the printed Clebsch flow", "exact comparison of right-hand sides", r) as s:
-        for v, got, want in zip(X, field.rhs, parse_matrix(f, "[" + claimed["rhs"] + "]")[0]):
+        for v, got, want in zip(X, field.rhs, parse_matrix(f, "[" + claimed["rhs"] + "]")[0], strict=True):
             s.require_equal(got, want, f"{v}'")
     hs = {k: named(f, claimed[k]) for k in H}
     with cert.step("H1, H2, H3, H4 are quadratic integrals", "Lie derivative along the flow is 0; degrees", r) as s:
@@ -87,7 +87,7 @@ def prove_equations(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     t, r = f.field.tilde_ring, f.ring
     with cert.step("Kahan equations = eq. \"dC\"", "exact comparison in Z[m, p, m~, p~, eps, w]", t) as s:
-        for v, e in zip(X, f.equations):
+        for v, e in zip(X, f.equations, strict=True):
             s.require_equal(Frac(t, e), Frac.parse(t, claimed[f"eq_{v}"]), f"equation for {v}~")
     with cert.step("matrix form M (m~, p~) = (m, p)", "coefficients of (m~, p~) in eq. \"dC\"", r) as s:
         require_matrix_form(s, f, parse_matrix(f, claimed["M"]))
@@ -117,9 +117,9 @@ def prove_explicit(cert: Certificate, claimed: Mapping[str, str]) -> None:
             s.require(row == delta * r.gen(v), f"row {i + 1} of M N differs from Delta {v}")
     with cert.step("Delta(m, p, 0) = 1, f(m, p, 0) = (m, p)", "substitution eps = 0", r) as s:
         s.require(delta.subs({EPS: 0}) == 1, "Delta(m, p, 0) != 1")
-        s.require(all(p.subs({EPS: 0}) == r.gen(v) for p, v in zip(nums, X)), "N(m, p, 0) != (m, p)")
+        s.require(all(p.subs({EPS: 0}) == r.gen(v) for p, v in zip(nums, X, strict=True)), "N(m, p, 0) != (m, p)")
     cert.formula("Delta_f", Frac(r, delta))
-    for v, p in zip(X, nums):
+    for v, p in zip(X, nums, strict=True):
         cert.formula(f"N_{v}", Frac(r, p))
 
 
@@ -139,9 +139,9 @@ def prove_symmetries(cert: Certificate, claimed: Mapping[str, str]) -> None:
     with cert.step("weighted homogeneity", "weighted degrees of every term", r) as s:
         w1 = {**{v: 1 for v in X}, EPS: -1}
         w2 = {"m1": 1, "m2": 1, "m3": 1, "w1": 2, "w2": 2, "w3": 2, EPS: -1}
-        for p, name in [(delta, "Delta")] + [(n, f"N_{v}") for n, v in zip(nums, X)]:
+        for p, name in [(delta, "Delta")] + [(n, f"N_{v}") for n, v in zip(nums, X, strict=True)]:
             wants = (0 if p is delta else 1, 0 if p is delta or name.startswith("N_p") else 1)
-            for weights, want in zip((w1, w2), wants):
+            for weights, want in zip((w1, w2), wants, strict=True):
                 got = weighted_degrees(r, p, weights)
                 s.require(got == {want}, f"{name} has weighted degrees {got} for {weights}, expected {{{want}}}")
         s.note("Delta has weight 0 and N_i weight 1 for (m, p, eps) ~ (1, 1, -1); for (m, w, eps) ~ (1, 2, -1) "

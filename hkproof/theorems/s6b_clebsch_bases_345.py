@@ -17,7 +17,7 @@ from hkproof.hk.linear_relations import parse_relation
 from hkproof.errors import ParseError
 from hkproof.hk.reduced import Relation, linear_combination_equals, orbit_points
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.registry import claim, require_proven
+from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import SYSTEM, X, named, recall, record, substitute_named
 
@@ -89,7 +89,7 @@ def _augmented(rels: Sequence[Relation]) -> list[list[Frac]]:
        "The printed relations rel18_1 ... rel18_8 are nine independent relations, the two further printed "
        "relations follow from them, and all hold for the kernel coordinates alpha_j, beta_j, gamma_j proven in "
        "dc345-alpha and dc345-step5 (so they are no longer hypothetical, as they were in the paper).",
-       claimed={**REL18, "rel18_extra": REL18_EXTRA})
+       claimed={**REL18, "rel18_extra": REL18_EXTRA}, uses=["dc345-alpha", "dc345-step5"])
 def prove_relations(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -180,7 +180,7 @@ def _same_relation(a: Relation, b: Relation) -> bool:
        "A^(2) = B^(2) = C^(2) as printed, D = (H3 + eps^2 D^(4) + eps^4 D^(6) + eps^6 D^(8))/(2 Delta) with "
        "D^(4) as printed; (d7, d8, d9) M2 = 0, det M2 = 0, and rel18_1 ... rel18_4 hold for M2.",
        claimed={"M2": M2, **ADD, **ADD_ABCD, "abcd_dependence": ABCD_DEPENDENCE, "A_2": A_2, "D_4": D_4,
-                "A_leading": "1", "D_leading": "p1**2 + p2**2 + p3**2"})
+                "A_leading": "1", "D_leading": "p1**2 + p2**2 + p3**2"}, uses=["dc-basis2", "dc-theta"])
 def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -313,7 +313,8 @@ def step1_relations(f, known: Mapping[str, Frac]) -> list[Relation]:
        "The 17 equations (eqs. \"Psi1 iterates\" ... \"Psi3 iterates\" with i = 0, 1, rel18_1 ... rel18_8, "
        "'dC Psi add lin rel 1, 2') in 18 unknowns have rank 17 and a kernel vector with zero j = 4, 5, 6 "
        "components, so those components are unique; they equal eq. \"M2\" with A, B, C, D of dc345-abcd.",
-       claimed={"kernel_vector": "[(w2 - w3)*n, (w3 - w1)*n, (w1 - w2)*n]"})
+       claimed={"kernel_vector": "[(w2 - w3)*n, (w3 - w1)*n, (w1 - w2)*n]"},
+       uses=["dc-basis2", "dc345-abcd", "dc345-alpha", "dc345-step5"])
 def prove_step1(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -379,7 +380,8 @@ def _step1_at(f, rels: Sequence[Relation], point: Mapping[str, flint.fmpq]):
        "Th. \"dC bases 345\": J, alpha1, beta1, gamma1 functionally independent; A, B, C independent",
        "sec. 6.7, last sentence of Th. \"dC bases 345\"; remark after eq. \"ABCD dependence\"",
        "The Jacobian of (J, alpha1, beta1, gamma1) with respect to (m, p) has rank 4 at a rational point (alpha1, "
-       "beta1, gamma1 the integrals of dc345-alpha and dc345-step5), and that of (A, B, C) has rank 3.")
+       "beta1, gamma1 the integrals of dc345-alpha and dc345-step5), and that of (A, B, C) has rank 3.",
+       uses=["dc-basis1-relations", "dc345-abcd", "dc345-alpha", "dc345-step5"])
 def prove_independence(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -404,7 +406,8 @@ def prove_independence(cert: Certificate, claimed: Mapping[str, str]) -> None:
        "d7, d8, d9 are linear in A, B, C, D (dc345-abcd), F is rational in them (dc345-alpha), and D lies on the "
        "quadric eq. \"ABCD dependence\" over Q(w)(A, B, C). So all of them depend functionally on A, B, C "
        "(locally, off D = 0), and, J, d7, d8 being independent (dc-basis2-independence), on J, d7, d8 -- with w "
-       "symbolic, where the paper checked F for numeric w only.")
+       "symbolic, where the paper checked F for numeric w only.",
+       uses=["dc-basis2-independence", "dc-theta-dependence", "dc345-alpha"])
 def prove_dependence(cert: Certificate, claimed: Mapping[str, str]) -> None:
     r = kahan_map(SYSTEM).ring
     require_proven(cert, "dc-theta-dependence")

@@ -11,7 +11,7 @@ from hkproof.hk.independence import sample_point
 from hkproof.hk.reduced import Relation, det_at_point, linear_combination_equals
 from hkproof.hk.translation import check_solution_on_slice, prove_on_slice
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.registry import claim, require_proven
+from hkproof.orchestration.registry import claim, require_proven
 from hkproof.theorems._clebsch import SYSTEM, TRANSLATION, X, named, recall, record
 from hkproof.theorems.s6a_clebsch_kernels import POINTS, _profiles
 from hkproof.theorems.s6b_clebsch_bases_345 import (F_TEXT, GROUP, REL18, _eps_pieces,
@@ -83,7 +83,7 @@ def _symmetric_step(cert: Certificate, f, c: str, sol: Sequence[Frac], abcd: Cer
        "unique solution of the symmetric system i = -1, 0, 1, so F is the paper's F; alpha_j has the form of "
        "eq. \"bigint_form\" with the leading terms of eq. \"alpha123\".",
        claimed={"F": F_VIA_ABCD, "F_row": F_TEXT, "F_leading": "1",
-                **{f"{u}_2": t for u, t in ALPHA123.items() if u[0] == "a"}})
+                **{f"{u}_2": t for u, t in ALPHA123.items() if u[0] == "a"}}, uses=["dc-basis2", "dc345-abcd"])
 def prove_alpha(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -118,7 +118,8 @@ def _link(f, text: str, k: int, unknowns: list[str], known: Mapping[str, Frac], 
        "equality of eq. \"rel18_6\", with alpha (resp. beta) known, have a unique solution, even in eps: beta_j and "
        "gamma_j are integrals (Prop. \"prop: even\"); they solve the symmetric systems i = -1, 0, 1 and have the form "
        "of eq. \"bigint_form\" with the leading terms of eq. \"alpha123\".",
-       claimed={"rel18_6": REL18["rel18_6"], **{f"{u}_2": t for u, t in ALPHA123.items() if u[0] != "a"}})
+       claimed={"rel18_6": REL18["rel18_6"], **{f"{u}_2": t for u, t in ALPHA123.items() if u[0] != "a"}},
+       uses=["dc-basis2", "dc345-abcd", "dc345-alpha"])
 def prove_step5(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
@@ -149,7 +150,7 @@ def kernel_vectors(cert: Certificate, r) -> dict[str, list[Frac]]:
        "Phi0, Phi1, Phi2, Phi3 are HK-bases with one-dimensional null-spaces spanned by the proven integral vectors "
        "(c_k; alpha_j; beta_j; gamma_j); placed in R^10 they are independent and span K_Phi, so dim K_Phi = `dim`: "
        "every orbit lies on an intersection of four quadrics.",
-       claimed={"dim": "4"})
+       claimed={"dim": "4"}, uses=["dc-basis1-relations", "dc-basis2", "dc-theta", "dc345-alpha", "dc345-step5"])
 def prove_max_basis(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring

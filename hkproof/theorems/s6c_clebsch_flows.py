@@ -19,7 +19,7 @@ from hkproof.hk.recipe_g import WHAT_IT_PROVES, recipe_g
 from hkproof.hk.reduced import Relation, prove_by_evenness
 from hkproof.hk.translation import ParameterTranslation, prove_on_slice
 from hkproof.proof.certificate import Certificate, ProofStopped, StepRecorder
-from hkproof.proof.registry import REGISTRY, claim, require_proven
+from hkproof.orchestration.registry import REGISTRY, claim, require_proven
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import H, named
 from hkproof.theorems._common import parse_matrix, require_matrix_form
@@ -222,7 +222,7 @@ def prove_second_flow(cert: Certificate, claimed: Mapping[str, str]) -> None:
        "sec. 6, theorem on the second flow; sec. 4, recipe (G)",
        "delta = L_num(x~) L_den(x) - L_num(x) L_den(x~) satisfies det M^2 delta = sum lambda_i E_i in "
        "Z[x, x~, eps, w] with explicit cofactors, so L o f = L where det M != 0.",
-       claimed={"L": SECOND["L"]})
+       claimed={"L": SECOND["L"]}, uses=["flow-second-theorem"])
 def prove_second_flow_recipe_g(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(FLOW2)
     big_l = named(f, claimed["L"], {k: Frac.parse(f.ring, v) for k, v in E_PAPER.items()})
@@ -440,7 +440,7 @@ YZ_SHIFT = ParameterTranslation(("w1", "w2", "w3"), "w3", (("y", "-z"),))
        "even in eps, hence integrals; with g4..g6 by eq. \"Theta rels\" they span K_Theta (dim 1); L_b, g1, g2 "
        "are functionally independent. The proof runs on the slice w3 = 0 of the shift (w, y) -> (w + c, y - z c), "
        "which leaves every flow of the family unchanged.",
-       claimed={"relation": THETA_RELATION}, slow=True)
+       claimed={"relation": THETA_RELATION}, slow=True, uses=["flow-general-phi0"])
 def prove_theta_all_flows(cert: Certificate, claimed: Mapping[str, str]) -> None:
     g = yz_map()
     _theta(cert, g, C_OF_YZ, _cite_l(cert, g, "flow-general-phi0"), claimed["relation"], YZ_SHIFT)
@@ -451,7 +451,7 @@ def prove_theta_all_flows(cert: Certificate, claimed: Mapping[str, str]) -> None
        "For the second flow (w, eps symbolic): (g1, g2, g3) from (sum g_k I_k) o f^i = H4 o f^i, i = 0, 1, and the "
        "relation with coefficients in the integral L are even in eps, hence integrals (Prop. \"prop: even\"); "
        "[g1 : ... : g6 : -1] with eq. \"Theta rels\" spans K_Theta (dim 1); L, g1, g2 are functionally independent.",
-       claimed={"relation": THETA_RELATION}, slow=True)
+       claimed={"relation": THETA_RELATION}, slow=True, uses=["flow-second-theorem"])
 def prove_second_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(FLOW2)
     _theta(cert, f, ("w1", "w2", "w3"), _cite_l(cert, f, "flow-second-theorem"), claimed["relation"])

@@ -14,7 +14,7 @@ from hkproof.dynamics.kahan import KahanMap, commutator_at
 from hkproof.errors import ParseError
 from hkproof.hk.integrals import check_integral
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.registry import claim, require_proven
+from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import recall
 
@@ -115,7 +115,8 @@ def _names(text: str, known: Mapping[str, Frac]) -> list[str]:
        "A, B, C, D (dc345-abcd) is an integral of the second flow's Kahan map, and the second-flow integral L "
        "(flow-second-theorem) is not an integral of the first flow's Kahan map (same eps and w for both maps; eps is half "
        "the time step).",
-       claimed={"shared_by_second_flow": "none", "shared_by_first_flow": "none"})
+       claimed={"shared_by_second_flow": "none", "shared_by_first_flow": "none"},
+       uses=[*FIRST_FLOW_INTEGRALS, *SECOND_FLOW_INTEGRALS])
 def prove_shared_integrals(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f1, f2 = kahan_map(FLOW1), kahan_map(FLOW2)
     first = _integrals(cert, FIRST_FLOW_INTEGRALS, f1)

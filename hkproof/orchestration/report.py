@@ -5,8 +5,8 @@ import datetime
 import platform
 from typing import Sequence
 
+from hkproof.orchestration.registry import Claim
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.registry import Claim
 
 
 def _cell(text: str) -> str:

@@ -1,0 +1,265 @@
+"""Where proofs run: one small executor interface (in process, a process pool, Dask distributed) and the schedule
+that walks the claim graph on it -- dependencies first, each claim proven once per run, a worker handed the
+certificates its claim cites. The certificates do not depend on the executor."""
+from __future__ import annotations
+
+import itertools
+import logging
+import multiprocessing
+import multiprocessing.connection
+import signal
+import uuid
+from multiprocessing.connection import Connection
+from typing import Any, Callable, Hashable, Iterable, Mapping, Sequence, cast
+
+from hkproof.errors import HKProofError
+from hkproof.orchestration.graph import in_dependency_order
+from hkproof.orchestration.registry import REGISTRY, cached, get_claim, load_all, remember
+from hkproof.proof.certificate import Certificate
+
+EXECUTORS = ("process", "dask")
+
+
+def prove_citing(claim_id: str, cited: Mapping[str, Certificate]) -> Certificate:
+    """A worker's task: the run's cache seeded with the certificates `claim_id` cites, then the claim proven once."""
+    load_all()
+    remember(cited.values())
+    _share_exact_values(cited.values())
+    return get_claim(claim_id).prove()
+
+
+def _share_exact_values(certs: Iterable[Certificate]) -> None:
+    """The theorem helpers look exact values up by their text (theorems._clebsch.record/recall) instead of parsing
+    them again (some are too large for the parser); in a worker they come with the cited certificates."""
+    from hkproof.theorems import _clebsch
+    for cert in certs:
+        for name, value in cert.values.items():
+            _clebsch._FOUND.setdefault(cert.formulas[name], value)
+
+
+def worker_failed(claim_id: str, exc: BaseException) -> Certificate:
+    """An `unknown` certificate for a claim whose worker died or could not return (not the prover's verdict)."""
+    c = get_claim(claim_id)
+    cert = Certificate(c.id, c.title, c.paper_ref, c.statement)
+    cert.error = f"the worker proving {claim_id} failed: {type(exc).__name__}: {exc}"
+    return cert
+
+
+class Executor:
+    """Runs proofs somewhere: `submit` one claim with the certificates it cites, `wait` until some finish.
+    `slots` is how many proofs it runs at once."""
+
+    slots = 1
+
+    def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
+        raise NotImplementedError
+
+    def wait(self, handles: Sequence[Hashable]) -> list[tuple[Hashable, Certificate]]:
+        """Block until at least one of `handles` is done; their certificates."""
+        raise NotImplementedError
+
+    def close(self, interrupted: bool = False) -> None:
+        """Release the workers; after an interrupt, stop running proofs at once."""
+
+    def __enter__(self) -> Executor:
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        self.close(interrupted=exc_type is not None)
+
+
+class InProcessExecutor(Executor):
+    """`--jobs 1`: a plain loop in this process (no pool), for debugging; the cited claims are in the run's cache."""
+
+    def __init__(self) -> None:
+        self._done: dict[Hashable, Certificate] = {}
+        self._handles = itertools.count()
+
+    def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
+        handle = next(self._handles)
+        self._done[handle] = get_claim(claim_id).prove()
+        return handle
+
+    def wait(self, handles: Sequence[Hashable]) -> list[tuple[Hashable, Certificate]]:
+        return [(h, self._done.pop(h)) for h in handles]
+
+
+def _ignore_sigint() -> None:
+    """Workers leave Ctrl-C to the parent, which stops them (no traceback from every worker)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _serve(conn: Connection) -> None:
+    """A worker process: prove the claims the parent sends, one at a time, until it sends None."""
+    _ignore_sigint()
+    while (task := conn.recv()) is not None:
+        claim_id, cited = task
+        cert = prove_citing(claim_id, cited)
+        try:
+            conn.send(cert)
+        except Exception as exc:  # noqa: BLE001 -- e.g. a certificate that cannot be pickled
+            conn.send(worker_failed(claim_id, exc))
+
+
+class _Worker:
+    """One worker process and the pipe to it."""
+
+    def __init__(self) -> None:
+        self.conn, child = multiprocessing.Pipe()
+        self.process = multiprocessing.Process(target=_serve, args=(child,), daemon=True)
+        self.process.start()
+        child.close()
+
+
+class _Task:
+    """A claim being proven by a worker (the handle `submit` returns)."""
+
+    def __init__(self, claim_id: str, worker: _Worker) -> None:
+        self.claim_id, self.worker = claim_id, worker
+
+
+class ProcessPoolExecutor(Executor):
+    """`--jobs N`: N worker processes on this machine, each proving one claim at a time; a worker that dies costs
+    its claim (an `unknown` certificate) and is replaced. Plain pipes, no helper threads: Ctrl-C stops it at once."""
+
+    def __init__(self, jobs: int) -> None:
+        self.slots = jobs
+        self._idle: list[_Worker] = []
+        self._busy: list[_Worker] = []
+
+    def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
+        worker = self._idle.pop() if self._idle else _Worker()
+        try:
+            worker.conn.send((claim_id, dict(cited)))
+        except OSError:  # the worker died while idle
+            self._discard(worker)
+            worker = _Worker()
+            worker.conn.send((claim_id, dict(cited)))
+        self._busy.append(worker)
+        return _Task(claim_id, worker)
+
+    def wait(self, handles: Sequence[Hashable]) -> list[tuple[Hashable, Certificate]]:
+        tasks = {task.worker.conn: task for task in (cast(_Task, h) for h in handles)}
+        done: list[tuple[Hashable, Certificate]] = []
+        for conn in multiprocessing.connection.wait(list(tasks)):
+            task = tasks[cast(Any, conn)]
+            self._busy.remove(task.worker)
+            try:
+                cert = task.worker.conn.recv()
+            except (EOFError, OSError) as exc:
+                self._discard(task.worker)
+                cert = worker_failed(task.claim_id, exc if str(exc) else
+                                     RuntimeError(f"exit code {task.worker.process.exitcode}"))
+            else:
+                self._idle.append(task.worker)
+            done.append((task, cert))
+        return done
+
+    def _discard(self, worker: _Worker) -> None:
+        worker.process.kill()
+        worker.conn.close()
+
+    def close(self, interrupted: bool = False) -> None:
+        for worker in self._busy + self._idle:
+            if interrupted or worker in self._busy:
+                worker.process.terminate()
+            else:
+                worker.conn.send(None)
+        for worker in self._busy + self._idle:
+            worker.process.join()
+            worker.conn.close()
+        self._busy, self._idle = [], []
+
+
+def _result(future, claim_id: str) -> Certificate:
+    """The certificate a Dask future holds, or an `unknown` one if its worker failed."""
+    try:
+        return future.result()
+    except Exception as exc:  # noqa: BLE001 -- a dead worker costs its claim, never the run
+        return worker_failed(claim_id, exc)
+
+
+class DaskExecutor(Executor):
+    """`--executor dask`: the same graph on Dask distributed, on the cluster at `scheduler`, or on a LocalCluster
+    of `jobs` worker processes that this executor starts and stops."""
+
+    def __init__(self, jobs: int, scheduler: str | None = None) -> None:
+        try:
+            import distributed
+        except ImportError:
+            raise HKProofError("--executor dask needs Dask distributed: pip install 'hkproof[dask]'") from None
+        self._distributed = distributed
+        self._cluster = None
+        try:
+            if scheduler:
+                self._client = distributed.Client(scheduler, timeout=10)
+            else:
+                self._cluster = distributed.LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
+                                                         dashboard_address=None, silence_logs=logging.ERROR)
+                self._client = distributed.Client(self._cluster)
+        except (OSError, TimeoutError) as exc:
+            if self._cluster is not None:
+                self._cluster.close()
+            raise HKProofError(f"cannot reach the Dask scheduler {scheduler or '(local cluster)'}: {exc}") from None
+        self.slots = max(1, sum(self._client.nthreads().values()))
+        self._claims: dict[Hashable, str] = {}
+
+    def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
+        future = self._client.submit(prove_citing, claim_id, dict(cited), key=f"prove-{claim_id}-{uuid.uuid4().hex}")
+        self._claims[future] = claim_id
+        return future
+
+    def wait(self, handles: Sequence[Hashable]) -> list[tuple[Hashable, Certificate]]:
+        done, _ = self._distributed.wait(list(handles), return_when="FIRST_COMPLETED")
+        return [(f, _result(f, self._claims.pop(f))) for f in done]
+
+    def close(self, interrupted: bool = False) -> None:
+        if interrupted:
+            self._client.cancel(list(self._claims))
+        self._client.close()
+        if self._cluster is not None:
+            self._cluster.close()
+
+
+def make_executor(kind: str, jobs: int, scheduler: str | None, tasks: int) -> Executor:
+    """The executor for `--executor kind --jobs jobs [--scheduler ADDRESS]`, for `tasks` proofs to run."""
+    if kind not in EXECUTORS:
+        raise HKProofError(f"unknown executor '{kind}'; executors are {', '.join(EXECUTORS)}")
+    if scheduler and kind != "dask":
+        raise HKProofError("--scheduler ADDRESS is the address of a Dask scheduler: use it with --executor dask")
+    if kind == "dask":
+        return DaskExecutor(jobs, scheduler)
+    return ProcessPoolExecutor(min(jobs, tasks)) if min(jobs, tasks) > 1 else InProcessExecutor()
+
+
+def run_graph(claim_ids: Iterable[str], executor: Executor,
+              on_done: Callable[[Certificate], None] = lambda cert: None) -> dict[str, Certificate]:
+    """Prove `claim_ids` and the claims they cite, each at most once per run (the run's cache), dependencies first,
+    up to `executor.slots` at a time (slow claims first among those ready); `on_done` sees each certificate of
+    `claim_ids` as it completes. Every certificate of an unperturbed claim goes into the run's cache."""
+    load_all()
+    wanted = list(dict.fromkeys(claim_ids))
+    order = in_dependency_order(wanted, REGISTRY)
+    done: dict[str, Certificate] = {}
+    for cid in order:
+        cert = cached(cid)
+        if cert is not None:
+            done[cid] = cert
+            if cid in wanted:
+                on_done(cert)
+    pending = [cid for cid in order if cid not in done]
+    if executor.slots > 1:
+        pending.sort(key=lambda cid: not REGISTRY[cid].slow)  # stable: long proofs start early
+    running: dict[Hashable, str] = {}
+    while pending or running:
+        ready = [cid for cid in pending if all(u in done for u in REGISTRY[cid].uses)]
+        for cid in ready[:max(0, executor.slots - len(running))]:
+            running[executor.submit(cid, {u: done[u] for u in REGISTRY[cid].uses})] = cid
+            pending.remove(cid)
+        for handle, cert in executor.wait(list(running)):
+            cid = running.pop(handle)
+            done[cid] = cert
+            remember([cert])
+            if cid in wanted:
+                on_done(cert)
+    return {cid: done[cid] for cid in wanted}

@@ -1,0 +1,91 @@
+"""The architecture is checked, not intended: imports run one way through the layers of docs/architecture.md, and the
+package type-checks with mypy (configured in pyproject.toml)."""
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "hkproof"
+
+# lowest first; a module may import its own layer and the layers below it
+LAYERS = [
+    ("errors", ("hkproof.errors",)),
+    ("algebra", ("hkproof.algebra",)),
+    ("dynamics", ("hkproof.dynamics",)),
+    ("proof kernel", ("hkproof.proof",)),
+    ("hk", ("hkproof.hk",)),
+    ("experiments", ("hkproof.experiments",)),
+    # theorems register themselves with @claim: the registry sits below them (it loads them by name, not by import)
+    ("registry", ("hkproof.orchestration.registry",)),
+    ("theorems", ("hkproof.theorems",)),
+    ("orchestration", ("hkproof.orchestration",)),
+    ("front ends", ("hkproof.commands", "hkproof.cli", "hkproof.__main__")),
+]
+
+
+def layer_of(module: str) -> int:
+    """The index of the most specific layer whose prefix names `module`."""
+    best, length = None, -1
+    for index, (_, prefixes) in enumerate(LAYERS):
+        for prefix in prefixes:
+            if (module == prefix or module.startswith(prefix + ".")) and len(prefix) > length:
+                best, length = index, len(prefix)
+    if best is None:
+        raise AssertionError(f"{module} belongs to no layer of docs/architecture.md: add it to LAYERS")
+    return best
+
+
+def module_name(path: Path) -> str:
+    parts = path.relative_to(ROOT).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def imported(path: Path) -> set[str]:
+    """The hkproof modules a file imports (absolute imports; `from a import b` counts a.b when that is a module)."""
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            out |= {a.name for a in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            out.add(node.module)
+            out |= {f"{node.module}.{a.name}" for a in node.names
+                    if (ROOT / Path(*node.module.split("."), a.name)).with_suffix(".py").exists()}
+    return {m for m in out if m.startswith("hkproof")}
+
+
+def upward(name: str, path: Path) -> list[str]:
+    """The imports of module `name` (source at `path`) that reach a higher layer."""
+    here = layer_of(name)
+    return [f"{name} ({LAYERS[here][0]}) imports {t} ({LAYERS[layer_of(t)][0]})"
+            for t in sorted(imported(path)) if t != "hkproof" and layer_of(t) > here]
+
+
+def test_imports_run_one_way():
+    found = [line for path in sorted(PACKAGE.rglob("*.py")) if module_name(path) != "hkproof"
+             for line in upward(module_name(path), path)]
+    assert found == []
+
+
+def test_the_check_sees_an_upward_import(tmp_path):
+    """The layer test can fail: an algebra module importing the registry, or a theorem importing a command."""
+    probe = tmp_path / "probe.py"
+    probe.write_text("from hkproof.orchestration.registry import claim\n")
+    assert upward("hkproof.algebra.probe", probe)
+    probe.write_text("import hkproof.commands.scan\n")
+    assert upward("hkproof.theorems.probe", probe)
+    assert not upward("hkproof.commands.probe", probe)
+
+
+def test_every_module_has_a_layer():
+    for path in PACKAGE.rglob("*.py"):
+        if module_name(path) != "hkproof":
+            layer_of(module_name(path))
+
+
+def test_mypy_is_clean():
+    """mypy (a dependency of the test extra) finds no error in the package."""
+    out = subprocess.run([sys.executable, "-m", "mypy"], cwd=ROOT, capture_output=True, text=True, timeout=900)
+    assert out.returncode == 0, out.stdout[-5000:]

@@ -1,0 +1,257 @@
+"""The claim graph, the run's certificate cache, total provers and the executors (in process, pool, Dask)."""
+from __future__ import annotations
+
+import json
+
+import flint
+import pytest
+
+from hkproof.cli import main
+from hkproof.orchestration import registry
+from hkproof.orchestration.execution import DaskExecutor, InProcessExecutor, ProcessPoolExecutor, run_graph
+from hkproof.orchestration.graph import CitationCycleError, in_dependency_order
+from hkproof.orchestration.registry import REGISTRY, claim, get_claim, load_all, proven, require_proven, select
+from hkproof.proof.certificate import Certificate
+from hkproof.proof.status import Status
+
+load_all()
+
+
+@pytest.fixture
+def fresh_run(monkeypatch):
+    """A new run (empty certificate cache); the claims a test registers are forgotten afterwards."""
+    monkeypatch.setattr(registry, "_CACHE", {})
+    before = dict(REGISTRY)
+    yield
+    REGISTRY.clear()
+    REGISTRY.update(before)
+
+
+def _verified_claim(claim_id: str, uses=(), log=None, claimed=None) -> None:
+    """A tiny claim that is verified (or refuted when its claimed 'x' is not '1'); `log` counts its proofs."""
+    @claim(claim_id, "test", claim_id, "-", "-", claimed=claimed or {"x": "1"}, uses=uses)
+    def prove(cert: Certificate, given) -> None:
+        if log is not None:
+            with open(log, "a") as out:
+                out.write(claim_id + "\n")
+        for u in uses:
+            require_proven(cert, u)
+        with cert.step("x is 1", "comparison", "-") as s:
+            s.require(given["x"] == "1", "x is not 1")
+
+
+# -- the claim graph ------------------------------------------------------------------------------------------------
+def test_claim_graph_declared_and_acyclic():
+    order = in_dependency_order(REGISTRY, REGISTRY)
+    assert sorted(order) == sorted(REGISTRY)
+    position = {cid: k for k, cid in enumerate(order)}
+    for c in REGISTRY.values():
+        assert set(c.uses) <= set(REGISTRY), f"{c.id} uses an unregistered claim"
+        assert all(position[u] < position[c.id] for u in c.uses)
+    assert {"flow-general-phi0"} == set(REGISTRY["flow-theta-all"].uses)
+
+
+def test_graph_refuses_cycles_and_unknown_citations(fresh_run):
+    _verified_claim("t-a", uses=["t-b"])
+    _verified_claim("t-b", uses=["t-a"])
+    with pytest.raises(CitationCycleError, match="cycle"):
+        in_dependency_order(["t-a"], REGISTRY)
+    _verified_claim("t-c", uses=["t-nowhere"])
+    with pytest.raises(Exception, match="not a registered claim"):
+        in_dependency_order(["t-c"], REGISTRY)
+
+
+def test_undeclared_citation_is_refused(fresh_run):
+    @claim("t-undeclared", "test", "-", "-", "-")
+    def prove(cert, given):
+        require_proven(cert, "et-first-hk-basis")
+
+    @claim("t-undeclared-proven", "test", "-", "-", "-")
+    def prove_quietly(cert, given):
+        proven("et-first-hk-basis")
+
+    for cid in ("t-undeclared", "t-undeclared-proven"):
+        cert = get_claim(cid).prove()
+        assert cert.status is Status.UNKNOWN
+        assert "not declared" in cert.error
+    assert registry.cached("et-first-hk-basis") is None  # refused before anything was proven
+
+
+# -- one certificate cache per run ------------------------------------------------------------------------------------
+@pytest.mark.parametrize("pool", [False, True], ids=["in-process", "pool"])
+def test_cited_claim_proven_once_per_run(fresh_run, tmp_path, pool):
+    log = tmp_path / "proofs.log"
+    _verified_claim("t-base", log=log)
+    _verified_claim("t-left", uses=["t-base"], log=log)
+    _verified_claim("t-right", uses=["t-base"], log=log)
+    executor = ProcessPoolExecutor(2) if pool else InProcessExecutor()
+    with executor:
+        certs = run_graph(["t-left", "t-right"], executor)
+    assert all(c.status is Status.VERIFIED and c.cites == ["t-base"] for c in certs.values())
+    assert sorted(log.read_text().split()) == ["t-base", "t-left", "t-right"]
+    # pytest, report and prove read the same cache: nothing is proven again
+    assert get_claim("t-left").prove() is registry.cached("t-left")
+    assert proven("t-base").status is Status.VERIFIED
+    assert get_claim("t-base").prove() is registry.cached("t-base")
+    assert sorted(log.read_text().split()) == ["t-base", "t-left", "t-right"]
+    # a perturbed claim is proven afresh and never enters the cache
+    perturbed = get_claim("t-left").prove({"x": "2"})
+    assert perturbed.status is Status.REFUTED
+    assert registry.cached("t-left").status is Status.VERIFIED
+
+
+# -- total provers ----------------------------------------------------------------------------------------------------
+def _recursion():
+    return _recursion()
+
+
+def _flint_error():
+    ctx = flint.fmpz_mpoly_ctx.get(("x",))
+    return ctx.gen(0) ** -1
+
+
+CRASHES = {
+    "IndexError": lambda: [][1],
+    "ValueError": lambda: int("x"),
+    "AssertionError": lambda: exec("assert False, 'a bug'"),
+    "RecursionError": _recursion,
+    "MemoryError": lambda: (_ for _ in ()).throw(MemoryError("out of memory")),
+    "DomainError": _flint_error,
+}
+
+
+@pytest.mark.parametrize("inside_step", [True, False], ids=["in-step", "outside-step"])
+@pytest.mark.parametrize("name", list(CRASHES))
+def test_any_prover_error_is_an_unknown_certificate(fresh_run, name, inside_step):
+    @claim("t-crash", "test", "-", "-", "-")
+    def prove(cert, given):
+        if inside_step:
+            with cert.step("crashing step", "-", "-"):
+                CRASHES[name]()
+        CRASHES[name]()
+
+    cert = get_claim("t-crash").prove()
+    assert cert.status is Status.UNKNOWN
+    assert name in cert.error
+    if inside_step:
+        assert cert.steps[0].status is Status.UNKNOWN and name in cert.steps[0].detail
+
+
+def test_keyboard_interrupt_is_not_swallowed(fresh_run):
+    @claim("t-interrupted", "test", "-", "-", "-")
+    def prove(cert, given):
+        with cert.step("interrupted", "-", "-"):
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        get_claim("t-interrupted").prove()
+
+
+def test_a_crash_does_not_stop_the_run(fresh_run):
+    @claim("t-crash", "test", "-", "-", "-")
+    def prove(cert, given):
+        [][0]
+
+    _verified_claim("t-after", uses=["t-crash"])
+    _verified_claim("t-independent")
+    certs = run_graph(["t-crash", "t-after", "t-independent"], InProcessExecutor())
+    assert [certs[c].status for c in ("t-crash", "t-after", "t-independent")] == [
+        Status.UNKNOWN, Status.UNKNOWN, Status.VERIFIED]
+    assert "t-crash is unknown" in certs["t-after"].error
+
+
+# -- executors --------------------------------------------------------------------------------------------------------
+def _without_timings(cert: Certificate) -> dict:
+    d = cert.to_dict()
+    d.pop("seconds")
+    d["steps"] = [{k: v for k, v in s.items() if k != "seconds"} for s in d["steps"]]
+    return d
+
+
+def _euler_top_with(executor, monkeypatch) -> dict[str, dict]:
+    monkeypatch.setattr(registry, "_CACHE", {})
+    with executor:
+        certs = run_graph([c.id for c in select(groups=["euler-top"])], executor)
+    return {cid: _without_timings(cert) for cid, cert in certs.items()}
+
+
+def test_pool_and_in_process_certificates_identical(monkeypatch):
+    serial = _euler_top_with(InProcessExecutor(), monkeypatch)
+    assert all(c["status"] == "verified" for c in serial.values())
+    assert _euler_top_with(ProcessPoolExecutor(2), monkeypatch) == serial
+
+
+def test_dask_local_cluster_certificates_identical(monkeypatch):
+    pytest.importorskip("distributed", reason="Dask distributed is an optional extra: pip install 'hkproof[dask]'")
+    serial = _euler_top_with(InProcessExecutor(), monkeypatch)
+    assert _euler_top_with(DaskExecutor(2), monkeypatch) == serial
+
+
+def test_dask_on_an_existing_scheduler(monkeypatch):
+    distributed = pytest.importorskip("distributed", reason="Dask distributed is an optional extra")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cl:
+        certs = _euler_top_with(DaskExecutor(1, scheduler=cl.scheduler_address), monkeypatch)
+    assert all(c["status"] == "verified" for c in certs.values())
+
+
+# -- the command line -------------------------------------------------------------------------------------------------
+def test_prove_jsonl_streams_one_object_per_line(capsys):
+    assert main(["prove", "--group", "euler-top", "--jsonl", "--jobs", "2"]) == 0
+    lines = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    assert [r["id"] for r in lines[:-1]] and all(r["status"] == "verified" for r in lines[:-1])
+    assert lines[-1]["interrupted"] is False and lines[-1]["finished"] == len(lines) - 1
+
+
+@pytest.mark.parametrize("argv", [["--json", "--jsonl"], ["--jobs", "0"], ["--scheduler", "tcp://127.0.0.1:1"]])
+def test_prove_refuses_bad_run_options(argv, capsys):
+    try:
+        code = main(["prove", "et-full-basis", *argv])
+    except SystemExit as exc:  # argparse
+        code = exc.code
+    assert code == 2
+
+
+def test_report_write_checks_the_target_first(tmp_path, capsys):
+    assert main(["report", "--write", str(tmp_path / "missing" / "theorems.md")]) == 2
+    assert "does not exist" in capsys.readouterr().err
+    assert main(["report", "--write", str(tmp_path)]) == 2
+
+
+def test_report_writes_atomically(tmp_path):
+    from hkproof.commands.report import write_atomically
+    target = tmp_path / "theorems.md"
+    target.write_text("old")
+    target.chmod(0o644)
+    write_atomically(target, "new")
+    assert target.read_text() == "new"
+    assert target.stat().st_mode & 0o777 == 0o644  # not the temporary file's 0600
+    assert [p.name for p in tmp_path.iterdir()] == ["theorems.md"]
+
+
+# -- layers -----------------------------------------------------------------------------------------------------------
+def _imports(path) -> set[str]:
+    import ast
+    tree = ast.parse(path.read_text())
+    found = {alias.name for node in ast.walk(tree) if isinstance(node, ast.Import) for alias in node.names}
+    return found | {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom) and node.module}
+
+
+def test_only_theorems_and_front_ends_import_orchestration():
+    from pathlib import Path
+    package = Path(__file__).resolve().parents[1] / "hkproof"
+    lower = [p for layer in ("algebra", "dynamics", "hk", "experiments") for p in (package / layer).glob("*.py")]
+    lower += [package / "proof" / "status.py", package / "proof" / "certificate.py"]
+    offenders = [str(p.relative_to(package)) for p in lower
+                 if any(m.startswith("hkproof.orchestration") for m in _imports(p))]
+    assert offenders == []
+
+
+def test_certificate_travels_with_its_exact_values():
+    import pickle
+    cert = proven("dc-basis2")
+    assert cert.values  # d7, d8, ... kept exactly
+    copy = pickle.loads(pickle.dumps(cert))
+    assert copy.to_dict() == cert.to_dict()
+    assert all(copy.values[k] == v and copy.values[k].ring == v.ring for k, v in cert.values.items())
+    again = pickle.loads(pickle.dumps(copy))  # passed on by the scheduler without packing again
+    assert all(again.values[k] == v for k, v in cert.values.items())
