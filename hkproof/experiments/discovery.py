@@ -37,7 +37,7 @@ from hkproof.experiments.scene import Scene, make_scene
 from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.hk.discover import (DiscoveryReport, FoundIntegral, certify, independent_subset, is_phase_constant,
                                  jacobian_points)
-from hkproof.hk.reconstruct import reconstruct_rational, monomials_upto
+from hkproof.hk.reconstruct import dense_size, line_degrees, monomials_upto, reconstruct_rational
 from hkproof.proof.status import Status
 
 Exponents = tuple[int, ...]
@@ -337,13 +337,16 @@ class _Clock:
 
 
 def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[str, Rational] | None = None,
-             seconds: float = 300.0, seed: int = 0, progress: bool = False, max_degree: int = 8,
+             seconds: float = 300.0, seed: int = 0, progress: bool = False, max_degree: int = 16,
              max_unknowns: int = 2500) -> DiscoveryReport:
     """Integrals of the Kahan map of `system` whose HK-bases are monomials of degree <= `degree`, certified."""
     if not 1 <= degree <= 6:
         raise ParseError(f"--degree must be between 1 and 6, got {degree}")
     base = kahan_map(system).field if isinstance(system, str) else system
-    fixed = {k: to_fmpq(v) for k, v in (params or {}).items()}
+    try:
+        fixed = {k: to_fmpq(v) for k, v in (params or {}).items()}
+    except (ValueError, TypeError, ZeroDivisionError) as exc:
+        raise ParseError(f"--param values must be exact rationals such as 2 or -3/7: {exc}") from None
     original = specialize_field(base, fixed)
     report = DiscoveryReport(base.name, list(original.variables), list(original.parameters), degree,
                              {k: str(v) for k, v in fixed.items()})
@@ -475,43 +478,48 @@ def _confirm(scene: Scene, kmap: KahanMap, texts: list[str]) -> dict:
 def _reconstruct_all(report: DiscoveryReport, kmap: KahanMap, full_map: KahanMap, weights: Weights,
                      free: list[str], values: dict, candidates: list[Candidate], target: int, p: int, fixed,
                      clock: _Clock, max_degree: int, max_unknowns: int, rng: random.Random) -> None:
+    """Reconstruct and certify kernel coordinates, one per new independent gradient, simplest bases first."""
     accepted: list[list[int]] = []
-    jac_points = jacobian_points(full_map.ring.names)
     caches: dict[tuple, dict] = {}
+    too_big: set[tuple] = set()
+    inner = list(kmap.variables)
     count = 0
     for cand in candidates:
         if len(accepted) >= target:
             break
-        if rank_mod(accepted + [cand.gradient], p) <= len(accepted):
+        key = tuple(cand.basis)
+        if key in too_big or rank_mod(accepted + [cand.gradient], p) <= len(accepted):
             continue
-        clock.check(f"reconstructing integral {count + 1} of {target}")
-        count += 1
+        clock.check(f"reconstructing integral {len(accepted) + 1} of {target}")
         texts = [monomial_text(kmap.variables, e) for e in cand.basis]
-        name = f"I{count}"
-        clock.start("reconstruction", f"{name}: coordinate {cand.k + 1} of the kernel of ({', '.join(texts)})")
+        sampler = _sampler(kmap, texts, cand.k, weights, free, caches)
+        clock.start("reconstruction", f"degrees of coordinate {cand.k + 1} of the kernel of ({', '.join(texts)})")
         start = time.perf_counter()
-        sampler = _sampler(kmap, texts, cand.k, weights, values, free, caches)
-        ring = kmap.ring
-        inner = list(kmap.variables)
-        try:
-            rec = reconstruct_rational(ring, free, inner, sampler, max_degree=max_degree,
-                                       max_unknowns=max_unknowns, seed=rng.randint(0, 10**6))
-        except ArithmeticError as exc:
-            rec = None
-            note = str(exc)
+        lines = [line_degrees(sampler, free, inner, max_degree=max_degree, seed=rng.randint(0, 10**6))
+                 for _ in range(2)]
+        degrees = None if None in lines else (max(d[0] for d in lines), max(d[1] for d in lines))
+        size = None if degrees is None else dense_size(len(free) + len(inner), degrees)
+        if degrees is None or size > max_unknowns:
+            too_big.add(key)
+            report.skipped.append({"basis": texts, "coordinate": cand.k + 1,
+                                   "degrees": None if degrees is None else list(degrees),
+                                   "reason": (f"degree > {max_degree} along a line" if degrees is None else
+                                              f"dense ansatz of {size} unknowns (limit {max_unknowns})")})
+            continue
+        count += 1
+        name = f"I{len(report.integrals) + 1}"
+        clock.say(f"{name}: coordinate {cand.k + 1} of the kernel of ({', '.join(texts)}), degrees {degrees}, "
+                  f"{size} unknowns")
+        rec = reconstruct_rational(kmap.ring, free, inner, sampler, degrees, seed=rng.randint(0, 10**6))
+        notes = list(rec.notes)
         h = None
-        notes = [] if rec else [note]
-        if rec is not None:
-            notes += rec.notes
-            if rec.frac is not None:
-                weight = [a - b for a, b in zip(weights.of_monomial(_exps(kmap, cand.basis[-1])),
-                                                weights.of_monomial(_exps(kmap, cand.basis[cand.k])))]
-                h = restore_weights(rec.frac, weights, weight)
-                if h is None:
-                    notes.append("the interpolant is not weighted homogeneous: not restored")
-                else:
-                    notes.append(f"P/Q of total degree <= {rec.degree} from {rec.samples} exact samples, "
-                                 f"checked at {rec.checks} fresh ones")
+        if rec.frac is not None:
+            weight = [a - b for a, b in zip(weights.of_monomial(_exps(kmap, cand.basis[-1])),
+                                            weights.of_monomial(_exps(kmap, cand.basis[cand.k])))]
+            h = restore_weights(rec.frac, weights, weight)
+            notes.append("the interpolant is not weighted homogeneous: not restored" if h is None else
+                         f"P/Q with degrees {list(degrees)} from {rec.samples} exact samples, checked at "
+                         f"{rec.checks} fresh ones")
         coordinate = f"c{cand.k + 1} (last coordinate -1)"
         if h is None:
             report.integrals.append(FoundIntegral(name, None, Status.UNKNOWN, "kernel coordinate", texts, coordinate,
@@ -526,22 +534,23 @@ def _reconstruct_all(report: DiscoveryReport, kmap: KahanMap, full_map: KahanMap
             accepted.append(cand.gradient)
         clock.say(f"{name} = {found.frac}: {status.label}")
     clock.start("independence", "functional independence (exact Jacobian rank)")
-    fracs = [i for i in report.integrals if i.status >= Status.VERIFIED_SPECIALIZED and i.frac is not None]
-    chosen = independent_subset([i.frac for i in fracs], list(full_map.variables), jac_points)
-    for k, i in enumerate(fracs):
+    proven = [i for i in report.integrals if i.status >= Status.VERIFIED_SPECIALIZED and i.frac is not None]
+    chosen = independent_subset([i.frac for i in proven], list(full_map.variables),
+                                jacobian_points(full_map.ring.names))
+    for k, i in enumerate(proven):
         i.independent = k in chosen
     for i in report.integrals:
-        if i.independent is None and i.status < Status.VERIFIED_SPECIALIZED:
+        if i.independent is None:
             i.independent = False
-    report.covered.append(f"reconstructed {count} kernel coordinates chosen for independent gradients")
+    report.covered.append(f"reconstructed {count} kernel coordinates chosen for new independent gradients; "
+                          f"{len(report.skipped)} skipped as too large for dense reconstruction")
 
 
 def _exps(kmap: KahanMap, e: Exponents) -> dict[str, int]:
     return {v: k for v, k in zip(kmap.variables, e) if k}
 
 
-def _sampler(kmap: KahanMap, texts: list[str], k: int, weights: Weights, values: dict, free: list[str],
-             caches: dict) -> Callable:
+def _sampler(kmap: KahanMap, texts: list[str], k: int, weights: Weights, free: list[str], caches: dict) -> Callable:
     """Exact values of coordinate k of the kernel of a minimal basis (recipe (B)), at given free values."""
     basis = [Frac.parse(kmap.ring, t) for t in texts]
     cache = caches.setdefault(tuple(texts), {})
@@ -560,6 +569,6 @@ def _sampler(kmap: KahanMap, texts: list[str], k: int, weights: Weights, values:
         out = []
         for pt in points:
             c = kernel_vector(problem, [pt[v] for v in kmap.variables])
-            out.append(None if c is None else c[k])
+            out.append(None if c is None or c[-1] != -1 else c[k])   # -1 last: the recipe (B) normalization
         return out
     return sample

@@ -93,6 +93,7 @@ class DiscoveryReport:
     kernels: list[dict] = field(default_factory=list)
     conserved: list[str] = field(default_factory=list)
     trivial: list[dict] = field(default_factory=list)
+    skipped: list[dict] = field(default_factory=list)
     expected_independent: int | None = None
     negative: str = ""
     covered: list[str] = field(default_factory=list)
@@ -115,6 +116,7 @@ class DiscoveryReport:
                 "integrals": [i.to_dict() for i in self.integrals], "independent": self.independent,
                 "independent_expected_from_kernels": self.expected_independent,
                 "bases": self.bases, "kernels": self.kernels, "conserved": self.conserved, "trivial": self.trivial,
+                "skipped": self.skipped,
                 "negative_result": self.negative or None, "covered": self.covered, "complete": self.complete,
                 "stages": {k: round(v, 3) for k, v in self.stages.items()}, "probes": self.probes,
                 "seconds": round(time.perf_counter() - self.started, 3)}

@@ -99,93 +99,119 @@ class _Samples:
                 self.rows.append(([outer[n] for n in self.outer] + [pt[n] for n in self.inner], v))
 
 
-def reconstruct_rational(ring: Ring, outer: Sequence[str], inner: Sequence[str], sample: Sampler, *,
-                         max_degree: int = 8, max_unknowns: int = 2500, checks: int = 4, seed: int = 0,
+def line_degrees(sample: Sampler, outer: Sequence[str], inner: Sequence[str], *, max_degree: int = 16,
+                 seed: int = 0, size: int = 30) -> tuple[int, int] | None:
+    """(deg P, deg Q) of h = P/Q in lowest terms, read off h restricted to a random line through all variables
+    (a generic line keeps both total degrees); None when no degree <= max_degree fits."""
+    rng = random.Random(seed)
+    names = list(outer) + list(inner)
+
+    def r() -> flint.fmpq:
+        return flint.fmpq(rng.randint(-size, size) or 1, rng.randint(1, size))
+    a, b = [r() for _ in names], [r() for _ in names]
+    ts: list[flint.fmpq] = []
+    vs: list[flint.fmpq] = []
+    t = 0
+    for e in range(max_degree + 1):
+        while len(ts) < 2 * e + 5:
+            t += 1
+            if t > 8 * max_degree + 40:
+                return None
+            pt = dict(zip(names, (x + t * y for x, y in zip(a, b))))
+            v = sample({n: pt[n] for n in outer}, [{n: pt[n] for n in inner}])[0]
+            if v is not None:
+                ts.append(flint.fmpq(t))
+                vs.append(v)
+        vec = _exact_kernel_vector([[tt ** j for j in range(e + 1)] for tt in ts], vs)
+        if vec is not None:
+            q, p = vec[:e + 1], vec[e + 1:]
+            top = lambda c: max((j for j, x in enumerate(c) if x != 0), default=0)  # noqa: E731
+            return top(p), top(q)
+    return None
+
+
+def dense_size(variables: int, degrees: tuple[int, int]) -> int:
+    """Unknowns of the dense ansatz h Q - P = 0 with deg P <= degrees[0], deg Q <= degrees[1]."""
+    return sum(math.comb(variables + d, d) for d in degrees)
+
+
+def reconstruct_rational(ring: Ring, outer: Sequence[str], inner: Sequence[str], sample: Sampler,
+                         degrees: tuple[int, int], *, checks: int = 4, seed: int = 0,
                          size: int = 30) -> Reconstruction:
-    """h = P/Q in the variables outer + inner (names of `ring`) from exact values: rising total degree e of P and
-    Q until the ansatz h Q - P = 0 has a null space; the answer is checked at `checks` fresh samples."""
+    """h = P/Q in the variables outer + inner (names of `ring`) with deg P <= degrees[0], deg Q <= degrees[1]
+    (from `line_degrees`), from exact values; checked at `checks` fresh samples."""
     names = list(outer) + list(inner)
     samples = _Samples(sample, outer, inner, random.Random(seed), size)
     result = Reconstruction(None, None, 0)
-    for e in range(0, max_degree + 1):
-        monos = monomials_upto(len(names), e)
-        unknowns = 2 * len(monos)
-        if unknowns > max_unknowns:
-            result.notes.append(f"no P/Q of total degree <= {e - 1} fits; degree {e} needs {unknowns} unknowns "
-                                f"(more than {max_unknowns})")
-            break
-        outer_draws = len(monomials_upto(len(outer), e)) + 2 if outer else 1
-        samples.extend(unknowns + 6, outer_draws)
-        vals = [[_value(m, pt) for m in monos] for pt, _ in samples.rows]
-        if not _has_kernel_mod_p(vals, [v for _, v in samples.rows]):
-            continue
-        vec = _exact_kernel_vector(vals, [v for _, v in samples.rows])
-        if vec is None:
-            continue
-        h = _as_frac(ring, names, monos, vec)
-        fresh = _Samples(sample, outer, inner, random.Random(seed + 7919 * (e + 1)), size)
-        fresh.extend(checks, checks)
-        ok = all(_agrees(h, names, pt, v) for pt, v in fresh.rows)
-        result.samples = len(samples.rows) + len(fresh.rows)
-        if ok:
-            result.frac, result.degree, result.checks = h, e, len(fresh.rows)
-            return result
-        result.notes.append(f"degree {e}: the interpolant failed a fresh check")
-    else:
-        result.notes.append(f"no P/Q of total degree <= {max_degree} fits the samples")
+    p_monos, q_monos = (monomials_upto(len(names), d) for d in degrees)
+    unknowns = len(p_monos) + len(q_monos)
+    outer_draws = len(monomials_upto(len(outer), max(degrees))) + 2 if outer else 1
+    samples.extend(unknowns + 6, outer_draws)
+    hs = [v for _, v in samples.rows]
+    vals = ([_value(m, pt) for m in q_monos] for pt, _ in samples.rows)
+    pvals = ([_value(m, pt) for m in p_monos] for pt, _ in samples.rows)
+    rows = [[h * v for v in qv] + [-v for v in pv] for h, qv, pv in zip(hs, vals, pvals)]
     result.samples = len(samples.rows)
+    if not _has_kernel_mod_p(rows):
+        result.notes.append(f"no P/Q with degrees <= {degrees} fits the samples (rank mod p)")
+        return result
+    vec = _integer_kernel_vector(rows)
+    if vec is None:
+        result.notes.append(f"the ansatz with degrees <= {degrees} has no one-dimensional kernel")
+        return result
+    h = Frac(ring, _poly(ring, names, p_monos, vec[len(q_monos):]), _poly(ring, names, q_monos, vec[:len(q_monos)]))
+    fresh = _Samples(sample, outer, inner, random.Random(seed + 7919), size)
+    fresh.extend(checks, checks)
+    result.samples += len(fresh.rows)
+    if all(_agrees(h, names, pt, v) for pt, v in fresh.rows):
+        result.frac, result.degree, result.checks = h, max(degrees), len(fresh.rows)
+    else:
+        result.notes.append("the interpolant failed a fresh check")
     return result
 
 
-def _rows_mod_p(vals: list[list[flint.fmpq]], hs: list[flint.fmpq], p: int) -> list[list[int]] | None:
-    rows = []
-    for mv, h in zip(vals, hs):
-        hm = _mod(h, p)
-        row = [_mod(v, p) for v in mv]
-        if hm is None or None in row:
-            return None
-        rows.append([hm * v % p for v in row] + [(-v) % p for v in row])
-    return rows
-
-
-def _has_kernel_mod_p(vals: list[list[flint.fmpq]], hs: list[flint.fmpq]) -> bool:
-    """False only when the ansatz matrix has full column rank mod p (then also over Q)."""
-    rows = _rows_mod_p(vals, hs, PRIME)
-    if rows is None:
-        return True
-    m = flint.nmod_mat(rows, PRIME)
+def _has_kernel_mod_p(rows: list[list[flint.fmpq]]) -> bool:
+    """False only when the matrix has full column rank mod p (then also over Q)."""
+    red = []
+    for row in rows:
+        r = [_mod(v, PRIME) for v in row]
+        if None in r:
+            return True
+        red.append(r)
+    m = flint.nmod_mat(red, PRIME)
     return m.rank() < m.ncols()
 
 
-def _exact_kernel_vector(vals: list[list[flint.fmpq]], hs: list[flint.fmpq]) -> list[flint.fmpz] | None:
-    """The one kernel vector of the ansatz over Q (fraction-free), or None when the kernel is not 1-dimensional."""
-    rows = []
-    for mv, h in zip(vals, hs):
-        row = [h * v for v in mv] + [-v for v in mv]
+def _integer_kernel_vector(rows: list[list[flint.fmpq]]) -> list[flint.fmpz] | None:
+    """The one kernel vector over Q (fraction-free), or None when the kernel is not 1-dimensional."""
+    ints = []
+    for row in rows:
         den = flint.fmpz(1)
         for v in row:
             den = den.lcm(v.q)
-        rows.append([int(v.p * (den // v.q)) for v in row])
-    x, nullity = flint.fmpz_mat(rows).nullspace()
+        ints.append([int(v.p * (den // v.q)) for v in row])
+    x, nullity = flint.fmpz_mat(ints).nullspace()
     if nullity != 1:
         return None
     return [x[i, 0] for i in range(x.nrows())]
 
 
-def _as_frac(ring: Ring, names: Sequence[str], monos: Sequence[tuple[int, ...]], vec: Sequence[flint.fmpz]) -> Frac:
-    idx = [ring.index(n) for n in names]
+def _exact_kernel_vector(vals: list[list[flint.fmpq]], hs: list[flint.fmpq]) -> list[flint.fmpz] | None:
+    """Kernel of the dense ansatz h Q - P = 0 with one monomial list for both (Q coefficients first)."""
+    return _integer_kernel_vector([[h * v for v in mv] + [-v for v in mv] for mv, h in zip(vals, hs)])
 
-    def poly(coeffs: Sequence[flint.fmpz]) -> flint.fmpz_mpoly:
-        data = {}
-        for m, c in zip(monos, coeffs):
-            if c != 0:
-                full = [0] * len(ring.names)
-                for i, e in zip(idx, m):
-                    full[i] = e
-                data[tuple(full)] = int(c)
-        return ring.ctx.from_dict(data)
-    k = len(monos)
-    return Frac(ring, poly(vec[k:]), poly(vec[:k]))
+
+def _poly(ring: Ring, names: Sequence[str], monos: Sequence[tuple[int, ...]],
+          coeffs: Sequence[flint.fmpz]) -> flint.fmpz_mpoly:
+    idx = [ring.index(n) for n in names]
+    data = {}
+    for m, c in zip(monos, coeffs):
+        if c != 0:
+            full = [0] * len(ring.names)
+            for i, e in zip(idx, m):
+                full[i] = e
+            data[tuple(full)] = int(c)
+    return ring.ctx.from_dict(data)
 
 
 def _agrees(h: Frac, names: Sequence[str], pt: Sequence[flint.fmpq], value: flint.fmpq) -> bool:
