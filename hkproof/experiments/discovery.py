@@ -16,6 +16,7 @@
 from __future__ import annotations
 
 import itertools
+import math
 import random
 import sys
 import time
@@ -30,7 +31,7 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS, QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ParseError, SingularPointError
-from hkproof.experiments.arithmetics import ExactQ, free_kernel
+from hkproof.experiments.arithmetics import ExactQ, free_kernel, pivot_columns
 from hkproof.experiments.modular import ModP, UnluckyPrimeError, random_prime
 from hkproof.experiments.profiles import HK_BASIS, ProfileProblem, fundamental_finite, kernel_vector
 from hkproof.experiments.scene import Scene, make_scene
@@ -42,6 +43,8 @@ from hkproof.proof.status import Status
 
 Exponents = tuple[int, ...]
 MAX_CIRCUIT_TRIALS = 20000
+FULL_CIRCUITS = 5000        # above this many trials, circuits are sought in a complement of the trivial part
+MAX_CONFIRMED = 24          # minimal bases confirmed by algorithm (N) over Q; the rest are listed
 
 
 class BudgetExhausted(HKProofError):
@@ -213,6 +216,22 @@ def _products(kernel: list[list[int]], lower: list[Exponents], monos: list[Expon
                     w[index[tuple(a + b for a, b in zip(e, s))]] = c
             out.append(w)
     return out
+
+
+def complement_of_trivial(kernel: list[list[int]], trivial: list[list[int]], monos: list[Exponents],
+                          p: int) -> tuple[list[list[int]], list[int]]:
+    """The kernel vectors vanishing on the pivot columns Z of the trivial part T (a complement of T), and Z.
+
+    Z is chosen among the monomials with the highest powers of the last variables, so that a linear integral
+    L = ... + x_n eliminates x_n: what is left are the polynomials free of the eliminated monomials."""
+    if not trivial or rank_mod(trivial, p) == 0:
+        return kernel, []
+    order = sorted(range(len(monos)), key=lambda j: tuple(reversed(monos[j])), reverse=True)
+    r, rank = flint.nmod_mat([[t[j] for j in order] for t in trivial], p).rref()
+    pivots = [order[j] for j in pivot_columns(r, rank)]
+    lam = kernel_mod_p([[v[j] for v in kernel] for j in pivots], p)
+    return [[sum(l[i] * kernel[i][j] for i in range(len(kernel))) % p for j in range(len(monos))]
+            for l in lam], sorted(pivots)
 
 
 def circuits(kernel: list[list[int]], p: int, cap: int = MAX_CIRCUIT_TRIALS) -> tuple[list[tuple[int, ...]], bool]:
@@ -418,26 +437,33 @@ def _search(report: DiscoveryReport, field: QuadraticField, full_map: KahanMap, 
     candidates: list[Candidate] = []
     for d in new_degrees:
         monos = monomial_exponents(n, d)
-        supports, complete = circuits(probe.kernels[d], probe.p)
-        if not complete:
-            report.covered.append(f"degree {d}: circuit enumeration stopped after {MAX_CIRCUIT_TRIALS} trials")
         lower = _products(probe.kernels.get(d - 1, []), monomial_exponents(n, d - 1) if d > 1 else [],
                           monos, n, probe.p)
+        kernel = probe.kernels[d]
+        width = sum(1 for j in range(len(monos)) if any(v[j] for v in kernel))
         triv_rank = rank_mod(lower, probe.p)
+        if triv_rank and math.comb(width, len(kernel) - 1) > FULL_CIRCUITS:
+            new_part, eliminated = complement_of_trivial(kernel, lower, monos, probe.p)
+        else:
+            new_part, eliminated = kernel, []
+        supports, complete = circuits(new_part, probe.p)
+        if triv_rank and not eliminated:          # circuits of the whole kernel: drop the trivial ones
+            supports = [sp for sp in supports
+                        if rank_mod(lower + [_support_vector(kernel, sp, probe.p)], probe.p) > triv_rank]
+        if eliminated:
+            report.trivial.append({"degree": d, "dimension": len(probe.kernels[d]) - len(new_part),
+                                   "eliminated": [monomial_text(field.variables, monos[j]) for j in eliminated],
+                                   "reason": "products of lower-degree kernel elements with monomials; bases avoid "
+                                             "the listed monomials"})
+        if not complete:
+            report.covered.append(f"degree {d}: circuit enumeration stopped after {MAX_CIRCUIT_TRIALS} trials")
         for s in supports:
             basis = [monos[j] for j in s]
-            vec = _circuit_vector(probe.kernels[d], s, probe.p)
-            trivial = triv_rank > 0 and rank_mod(lower + [vec], probe.p) == triv_rank
             texts = [monomial_text(field.variables, e) for e in basis]
-            entry = {"basis": texts, "degree": d, "trivial": trivial}
-            if trivial:
-                report.trivial.append({"basis": texts, "reason": "a product of a lower-degree kernel element with "
-                                       "a monomial"})
-                continue
             grads = coordinate_gradients(probe.orbit, basis)
             if grads is not None:
                 candidates += [Candidate(basis, k, g) for k, g in enumerate(grads)]
-            report.bases.append(entry)
+            report.bases.append({"basis": texts, "degree": d})
     # how many independent integrals the kernels carry (gradients mod p), and which coordinates show them
     chosen_rank = rank_mod([c.gradient for c in candidates], probe.p) if candidates else 0
     report.expected_independent = chosen_rank
@@ -445,15 +471,16 @@ def _search(report: DiscoveryReport, field: QuadraticField, full_map: KahanMap, 
               "integrals (gradients mod p)")
 
     clock.start("confirm bases", "confirming the minimal HK-bases by algorithm (N)")
-    for entry in report.bases:
+    for k, entry in enumerate(report.bases):
         clock.check("confirming every minimal HK-basis")
-        entry.update(_confirm(scene, kmap, entry["basis"]))
+        entry.update(_confirm(scene, kmap, entry["basis"]) if k < MAX_CONFIRMED else
+                     {"dimension": None, "status": Status.UNKNOWN.label, "check": "not confirmed (cap)"})
 
     _reconstruct_all(report, kmap, full_map, weights, free, values, candidates, chosen_rank, probe.p, fixed,
                      clock, max_degree, max_unknowns, rng)
 
 
-def _circuit_vector(kernel: list[list[int]], support: tuple[int, ...], p: int) -> list[int]:
+def _support_vector(kernel: list[list[int]], support: tuple[int, ...], p: int) -> list[int]:
     """The kernel vector supported on `support` (a circuit), mod p."""
     others = [j for j in range(len(kernel[0])) if j not in support]
     lam = kernel_mod_p([[v[j] for v in kernel] for j in others], p) if others else [[1] + [0] * (len(kernel) - 1)]
