@@ -6,6 +6,7 @@ import pytest
 from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.catalogue import get_system
 from hkproof.hk.integrals import lie_derivative
+from hkproof.proof.status import Status
 
 # (system, continuous integrals: Casimirs and Hamiltonians) -- conventions of docs/atlas.md
 CONTINUOUS = {
@@ -54,3 +55,21 @@ def test_so4_flows_commute_and_share_integrals():
         x = Frac.parse(f1.ring, v)
         bracket = lie_derivative(f1, lie_derivative(f2, x)) - lie_derivative(f2, lie_derivative(f1, x))
         assert bracket.is_zero()
+
+
+def test_atlas_claims_fail_when_perturbed():
+    from hkproof.proof.registry import get_claim
+    c = get_claim("atlas-volterra-3-integrals")
+    assert c.prove().status == Status.VERIFIED
+    assert c.prove({"independent": "3"}).status == Status.REFUTED
+    k = get_claim("atlas-volterra-3-kernels")
+    assert k.prove().status == Status.EVIDENCE_EXACT
+    assert k.prove({"new_dimensions": "1,1,1"}).status == Status.REFUTED
+    assert k.prove({"gradient_rank": "3"}).status == Status.REFUTED
+
+
+def test_negative_results_are_evidence_not_verified():
+    from hkproof.proof.registry import get_claim
+    assert get_claim("atlas-toda-3-kernels").prove().status == Status.EVIDENCE_EXACT
+    cert = get_claim("atlas-toda-3-integrals").prove()
+    assert cert.status == Status.VERIFIED and cert.formulas == {"I1": "(1)/(b1 + b2 + b3)"}
