@@ -39,7 +39,9 @@ class FoundIntegral:
     independent: bool | None = None
 
     def latex(self) -> str:
-        return "" if self.frac is None else sympy.latex(sympy.factor(self.frac.to_sympy()))
+        if self.frac is None:
+            return ""
+        return sympy.latex(sympy.factor(self.frac.to_sympy()), symbol_names={sympy.Symbol("eps"): r"\varepsilon"})
 
     def to_dict(self) -> dict:
         return {"name": self.name, "expr": None if self.frac is None else str(self.frac),
