@@ -8,7 +8,7 @@
    by algorithm (N) mod two primes and once over Q. This replaces a search over subsets of monomials.
 3. Which kernel coordinates c_k (recipe (B), last coordinate -1) carry independent integrals: their gradients
    mod p, from the orbit's tangent map (M(x) dx~ + dM x~ = db, eq. "Kahan gen" differentiated).
-4. Reconstruction of each chosen c_k as P/Q from exact values (hkproof.hk.reconstruct), eps and the parameters
+4. Reconstruction of each chosen c_k as P/Q from exact values (hkproof.experiments.reconstruction), eps and the parameters
    that scaling symmetries allow set to 1 while sampling and restored exactly afterwards.
 5. Certification (hkproof.hk.discover): substitution with every parameter symbolic, independence by an exact
    Jacobian rank. Nothing is called an integral before step 5 says so.
@@ -38,7 +38,7 @@ from hkproof.experiments.scene import Scene, make_scene
 from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.hk.discover import (DiscoveryReport, FoundIntegral, certify, independent_subset, is_phase_constant,
                                  jacobian_points)
-from hkproof.hk.reconstruct import dense_size, line_degrees, monomials_upto, reconstruct_rational
+from hkproof.experiments.reconstruction import dense_size, line_degrees, monomials_upto, reconstruct_rational
 from hkproof.proof.status import Status
 
 Exponents = tuple[int, ...]

@@ -19,6 +19,7 @@ import flint
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Ring
+from hkproof.experiments.arithmetics import integer_rows
 
 Point = dict[str, flint.fmpq]
 # sample(outer values, inner points) -> the function's value at each point (None where it is undefined)
@@ -184,13 +185,7 @@ def _has_kernel_mod_p(rows: list[list[flint.fmpq]]) -> bool:
 
 def _integer_kernel_vector(rows: list[list[flint.fmpq]]) -> list[flint.fmpz] | None:
     """The one kernel vector over Q (fraction-free), or None when the kernel is not 1-dimensional."""
-    ints = []
-    for row in rows:
-        den = flint.fmpz(1)
-        for v in row:
-            den = den.lcm(v.q)
-        ints.append([int(v.p * (den // v.q)) for v in row])
-    x, nullity = flint.fmpz_mat(ints).nullspace()
+    x, nullity = integer_rows(rows).nullspace()
     if nullity != 1:
         return None
     return [x[i, 0] for i in range(x.nrows())]
