@@ -1,12 +1,12 @@
-"""Rational function reconstruction from exact values: h = P/Q with P, Q of bounded total degree (dense ansatz).
+"""Rational function reconstruction from exact values: h = P/Q with P, Q of known total degrees (dense ansatz).
 
 The integrals of an HK-basis are kernel coordinates c_k(x) (paper, eq. "smaller system"), known only through
-exact values at rational points. The ansatz h Q(v) - P(v) = 0, with P and Q spanned by the monomials of total
-degree <= e in the variables v, is linear in their coefficients; each exact sample gives one row. The smallest e
-with a non-zero null space gives h in lowest terms (a larger e would give the multiples k (P, Q)). Ranks are first
-taken modulo a prime (a null space mod p of dimension 0 proves there is none over Q either), the null space is
-then found exactly, and the result is checked at fresh samples. Weighted homogeneity (scaling symmetries of the
-Kahan map) lets names be set to 1 while sampling; `restore_weights` puts them back exactly.
+exact values at rational points. The total degrees of P and Q (h in lowest terms) are those of h restricted to a
+generic line, found by univariate interpolation in a handful of samples (`line_degrees`). The ansatz h Q(v) - P(v)
+= 0 with those degrees is linear in the coefficients; each exact sample gives one row. A rank test mod p comes first
+(full column rank mod p means no solution over Q either), then the one-dimensional null space is found exactly
+(fraction-free) and the result is checked at fresh samples. The caller sets scaled names to 1 while sampling and
+restores them by weighted homogeneity (hkproof.experiments.discovery.restore_weights).
 """
 from __future__ import annotations
 
