@@ -109,3 +109,11 @@ def test_user_toml_example():
     assert discover(QuadraticField.from_toml(path), 2).negative          # nothing of degree 2
     r = discover(QuadraticField.from_toml(path), 3)                   # the modified energy, a cubic pencil
     assert r.independent == 1 and [i.status for i in r.integrals] == [Status.VERIFIED]
+
+
+def test_budget_reports_what_was_covered(capsys):
+    r = discover("clebsch", 2, seconds=0.0)
+    assert not r.complete and any("budget" in c for c in r.covered)
+    assert r.kernels[-1]["dimension"] == 4            # screening always runs: the 4 quadrics of the paper
+    assert main(["discover", "euler-top", "--seconds", "0"]) == 0
+    assert "budget ran out" in capsys.readouterr().out
