@@ -117,3 +117,8 @@ def test_budget_reports_what_was_covered(capsys):
     assert r.kernels[-1]["dimension"] == 4            # screening always runs: the 4 quadrics of the paper
     assert main(["discover", "euler-top", "--seconds", "0"]) == 0
     assert "budget ran out" in capsys.readouterr().out
+
+
+def test_all_coordinates_conserved():
+    r = discover(QuadraticField("still", ("x", "y"), (), ("0", "0")), 2)
+    assert r.conserved == ["x", "y"] and r.independent == 2 and r.complete

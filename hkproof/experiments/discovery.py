@@ -382,8 +382,22 @@ def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[s
     except BudgetExhausted as exc:
         report.covered.append(str(exc))
     finally:
+        _independence(report, full_map, clock)
         clock.stop()
     return report
+
+
+def _independence(report: DiscoveryReport, full_map: KahanMap, clock: _Clock) -> None:
+    """Mark a maximal set of verified integrals with an exact full-rank Jacobian as independent."""
+    clock.start("independence", "functional independence (exact Jacobian rank)")
+    proven = [i for i in report.integrals if i.status >= Status.VERIFIED_SPECIALIZED and i.frac is not None]
+    chosen = independent_subset([i.frac for i in proven], list(full_map.variables),
+                                jacobian_points(full_map.ring.names))
+    for k, i in enumerate(proven):
+        i.independent = k in chosen
+    for i in report.integrals:
+        if i.independent is None:
+            i.independent = False
 
 
 def _conserved(report: DiscoveryReport, kmap: KahanMap, conserved: list[str], fixed, clock: _Clock) -> None:
@@ -560,15 +574,6 @@ def _reconstruct_all(report: DiscoveryReport, kmap: KahanMap, full_map: KahanMap
         if status >= Status.VERIFIED_SPECIALIZED and not is_phase_constant(h, kmap.variables):
             accepted.append(cand.gradient)
         clock.say(f"{name} = {found.frac}: {status.label}")
-    clock.start("independence", "functional independence (exact Jacobian rank)")
-    proven = [i for i in report.integrals if i.status >= Status.VERIFIED_SPECIALIZED and i.frac is not None]
-    chosen = independent_subset([i.frac for i in proven], list(full_map.variables),
-                                jacobian_points(full_map.ring.names))
-    for k, i in enumerate(proven):
-        i.independent = k in chosen
-    for i in report.integrals:
-        if i.independent is None:
-            i.independent = False
     report.covered.append(f"reconstructed {count} kernel coordinates chosen for new independent gradients; "
                           f"{len(report.skipped)} skipped as too large for dense reconstruction")
 
