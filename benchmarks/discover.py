@@ -80,7 +80,8 @@ def markdown(rows: list[dict], ratios: list[tuple[str, float, float]]) -> str:
                    f"{r['verified']} | {r['independent']} / {r['expected']} | {r['skipped']} | "
                    f"{'yes' if r['complete'] else 'no (budget)'} |")
     out += ["", "## Screening the union basis: mod p against exact", "",
-            "| system | degree | mod p (s per point) | exact over Q (s per point) | exact / mod p |", "|---|---|---|---|---|"]
+            "| system | degree | mod p (s per point) | exact over Q (s per point) | exact / mod p |",
+            "|---|---|---|---|---|"]
     for label, degree, modular, exact in ratios:
         out.append(f"| {label} | {degree} | {modular:.4f} | {exact:.4f} | {exact / modular:.1f} |")
     out += ["", "## Reading the numbers", "",

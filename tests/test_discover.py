@@ -85,7 +85,7 @@ def test_circuits_minimal_supports():
     assert complete and sorted(supports) == [(0, 1), (0, 2), (1, 2)]
 
 
-def test_cli_json_and_latex(capsys, tmp_path):
+def test_cli_json_and_latex(capsys):
     assert main(["discover", "euler-top", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["independent"] == 2 and out["dimension"] == 3

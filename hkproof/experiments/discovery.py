@@ -6,10 +6,10 @@
    rank over Q is at least the rank mod p.
 2. Minimal HK-bases: the minimal supports (circuits) of K_Phi(x); each has a one-dimensional kernel, confirmed
    by algorithm (N) mod two primes and once over Q. This replaces a search over subsets of monomials.
-3. Which kernel coordinates c_k (recipe (B), last coordinate -1) carry independent integrals: their gradients
-   mod p, from the orbit's tangent map (M(x) dx~ + dM x~ = db, eq. "Kahan gen" differentiated).
-4. Reconstruction of each chosen c_k as P/Q from exact values (hkproof.experiments.reconstruction), eps and the parameters
-   that scaling symmetries allow set to 1 while sampling and restored exactly afterwards.
+3. Which kernel coordinates c_k (recipe (B), last coordinate -1) carry independent integrals: their
+   gradients mod p, from the orbit's tangent map (M(x) dx~ + dM x~ = db, eq. "Kahan gen" differentiated).
+4. Reconstruction of each chosen c_k as P/Q from exact values (hkproof.experiments.reconstruction), eps and
+   the parameters that scaling symmetries allow set to 1 while sampling and restored exactly afterwards.
 5. Certification (hkproof.hk.discover): substitution with every parameter symbolic, independence by an exact
    Jacobian rank. Nothing is called an integral before step 5 says so.
 """
@@ -197,13 +197,13 @@ def screen(scene: Scene, n: int, degree: int, rng: random.Random, extra: int = 3
             prefix = ModP(p).prefix_ranks(rows[:len(ms)])[0]
             verdict[d] = fundamental_finite(prefix)[0]
             kernels[d] = kernel_mod_p(rows, p)
-            trivial[d] = rank_mod(_products(kernels.get(d - 1, []), monos.get(d - 1, []), ms, n, p), p)
+            trivial[d] = rank_mod(_products(kernels.get(d - 1, []), monos.get(d - 1, []), ms, n), p)
         return Probe(point, orbit, kernels, trivial, verdict)
     raise SingularPointError("eight random orbits met det M = 0 mod p: the map looks singular on the whole space")
 
 
-def _products(kernel: list[list[int]], lower: list[Exponents], monos: list[Exponents], n: int,
-              p: int) -> list[list[int]]:
+def _products(kernel: list[list[int]], lower: list[Exponents], monos: list[Exponents],
+              n: int) -> list[list[int]]:
     """Coefficient vectors of m * v for v in a kernel of degree D-1 and m in {1, x_1, ..., x_n} (trivial part)."""
     index = {e: i for i, e in enumerate(monos)}
     shifts = [tuple(0 for _ in range(n))] + [tuple(int(i == j) for i in range(n)) for j in range(n)]
@@ -374,7 +374,7 @@ def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[s
     field, conserved = without_conserved(original)
     rng = random.Random(seed)
     try:
-        _conserved(report, full_map, conserved, fixed, clock)
+        _conserved(report, full_map, conserved, fixed)
         if len(conserved) == len(original.variables):
             report.covered.append("every coordinate is conserved")
             return report
@@ -400,7 +400,7 @@ def _independence(report: DiscoveryReport, full_map: KahanMap, clock: _Clock) ->
             i.independent = False
 
 
-def _conserved(report: DiscoveryReport, kmap: KahanMap, conserved: list[str], fixed, clock: _Clock) -> None:
+def _conserved(report: DiscoveryReport, kmap: KahanMap, conserved: list[str], fixed) -> None:
     for v in conserved:
         start = time.perf_counter()
         h = Frac.parse(kmap.ring, v)
@@ -452,7 +452,7 @@ def _search(report: DiscoveryReport, field: QuadraticField, full_map: KahanMap, 
     for d in new_degrees:
         monos = monomial_exponents(n, d)
         lower = _products(probe.kernels.get(d - 1, []), monomial_exponents(n, d - 1) if d > 1 else [],
-                          monos, n, probe.p)
+                          monos, n)
         kernel = probe.kernels[d]
         width = sum(1 for j in range(len(monos)) if any(v[j] for v in kernel))
         triv_rank = rank_mod(lower, probe.p)
@@ -490,7 +490,7 @@ def _search(report: DiscoveryReport, field: QuadraticField, full_map: KahanMap, 
         entry.update(_confirm(scene, kmap, entry["basis"]) if k < MAX_CONFIRMED else
                      {"dimension": None, "status": Status.UNKNOWN.label, "check": "not confirmed (cap)"})
 
-    _reconstruct_all(report, kmap, full_map, weights, free, values, candidates, chosen_rank, probe.p, fixed,
+    _reconstruct_all(report, kmap, full_map, weights, free, candidates, chosen_rank, probe.p, fixed,
                      clock, max_degree, max_unknowns, rng)
 
 
@@ -517,7 +517,7 @@ def _confirm(scene: Scene, kmap: KahanMap, texts: list[str]) -> dict:
 
 
 def _reconstruct_all(report: DiscoveryReport, kmap: KahanMap, full_map: KahanMap, weights: Weights,
-                     free: list[str], values: dict, candidates: list[Candidate], target: int, p: int, fixed,
+                     free: list[str], candidates: list[Candidate], target: int, p: int, fixed,
                      clock: _Clock, max_degree: int, max_unknowns: int, rng: random.Random) -> None:
     """Reconstruct and certify kernel coordinates, one per new independent gradient, simplest bases first."""
     accepted: list[list[int]] = []
