@@ -31,14 +31,15 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS, QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ParseError, SingularPointError
-from hkproof.experiments.arithmetics import ExactQ, free_kernel, pivot_columns
+from hkproof.experiments.arithmetics import ExactQ, pivot_columns
 from hkproof.experiments.modular import ModP, UnluckyPrimeError, random_prime
 from hkproof.experiments.profiles import HK_BASIS, ProfileProblem, fundamental_finite, kernel_vector
 from hkproof.experiments.scene import Scene, make_scene
 from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.hk.discover import (DiscoveryReport, FoundIntegral, certify, independent_subset, is_phase_constant,
                                  jacobian_points)
-from hkproof.experiments.reconstruction import dense_size, line_degrees, monomials_upto, reconstruct_rational
+from hkproof.experiments.reconstruction import (dense_size, kernel_mod_p, line_degrees, monomials_upto,
+                                                reconstruct_rational)
 from hkproof.proof.status import Status
 
 Exponents = tuple[int, ...]
@@ -149,14 +150,6 @@ class ModularOrbit:
             g.append(v)
         row = flint.nmod_mat([g], self.p) * self.jacobians[i]
         return [int(row[0, j]) for j in range(n)]
-
-
-def kernel_mod_p(rows: list[list[int]], p: int) -> list[list[int]]:
-    """A basis of the right kernel mod p."""
-    if not rows:
-        return []
-    r, rank = flint.nmod_mat(rows, p).rref()
-    return free_kernel(r, rank, len(rows[0]), lambda i, j: 0 if i is None else int(r[i, j]), p - 1)
 
 
 def rank_mod(rows: list[list[int]], p: int) -> int:
@@ -270,19 +263,27 @@ class Candidate:
     gradient: list[int]
 
 
-def coordinate_gradients(orbit: ModularOrbit, basis: list[Exponents]) -> list[list[int]] | None:
-    """Gradients mod p of c_1..c_(l-1) solving sum_k c_k phi_k(f^i x) = phi_l(f^i x), i = 0..l-2."""
+def recipe_b_mod_p(orbit: ModularOrbit, basis: list[Exponents]) -> tuple[flint.nmod_mat, list[int]] | None:
+    """(A, c) with A c = b: sum_k c_k phi_k(f^i x) = phi_l(f^i x), i = 0..l-2 (eq. "smaller system") mod p."""
     p, l = orbit.p, len(basis)
-    rows = range(l - 1)
-    a = flint.nmod_mat([[orbit.value(e, i) for e in basis[:-1]] for i in rows], p)
-    b = flint.nmod_mat([[orbit.value(basis[-1], i)] for i in rows], p)
+    a = flint.nmod_mat([[orbit.value(e, i) for e in basis[:-1]] for i in range(l - 1)], p)
+    b = flint.nmod_mat([[orbit.value(basis[-1], i)] for i in range(l - 1)], p)
     try:
         c = a.solve(b)
     except ZeroDivisionError:
         return None
-    cs = [int(c[k, 0]) for k in range(l - 1)]
+    return a, [int(c[k, 0]) for k in range(l - 1)]
+
+
+def coordinate_gradients(orbit: ModularOrbit, basis: list[Exponents]) -> list[list[int]] | None:
+    """Gradients mod p of the kernel coordinates c_1..c_(l-1) of recipe (B), by the orbit's tangent maps."""
+    solved = recipe_b_mod_p(orbit, basis)
+    if solved is None:
+        return None
+    a, cs = solved
+    p = orbit.p
     g = []
-    for i in rows:
+    for i in range(len(basis) - 1):
         row = orbit.gradient(basis[-1], i)
         for ck, e in zip(cs, basis[:-1]):
             if ck:
@@ -290,7 +291,7 @@ def coordinate_gradients(orbit: ModularOrbit, basis: list[Exponents]) -> list[li
                 row = [(r - ck * q) % p for r, q in zip(row, gk)]
         g.append(row)
     dc = a.solve(flint.nmod_mat(g, p))
-    return [[int(dc[k, j]) for j in range(dc.ncols())] for k in range(l - 1)]
+    return [[int(dc[k, j]) for j in range(dc.ncols())] for k in range(len(basis) - 1)]
 
 
 # ---- weights ---------------------------------------------------------------------------------------------------
@@ -536,7 +537,8 @@ def _reconstruct_all(report: DiscoveryReport, kmap: KahanMap, full_map: KahanMap
         sampler = _sampler(kmap, texts, cand.k, weights, free, caches)
         clock.start("reconstruction", f"degrees of coordinate {cand.k + 1} of the kernel of ({', '.join(texts)})")
         start = time.perf_counter()
-        lines = [line_degrees(sampler, free, inner, max_degree=max_degree, seed=rng.randint(0, 10**6))
+        fast = _modular_sampler(kmap, cand.basis, cand.k, weights, free, p)
+        lines = [line_degrees(fast, free, inner, max_degree=max_degree, seed=rng.randint(0, 10**6), modulus=p)
                  for _ in range(2)]
         degrees = None if None in lines else (max(d[0] for d in lines), max(d[1] for d in lines))
         size = None if degrees is None else dense_size(len(free) + len(inner), degrees)
@@ -580,6 +582,27 @@ def _reconstruct_all(report: DiscoveryReport, kmap: KahanMap, full_map: KahanMap
 
 def _exps(kmap: KahanMap, e: Exponents) -> dict[str, int]:
     return {v: k for v, k in zip(kmap.variables, e) if k}
+
+
+def _modular_sampler(kmap: KahanMap, basis: list[Exponents], k: int, weights: Weights, free: list[str],
+                     p: int) -> Callable:
+    """Values mod p of coordinate k of the kernel of a minimal basis (recipe (B)): cheap degree probes."""
+    def sample(outer: dict, points: list[dict]) -> list:
+        vals = {m: flint.fmpq(1) for m in weights.normalized} | {m: outer[m] for m in free}
+        try:
+            scene = make_scene(kmap, vals)
+        except HKProofError:
+            return [None] * len(points)
+        out = []
+        for pt in points:
+            try:
+                solved = recipe_b_mod_p(ModularOrbit(scene, [pt[v] for v in kmap.variables], p, len(basis) - 2),
+                                        basis)
+            except HKProofError:
+                solved = None
+            out.append(None if solved is None else solved[1][k])
+        return out
+    return sample
 
 
 def _sampler(kmap: KahanMap, texts: list[str], k: int, weights: Weights, free: list[str], caches: dict) -> Callable:

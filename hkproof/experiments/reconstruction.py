@@ -19,7 +19,7 @@ import flint
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Ring
-from hkproof.experiments.arithmetics import integer_rows
+from hkproof.experiments.arithmetics import free_kernel, integer_rows
 
 Point = dict[str, flint.fmpq]
 # sample(outer values, inner points) -> the function's value at each point (None where it is undefined)
@@ -101,17 +101,18 @@ class _Samples:
 
 
 def line_degrees(sample: Sampler, outer: Sequence[str], inner: Sequence[str], *, max_degree: int = 16,
-                 seed: int = 0, size: int = 30) -> tuple[int, int] | None:
+                 seed: int = 0, size: int = 30, modulus: int | None = None) -> tuple[int, int] | None:
     """(deg P, deg Q) of h = P/Q in lowest terms, read off h restricted to a random line through all variables
-    (a generic line keeps both total degrees); None when no degree <= max_degree fits."""
+    (a generic line keeps both total degrees); None when no degree <= max_degree fits. With `modulus` the sampler
+    returns values mod that prime (cheap probes; the degrees are right unless the prime or the line is unlucky)."""
     rng = random.Random(seed)
     names = list(outer) + list(inner)
 
     def r() -> flint.fmpq:
         return flint.fmpq(rng.randint(-size, size) or 1, rng.randint(1, size))
     a, b = [r() for _ in names], [r() for _ in names]
-    ts: list[flint.fmpq] = []
-    vs: list[flint.fmpq] = []
+    ts: list[int] = []
+    vs: list = []
     t = 0
     for e in range(max_degree + 1):
         while len(ts) < 2 * e + 5:
@@ -121,14 +122,32 @@ def line_degrees(sample: Sampler, outer: Sequence[str], inner: Sequence[str], *,
             pt = dict(zip(names, (x + t * y for x, y in zip(a, b))))
             v = sample({n: pt[n] for n in outer}, [{n: pt[n] for n in inner}])[0]
             if v is not None:
-                ts.append(flint.fmpq(t))
+                ts.append(t)
                 vs.append(v)
-        vec = _exact_kernel_vector([[tt ** j for j in range(e + 1)] for tt in ts], vs)
+        if modulus is None:
+            vec = _exact_kernel_vector([[flint.fmpq(tt) ** j for j in range(e + 1)] for tt in ts], vs)
+        else:
+            vec = _kernel_vector_mod_p([[v * pow(tt, j, modulus) % modulus for j in range(e + 1)]
+                                        + [-pow(tt, j, modulus) % modulus for j in range(e + 1)]
+                                        for tt, v in zip(ts, vs)], modulus)
         if vec is not None:
             q, p = vec[:e + 1], vec[e + 1:]
             top = lambda c: max((j for j, x in enumerate(c) if x != 0), default=0)  # noqa: E731
             return top(p), top(q)
     return None
+
+
+def kernel_mod_p(rows: list[list[int]], p: int) -> list[list[int]]:
+    """A basis of the right kernel mod p (free columns set to -1)."""
+    if not rows:
+        return []
+    r, rank = flint.nmod_mat(rows, p).rref()
+    return free_kernel(r, rank, len(rows[0]), lambda i, j: 0 if i is None else int(r[i, j]), p - 1)
+
+
+def _kernel_vector_mod_p(rows: list[list[int]], p: int) -> list[int] | None:
+    kernel = kernel_mod_p(rows, p)
+    return kernel[0] if len(kernel) == 1 else None
 
 
 def dense_size(variables: int, degrees: tuple[int, int]) -> int:
