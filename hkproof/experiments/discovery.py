@@ -39,7 +39,7 @@ from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.hk.discover import (DiscoveryReport, FoundIntegral, certify, independent_subset, is_phase_constant,
                                  jacobian_points)
 from hkproof.experiments.reconstruction import (dense_size, kernel_mod_p, line_degrees, monomials_upto,
-                                                reconstruct_rational)
+                                                reconstruct_rational, univariate_degrees)
 from hkproof.proof.status import Status
 
 Exponents = tuple[int, ...]
@@ -256,11 +256,19 @@ def circuits(kernel: list[list[int]], p: int, cap: int = MAX_CIRCUIT_TRIALS) -> 
 # ---- candidate integrals: kernel coordinates and their gradients mod p ----------------------------------------
 @dataclass
 class Candidate:
-    """Coordinate k of the kernel of a minimal HK-basis, normalized with the last coordinate -1 (recipe (B))."""
+    """The ratio c_k / c_j of two coordinates of the kernel of a minimal HK-basis (an integral: K_Phi(x) is
+    one-dimensional); j = l - 1 is recipe (B)'s normalization c_l = -1, up to sign."""
 
     basis: list[Exponents]
     k: int
     gradient: list[int]
+    norm: int = -1
+    estimate: int = 0            # unknowns of its dense ansatz, from degrees along one line mod p
+
+
+    @property
+    def j(self) -> int:
+        return self.norm % len(self.basis)
 
 
 def recipe_b_mod_p(orbit: ModularOrbit, basis: list[Exponents]) -> tuple[flint.nmod_mat, list[int]] | None:
@@ -292,6 +300,53 @@ def coordinate_gradients(orbit: ModularOrbit, basis: list[Exponents]) -> list[li
         g.append(row)
     dc = a.solve(flint.nmod_mat(g, p))
     return [[int(dc[k, j]) for j in range(dc.ncols())] for k in range(len(basis) - 1)]
+
+
+def ratio_candidates(orbit: ModularOrbit, basis: list[Exponents], j: int) -> list[Candidate]:
+    """The ratios c_k / c_j, k != j, with their gradients mod p (quotient rule on recipe (B)'s coordinates)."""
+    grads = coordinate_gradients(orbit, basis)
+    solved = recipe_b_mod_p(orbit, basis)
+    if grads is None or solved is None:
+        return []
+    p, n = orbit.p, len(orbit.points[0])
+    c = solved[1] + [p - 1]
+    g = grads + [[0] * n]
+    if c[j] == 0:
+        return []
+    inv = pow(c[j], -2, p)
+    return [Candidate(basis, k, [(gk * c[j] - c[k] * gj) * inv % p for gk, gj in zip(g[k], g[j])], j)
+            for k in range(len(basis)) if k != j]
+
+
+def normalizations(kmap: KahanMap, basis: list[Exponents], weights: Weights, free: list[str], p: int,
+                   rng: random.Random, nvars: int, max_degree: int = 12) -> list[tuple[int, dict[int, int]]]:
+    """Recipe (B)'s normalization j = l - 1 and the coordinate j whose ratios c_k / c_j have the smallest dense
+    ansatzes, with the size of each ratio's ansatz, from degrees along one random line (values mod p). A special
+    line or prime only lowers degrees, so a size above the limit is a safe reason to skip."""
+    names = list(free) + list(kmap.variables)
+    a = [flint.fmpq(rng.randint(-30, 30) or 1, rng.randint(1, 30)) for _ in names]
+    b = [flint.fmpq(rng.randint(-30, 30) or 1, rng.randint(1, 30)) for _ in names]
+    sample = _modular_sampler(kmap, basis, None, weights, free, p)
+    ts, vecs = [], []
+    for t in range(1, 4 * max_degree + 20):
+        if len(ts) >= 2 * max_degree + 5:
+            break
+        pt = dict(zip(names, (x + t * y for x, y in zip(a, b))))
+        v = sample({m: pt[m] for m in free}, [{m: pt[m] for m in kmap.variables}])[0]
+        if v is not None and all(v):
+            ts.append(t)
+            vecs.append(v)
+    l = len(basis)
+    options = []
+    for j in range(l - 1, -1, -1):
+        sizes = {}
+        for k in range(l):
+            if k != j:
+                deg = univariate_degrees(ts, [v[k] * pow(v[j], -1, p) % p for v in vecs], p, max_degree)
+                sizes[k] = 10**9 if deg is None else dense_size(nvars, deg)
+        options.append((sum(sorted(sizes.values())[:max(1, len(sizes) // 2)]), j, sizes))   # the simpler half
+    best = min(options, key=lambda o: o[0])
+    return [(options[0][1], options[0][2])] + ([(best[1], best[2])] if best[1] != l - 1 else [])
 
 
 # ---- weights ---------------------------------------------------------------------------------------------------
@@ -475,10 +530,12 @@ def _search(report: DiscoveryReport, field: QuadraticField, full_map: KahanMap, 
         for s in supports:
             basis = [monos[j] for j in s]
             texts = [monomial_text(field.variables, e) for e in basis]
-            grads = coordinate_gradients(probe.orbit, basis)
-            if grads is not None:
-                candidates += [Candidate(basis, k, g) for k, g in enumerate(grads)]
+            for j, sizes in normalizations(kmap, basis, weights, free, probe.p, rng, len(free) + n):
+                for cand in ratio_candidates(probe.orbit, basis, j):
+                    cand.estimate = sizes[cand.k]
+                    candidates.append(cand)
             report.bases.append({"basis": texts, "degree": d})
+    candidates.sort(key=lambda c: c.estimate)      # the simplest integrals first (stable: small bases first)
     # how many independent integrals the kernels carry (gradients mod p), and which coordinates show them
     chosen_rank = rank_mod([c.gradient for c in candidates], probe.p) if candidates else 0
     report.expected_independent = chosen_rank
@@ -523,28 +580,31 @@ def _reconstruct_all(report: DiscoveryReport, kmap: KahanMap, full_map: KahanMap
     """Reconstruct and certify kernel coordinates, one per new independent gradient, simplest bases first."""
     accepted: list[list[int]] = []
     caches: dict[tuple, dict] = {}
-    too_big: set[tuple] = set()
     inner = list(kmap.variables)
     count = 0
     for cand in candidates:
         if len(accepted) >= target:
             break
-        key = tuple(cand.basis)
-        if key in too_big or rank_mod(accepted + [cand.gradient], p) <= len(accepted):
+        if rank_mod(accepted + [cand.gradient], p) <= len(accepted):
+            continue
+        texts = [monomial_text(kmap.variables, e) for e in cand.basis]
+        if cand.estimate > max_unknowns:
+            report.skipped.append({"basis": texts, "coordinate": f"c{cand.k + 1}/c{cand.j + 1}", "degrees": None,
+                                   "reason": f"dense ansatz of about {cand.estimate} unknowns along a line "
+                                             f"(limit {max_unknowns})" if cand.estimate < 10**9 else
+                                             "degree > 12 along a line"})
             continue
         clock.check(f"reconstructing integral {len(accepted) + 1} of {target}")
-        texts = [monomial_text(kmap.variables, e) for e in cand.basis]
-        sampler = _sampler(kmap, texts, cand.k, weights, free, caches)
+        sampler = _sampler(kmap, texts, cand.k, cand.j, weights, free, caches)
         clock.start("reconstruction", f"degrees of coordinate {cand.k + 1} of the kernel of ({', '.join(texts)})")
         start = time.perf_counter()
-        fast = _modular_sampler(kmap, cand.basis, cand.k, weights, free, p)
+        fast = _modular_sampler(kmap, cand.basis, (cand.k, cand.j), weights, free, p)
         lines = [line_degrees(fast, free, inner, max_degree=max_degree, seed=rng.randint(0, 10**6), modulus=p)
                  for _ in range(2)]
         degrees = None if None in lines else (max(d[0] for d in lines), max(d[1] for d in lines))
         size = None if degrees is None else dense_size(len(free) + len(inner), degrees)
         if degrees is None or size > max_unknowns:
-            too_big.add(key)
-            report.skipped.append({"basis": texts, "coordinate": cand.k + 1,
+            report.skipped.append({"basis": texts, "coordinate": f"c{cand.k + 1}/c{cand.j + 1}",
                                    "degrees": None if degrees is None else list(degrees),
                                    "reason": (f"degree > {max_degree} along a line" if degrees is None else
                                               f"dense ansatz of {size} unknowns (limit {max_unknowns})")})
@@ -557,13 +617,13 @@ def _reconstruct_all(report: DiscoveryReport, kmap: KahanMap, full_map: KahanMap
         notes = list(rec.notes)
         h = None
         if rec.frac is not None:
-            weight = [a - b for a, b in zip(weights.of_monomial(_exps(kmap, cand.basis[-1])),
+            weight = [a - b for a, b in zip(weights.of_monomial(_exps(kmap, cand.basis[cand.j])),
                                             weights.of_monomial(_exps(kmap, cand.basis[cand.k])))]
             h = restore_weights(rec.frac, weights, weight)
             notes.append("the interpolant is not weighted homogeneous: not restored" if h is None else
                          f"P/Q with degrees {list(degrees)} from {rec.samples} exact samples, checked at "
                          f"{rec.checks} fresh ones")
-        coordinate = f"c{cand.k + 1} (last coordinate -1)"
+        coordinate = f"c{cand.k + 1}/c{cand.j + 1}"
         if h is None:
             report.integrals.append(FoundIntegral(name, None, Status.UNKNOWN, "kernel coordinate", texts, coordinate,
                                                   time.perf_counter() - start, "reconstruction failed", notes))
@@ -584,9 +644,10 @@ def _exps(kmap: KahanMap, e: Exponents) -> dict[str, int]:
     return {v: k for v, k in zip(kmap.variables, e) if k}
 
 
-def _modular_sampler(kmap: KahanMap, basis: list[Exponents], k: int, weights: Weights, free: list[str],
-                     p: int) -> Callable:
-    """Values mod p of coordinate k of the kernel of a minimal basis (recipe (B)): cheap degree probes."""
+def _modular_sampler(kmap: KahanMap, basis: list[Exponents], k: tuple[int, int] | None, weights: Weights,
+                     free: list[str], p: int) -> Callable:
+    """Values mod p of c_k / c_j, k = (k, j), for the kernel of a minimal basis (the whole vector c with
+    c_l = -1 when k is None): cheap degree probes."""
     def sample(outer: dict, points: list[dict]) -> list:
         vals = {m: flint.fmpq(1) for m in weights.normalized} | {m: outer[m] for m in free}
         try:
@@ -600,13 +661,18 @@ def _modular_sampler(kmap: KahanMap, basis: list[Exponents], k: int, weights: We
                                         basis)
             except HKProofError:
                 solved = None
-            out.append(None if solved is None else solved[1][k])
+            if solved is None:
+                out.append(None)
+            else:
+                c = solved[1] + [p - 1]
+                out.append(c if k is None else None if c[k[1]] == 0 else c[k[0]] * pow(c[k[1]], -1, p) % p)
         return out
     return sample
 
 
-def _sampler(kmap: KahanMap, texts: list[str], k: int, weights: Weights, free: list[str], caches: dict) -> Callable:
-    """Exact values of coordinate k of the kernel of a minimal basis (recipe (B)), at given free values."""
+def _sampler(kmap: KahanMap, texts: list[str], k: int, j: int, weights: Weights, free: list[str],
+             caches: dict) -> Callable:
+    """Exact values of c_k / c_j for the kernel of a minimal basis (recipe (B): c_l = -1), at given free values."""
     basis = [Frac.parse(kmap.ring, t) for t in texts]
     cache = caches.setdefault(tuple(texts), {})
 
@@ -624,6 +690,7 @@ def _sampler(kmap: KahanMap, texts: list[str], k: int, weights: Weights, free: l
         out = []
         for pt in points:
             c = kernel_vector(problem, [pt[v] for v in kmap.variables])
-            out.append(None if c is None or c[-1] != -1 else c[k])   # -1 last: the recipe (B) normalization
+            ok = c is not None and c[-1] == -1 and c[j] != 0          # -1 last: recipe (B)'s normalization
+            out.append(c[k] / c[j] if ok else None)
         return out
     return sample

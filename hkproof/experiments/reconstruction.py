@@ -124,17 +124,37 @@ def line_degrees(sample: Sampler, outer: Sequence[str], inner: Sequence[str], *,
             if v is not None:
                 ts.append(t)
                 vs.append(v)
-        if modulus is None:
-            vec = _exact_kernel_vector([[flint.fmpq(tt) ** j for j in range(e + 1)] for tt in ts], vs)
-        else:
-            vec = _kernel_vector_mod_p([[v * pow(tt, j, modulus) % modulus for j in range(e + 1)]
-                                        + [-pow(tt, j, modulus) % modulus for j in range(e + 1)]
-                                        for tt, v in zip(ts, vs)], modulus)
-        if vec is not None:
-            q, p = vec[:e + 1], vec[e + 1:]
-            top = lambda c: max((j for j, x in enumerate(c) if x != 0), default=0)  # noqa: E731
-            return top(p), top(q)
+        found = _fit(ts, vs, e, modulus)
+        if found is not None:
+            return found
     return None
+
+
+def univariate_degrees(ts: Sequence[int], values: Sequence[int], p: int, max_degree: int) -> tuple[int, int] | None:
+    """(deg P, deg Q) of the lowest-degree rational function P/Q of t through the values mod p (None: none of
+    degree <= max_degree fits the points given)."""
+    for e in range(max_degree + 1):
+        if len(ts) < 2 * e + 5:
+            return None
+        found = _fit(ts[:2 * e + 5], values[:2 * e + 5], e, p)
+        if found is not None:
+            return found
+    return None
+
+
+def _fit(ts: Sequence[int], vs: Sequence, e: int, modulus: int | None) -> tuple[int, int] | None:
+    """Degrees of P/Q with deg <= e through the points (t, v): exact over Q, or mod `modulus`."""
+    if modulus is None:
+        vec = _exact_kernel_vector([[flint.fmpq(tt) ** j for j in range(e + 1)] for tt in ts], list(vs))
+    else:
+        vec = _kernel_vector_mod_p([[v * pow(tt, j, modulus) % modulus for j in range(e + 1)]
+                                    + [-pow(tt, j, modulus) % modulus for j in range(e + 1)]
+                                    for tt, v in zip(ts, vs)], modulus)
+    if vec is None:
+        return None
+    q, p = vec[:e + 1], vec[e + 1:]
+    top = lambda c: max((j for j, x in enumerate(c) if x != 0), default=0)  # noqa: E731
+    return top(p), top(q)
 
 
 def kernel_mod_p(rows: list[list[int]], p: int) -> list[list[int]]:

@@ -23,6 +23,9 @@ from hkproof.hk.integrals import check_integral
 from hkproof.proof.status import Status
 
 
+SKIPPED_SHOWN = 40       # kernel coordinates too large to reconstruct: the first ones are listed, all are counted
+
+
 @dataclass
 class FoundIntegral:
     """A candidate integral: its formula (None if not reconstructed), its status and where it came from."""
@@ -118,7 +121,7 @@ class DiscoveryReport:
                 "integrals": [i.to_dict() for i in self.integrals], "independent": self.independent,
                 "independent_expected_from_kernels": self.expected_independent,
                 "bases": self.bases, "kernels": self.kernels, "conserved": self.conserved, "trivial": self.trivial,
-                "skipped": self.skipped,
+                "skipped": self.skipped[:SKIPPED_SHOWN], "skipped_total": len(self.skipped),
                 "negative_result": self.negative or None, "covered": self.covered, "complete": self.complete,
                 "stages": {k: round(v, 3) for k, v in self.stages.items()}, "probes": self.probes,
                 "seconds": round(time.perf_counter() - self.started, 3)}
