@@ -112,9 +112,10 @@ def markdown(rows: list[dict], ratios: list[tuple[str, float, float]]) -> str:
             "- First Clebsch flow: the 28 quadratic monomials have a 4-dimensional kernel carried on the ten "
             "monomials of Th. \"dClebsch max basis\", and the gradients of the kernel coordinates mod p show 4 "
             "independent integrals. `discover` reconstructs and proves J (Th. \"dC basis 1\") in about a second; the "
-            "reconstruction column is mostly degree probes mod p along random lines for the 93 minimal bases; "
-            "the other three are kernel coordinates of degree 11 to 13 (or more than 16) along a random line, i.e. "
-            "dense ansatzes of 10^5 unknowns and more. The 120 s goal with four integrals is therefore NOT met: it "
+            "minimal-bases column is mostly degree probes mod p along random lines, which choose for each of the 93 "
+            "minimal bases the normalization c_k/c_j with the simplest ratios; the other three integrals appear "
+            "only in ratios of degree 10 and more along a line (822 ratios skipped), i.e. dense ansatzes of 10^5 "
+            "unknowns and more. The 120 s goal with four integrals is therefore NOT met: it "
             "needs sparse interpolation (or the paper's relation-driven recipe (E)), which `discover` does not have.",
             "- Non-integrable fields finish in milliseconds with an exact negative statement (no polynomial of "
             "degree <= D vanishes on an orbit segment at the sampled parameter values)."]
