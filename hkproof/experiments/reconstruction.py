@@ -20,6 +20,7 @@ import flint
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Ring
 from hkproof.experiments.arithmetics import free_kernel, integer_rows
+from hkproof.experiments.relations import _monomial_value
 
 Point = dict[str, flint.fmpq]
 # sample(outer values, inner points) -> the function's value at each point (None where it is undefined)
@@ -55,14 +56,6 @@ def monomials_upto(count: int, degree: int) -> list[tuple[int, ...]]:
             continue
         rec((), total)
     return out
-
-
-def _value(exps: Sequence[int], point: Sequence[flint.fmpq]) -> flint.fmpq:
-    v = flint.fmpq(1)
-    for x, e in zip(point, exps):
-        if e:
-            v *= x ** e
-    return v
 
 
 def _mod(q: flint.fmpq, p: int) -> int | None:
@@ -188,8 +181,8 @@ def reconstruct_rational(ring: Ring, outer: Sequence[str], inner: Sequence[str],
     outer_draws = len(monomials_upto(len(outer), max(degrees))) + 2 if outer else 1
     samples.extend(unknowns + 6, outer_draws)
     hs = [v for _, v in samples.rows]
-    vals = ([_value(m, pt) for m in q_monos] for pt, _ in samples.rows)
-    pvals = ([_value(m, pt) for m in p_monos] for pt, _ in samples.rows)
+    vals = ([_monomial_value(m, pt) for m in q_monos] for pt, _ in samples.rows)
+    pvals = ([_monomial_value(m, pt) for m in p_monos] for pt, _ in samples.rows)
     rows = [[h * v for v in qv] + [-v for v in pv] for h, qv, pv in zip(hs, vals, pvals)]
     result.samples = len(samples.rows)
     if not _has_kernel_mod_p(rows):
