@@ -27,7 +27,7 @@ import flint
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
-from hkproof.dynamics.catalogue import kahan_map
+from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.field import EPS, QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ParseError, SingularPointError
@@ -417,7 +417,7 @@ def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[s
     """Integrals of the Kahan map of `system` whose HK-bases are monomials of degree <= `degree`, certified."""
     if not 1 <= degree <= 6:
         raise ParseError(f"--degree must be between 1 and 6, got {degree}")
-    base = kahan_map(system).field if isinstance(system, str) else system
+    base = get_system(system) if isinstance(system, str) else system
     try:
         fixed = {k: to_fmpq(v) for k, v in (params or {}).items()}
     except (ValueError, TypeError, ZeroDivisionError) as exc:
