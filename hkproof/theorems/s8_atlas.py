@@ -105,10 +105,6 @@ def _register(entry: Entry, title: str, statement: str, independent: int, new_di
           expected=Status.EVIDENCE_EXACT)(lambda cert, claimed: prove_kernels(cert, claimed, entry))
 
 
-def _params(**values: str) -> tuple[tuple[str, str], ...]:
-    return tuple(values.items())
-
-
 _register(Entry("volterra-3", 3, (), 2), "Periodic Volterra lattice, N = 3",
           "The Kahan map has 2 functionally independent rational integrals (the linear x1 + x2 + x3 and a deformed "
           "x1 x2 x3), as many as Liouville integrability needs (1 Casimir + 1)", 2, "1,0,1", 2)
@@ -121,17 +117,17 @@ _register(Entry("volterra-5", 3, (), 3), "Periodic Volterra lattice, N = 5",
 _register(Entry("toda-3", 3, (), 4), "Periodic Toda lattice, N = 3 (Flaschka variables)",
           "Up to degree 3 the Kahan map has only the linear integral b1 + b2 + b3: no deformation of the energy or of "
           "a1 a2 a3 of degree <= 3 survives; Liouville integrability would need 4", 1, "1,0,0", 1)
-_register(Entry("kirchhoff", 2, _params(a="1", a3="2", b="3", b3="5"), 4), "Kirchhoff case of a rigid body in "
+_register(Entry("kirchhoff", 2, (), 4, seconds=900.0), "Kirchhoff case of a rigid body in "
           "an ideal fluid", "The Kahan map keeps m3 and a deformed quadric ratio (2 independent integrals proven); "
           "the degree-2 kernel of the moving coordinates carries 3 independent integrals, with m3 the 4 Liouville "
-          "integrability needs; the other 2 are beyond dense reconstruction", 2, "0,3", 3)
+          "integrability needs; the other 2 are beyond dense reconstruction", 2, "0,3", 3, slow=True)
 _register(Entry("gaudin-2", 2, (), 4, seconds=900.0), "Classical Gaudin magnet, two spins in a field",
           "The Kahan map has 3 functionally independent rational integrals proven (s3 + t3 and two deformed quadric "
           "ratios); the degree-2 kernel carries 4, what Liouville integrability needs (2 Casimirs + 2)", 3, "1,3", 4,
           slow=True)
 for _name, _title in (("so4-euler-top", "Euler top on so(4), Manakov case"),
                       ("so4-euler-top-flow2", "Euler top on so(4), commuting Manakov flow")):
-    _register(Entry(_name, 2, _params(a1="1", a2="2", a3="3", a4="5"), 4, seconds=600.0), _title,
+    _register(Entry(_name, 2, (), 4, seconds=900.0), _title,
               "The orbits lie on 4 quadrics (kernel of the 28 quadratic monomials) whose coordinates carry 4 "
               "independent integrals, what Liouville integrability needs (2 Casimirs + 2); one of them, a ratio of "
               "quadrics, is reconstructed and proven, the others exceed dense reconstruction (degree >= 10)",
