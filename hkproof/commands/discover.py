@@ -4,9 +4,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from hkproof.commands import Result, add_command
+from hkproof.commands import Result, add_command, fixed_values
 from hkproof.dynamics.catalogue import SYSTEMS, get_system
-from hkproof.errors import ParseError
 from hkproof.experiments.discovery import discover
 from hkproof.hk.discover import DiscoveryReport
 
@@ -25,21 +24,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-progress", action="store_true", help="no progress lines on stderr")
 
 
-def parse_params(items: list[str]) -> dict[str, str]:
-    """NAME=VALUE pairs (values are read exactly later; nothing is evaluated here)."""
-    out = {}
-    for item in items:
-        name, sep, value = item.partition("=")
-        if not sep or not name.strip() or not value.strip():
-            raise ParseError(f"--param expects NAME=VALUE, got {item!r}")
-        out[name.strip()] = value.strip()
-    return out
-
-
 def run_discover(args: argparse.Namespace) -> Result:
     field = get_system(args.system)
     progress = not args.no_progress and not args.json and sys.stderr.isatty()
-    report = discover(field, args.degree, params=parse_params(args.param), seconds=args.seconds, seed=args.seed,
+    params = fixed_values(argparse.Namespace(param=args.param, eps=None))    # eps stays symbolic
+    report = discover(field, args.degree, params=params, seconds=args.seconds, seed=args.seed,
                       progress=progress)
     text = format_latex(report) if args.latex else format_report(report)
     return Result(report.to_dict(), text, 0)

@@ -53,21 +53,6 @@ class BudgetExhausted(HKProofError):
 
 
 # ---- fields, monomials ----------------------------------------------------------------------------------------
-def specialize_field(field: QuadraticField, values: Mapping[str, Rational]) -> QuadraticField:
-    """The field with some parameters fixed to exact rationals (no text is evaluated: Frac.specialize)."""
-    unknown = sorted(set(values) - set(field.parameters))
-    if unknown:
-        raise ParseError(f"{unknown} are not parameters of {field.name} ({list(field.parameters)})")
-    if not values:
-        return field
-    small = field.ring.drop(values)
-    q = {k: to_fmpq(v) for k, v in values.items()}
-    rhs = tuple(str(f.specialize(q, small)) for f in field.rhs)
-    fixed = ", ".join(f"{k}={v}" for k, v in q.items())
-    return QuadraticField(f"{field.name}[{fixed}]", field.variables,
-                          tuple(p for p in field.parameters if p not in values), rhs, field.description)
-
-
 def without_conserved(field: QuadraticField) -> tuple[QuadraticField, list[str]]:
     """Conserved coordinates (x_i' = 0, so x~_i = x_i) become parameters: they would only inflate the kernels."""
     conserved = [v for v, f in zip(field.variables, field.rhs) if f.is_zero()]
@@ -76,7 +61,7 @@ def without_conserved(field: QuadraticField) -> tuple[QuadraticField, list[str]]
     keep = [i for i, v in enumerate(field.variables) if v not in conserved]
     return QuadraticField(field.name + "[moving]", tuple(field.variables[i] for i in keep),
                           field.parameters + tuple(conserved), tuple(field.rhs_text[i] for i in keep),
-                          field.description), conserved
+                          field.description, field.step), conserved
 
 
 def monomial_exponents(n: int, degree: int) -> list[Exponents]:
@@ -418,11 +403,11 @@ def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[s
     if not 1 <= degree <= 6:
         raise ParseError(f"--degree must be between 1 and 6, got {degree}")
     base = get_system(system) if isinstance(system, str) else system
-    try:
-        fixed = {k: to_fmpq(v) for k, v in (params or {}).items()}
-    except (ValueError, TypeError, ZeroDivisionError) as exc:
-        raise ParseError(f"--param values must be exact rationals such as 2 or -3/7: {exc}") from None
-    original = specialize_field(base, fixed)
+    unknown = sorted(set(params or {}) - set(base.parameters))
+    if unknown:
+        raise ParseError(f"{unknown} are not parameters of {base.name} ({list(base.parameters)})")
+    fixed = base.check_values(params or {})
+    original = base.specialize(fixed) if fixed else base
     report = DiscoveryReport(base.name, list(original.variables), list(original.parameters), degree,
                              {k: str(v) for k, v in fixed.items()})
     clock = _Clock(report, seconds, progress)

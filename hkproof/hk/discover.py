@@ -58,7 +58,7 @@ def certify(kmap: KahanMap, h: Frac, fixed: Mapping[str, Rational] | None = None
     some parameters were fixed by the user), refuted otherwise."""
     verdict = check_integral(kmap, h.to_ring(kmap.ring))
     where = f"in {verdict.ring}" + (f" at {', '.join(f'{k}={v}' for k, v in fixed.items())}" if fixed else "")
-    if verdict.verdict != "verified":
+    if verdict.status is not Status.VERIFIED:
         return Status.REFUTED, f"{verdict.method} is not zero {where} ({verdict.difference_terms} terms)"
     return (Status.VERIFIED_SPECIALIZED if fixed else Status.VERIFIED), f"{verdict.method} = 0 {where}"
 
