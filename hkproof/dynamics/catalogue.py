@@ -53,6 +53,52 @@ _register(QuadraticField(
     "Clebsch system, general flow (eq. \"gcl\") with c_k from eq. \"c thru b\""))
 
 
+# ---- the atlas beyond the paper (docs/atlas.md: sources and conventions) --------------------------------------
+SO4_VARS = ("m12", "m13", "m14", "m23", "m24", "m34")
+_register(QuadraticField(
+    "so4-euler-top", SO4_VARS, ("a1", "a2", "a3", "a4"),
+    ("(a1 - a2)*(m13*m23 + m14*m24)", "-(a1 - a3)*(m12*m23 - m14*m34)", "-(a1 - a4)*(m12*m24 + m13*m34)",
+     "(a2 - a3)*(m12*m13 + m24*m34)", "(a2 - a4)*(m12*m14 - m23*m34)", "(a3 - a4)*(m13*m14 + m23*m24)"),
+    "Euler top on so(4), Manakov case: M' = [M, Omega], Omega_ij = (a_i + a_j) M_ij"))
+_register(QuadraticField(
+    "so4-euler-top-flow2", SO4_VARS, ("a1", "a2", "a3", "a4"),
+    ("(a1 - a2)*((a1 + a2 + a3)*m13*m23 + (a1 + a2 + a4)*m14*m24)",
+     "-(a1 - a3)*((a1 + a2 + a3)*m12*m23 - (a1 + a3 + a4)*m14*m34)",
+     "-(a1 - a4)*((a1 + a2 + a4)*m12*m24 + (a1 + a3 + a4)*m13*m34)",
+     "(a2 - a3)*((a1 + a2 + a3)*m12*m13 + (a2 + a3 + a4)*m24*m34)",
+     "(a2 - a4)*((a1 + a2 + a4)*m12*m14 - (a2 + a3 + a4)*m23*m34)",
+     "(a3 - a4)*((a1 + a3 + a4)*m13*m14 + (a2 + a3 + a4)*m23*m24)"),
+    "Commuting Manakov flow on so(4): M' = [M, Omega], Omega_ij = (a_i^2 + a_i a_j + a_j^2) M_ij"))
+
+
+def _volterra(n: int) -> QuadraticField:
+    x = [f"x{k}" for k in range(1, n + 1)]
+    return QuadraticField(f"volterra-{n}", tuple(x), (),
+                          tuple(f"{x[k]}*({x[(k + 1) % n]} - {x[k - 1]})" for k in range(n)),
+                          f"Periodic Volterra lattice, N = {n}: x_k' = x_k (x_(k+1) - x_(k-1)), indices mod {n}")
+
+
+for _n in (3, 4, 5):
+    _register(_volterra(_n))
+_register(QuadraticField(
+    "toda-3", ("a1", "a2", "a3", "b1", "b2", "b3"), (),
+    ("a1*(b2 - b1)", "a2*(b3 - b2)", "a3*(b1 - b3)",
+     "2*(a1**2 - a3**2)", "2*(a2**2 - a1**2)", "2*(a3**2 - a2**2)"),
+    "Periodic Toda lattice, N = 3, Flaschka variables: a_k' = a_k (b_(k+1) - b_k), b_k' = 2 (a_k^2 - a_(k-1)^2)"))
+_register(QuadraticField(
+    "gaudin-2", ("s1", "s2", "s3", "t1", "t2", "t3"), ("b", "g"),
+    ("s2*b + g*(s2*t3 - s3*t2)", "-s1*b + g*(s3*t1 - s1*t3)", "g*(s1*t2 - s2*t1)",
+     "g*(t2*s3 - t3*s2)", "g*(t3*s1 - t1*s3)", "g*(t1*s2 - t2*s1)"),
+    "Classical rational Gaudin magnet, two spins s, t in the field (0, 0, b), flow of "
+    "H = b s3 + g <s, t>: s' = s x (B + g t), t' = g t x s"))
+_register(QuadraticField(
+    "kirchhoff", CLEBSCH_VARS, ("a", "a3", "b", "b3"),
+    ("(a3 - a)*m2*m3 + (b3 - b)*p2*p3", "(a - a3)*m3*m1 + (b - b3)*p3*p1", "0",
+     "a3*p2*m3 - a*p3*m2", "a*p3*m1 - a3*p1*m3", "a*(p1*m2 - p2*m1)"),
+    "Kirchhoff case of a rigid body in an ideal fluid: m' = m x dH/dm + p x dH/dp, p' = p x dH/dm, "
+    "H = (a (m1^2 + m2^2) + a3 m3^2 + b (p1^2 + p2^2) + b3 p3^2)/2"))
+
+
 def get_system(name_or_path: str) -> QuadraticField:
     """A catalogue system by name, or a user's system from a TOML file."""
     if name_or_path in SYSTEMS:

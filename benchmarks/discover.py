@@ -1,0 +1,141 @@
+"""`discover` end to end, time per stage; modular against exact screening. Writes docs/performance-discover.md.
+
+Cases: the Euler top (degree 2, goal < 5 s), the first Clebsch flow (degree 2, parameters symbolic, budget 120 s,
+goal: four independent integrals), non-integrable fields (a generic planar field, a random 3D field) and the
+periodic Volterra lattice N = 3. Screening by algorithm (N) on the union basis is measured side by side mod p
+(what discover does) and over Q (ExactQ, the reference), at the same points; the ratio is what is quoted.
+"""
+from __future__ import annotations
+
+import argparse
+import multiprocessing as mp
+import random
+import time
+from pathlib import Path
+
+import flint
+
+from hkproof.dynamics.catalogue import kahan_map
+from hkproof.dynamics.field import QuadraticField
+from hkproof.experiments.arithmetics import ExactQ
+from hkproof.experiments.discovery import discover, monomial_exponents, monomial_frac, screen
+from hkproof.experiments.profiles import ProfileProblem
+from hkproof.experiments.scene import make_scene
+
+PLANAR = QuadraticField("generic-planar", ("x", "y"), (),
+                        ("1 + 2*x - 3*y + x**2 - 5*x*y + 7*y**2", "-2 + x + 4*y - 3*x**2 + x*y + 2*y**2"))
+RANDOM_3D = QuadraticField("random-3d", ("u", "v", "w"), (),
+                           ("3*u*v - 2*w**2 + u - 1", "-u**2 + 5*v*w + 2*v + 3", "4*u*w - v**2 + 7*u*v - w"))
+CASES = [("euler-top", "euler-top", 2, 60.0), ("clebsch (first flow)", "clebsch", 2, 120.0),
+         ("generic planar field", PLANAR, 4, 60.0), ("random 3D field", RANDOM_3D, 3, 60.0),
+         ("volterra-3", "volterra-3", 3, 60.0)]
+STAGES = ("screening", "minimal bases", "confirm bases", "reconstruction", "proofs", "independence")
+
+
+def run_cases(quick: bool) -> list[dict]:
+    rows = []
+    for label, system, degree, budget in CASES:
+        if quick and label.startswith("clebsch"):
+            budget = 30.0
+        start = time.perf_counter()
+        r = discover(system, degree, seconds=budget)
+        total = time.perf_counter() - start
+        rows.append({"label": label, "degree": degree, "budget": budget, "total": total, "stages": r.stages,
+                     "verified": len(r.verified), "independent": r.independent,
+                     "expected": r.expected_independent or 0, "complete": r.complete,
+                     "skipped": len(r.skipped), "dims": "/".join(str(k["dimension"]) for k in r.kernels)})
+        print(f"{label}: {total:.2f} s, {r.independent} independent of {r.expected_independent}", flush=True)
+    return rows
+
+
+def _exact_profiles(system, degree: int, values: dict, points: list, out) -> None:
+    """Worker: exact (N) on the union basis at the given points; puts the seconds per point on `out`."""
+    kmap = kahan_map(system)
+    scene = make_scene(kmap, values)
+    basis = [monomial_frac(kmap.ring, kmap.variables, e) for e in monomial_exponents(len(kmap.variables), degree)]
+    problem = ProfileProblem(scene, basis)
+    start = time.perf_counter()
+    for pt in points:
+        problem.profile(pt, ExactQ(), with_kernel=True)
+    out.put((time.perf_counter() - start) / len(points))
+
+
+def screening_ratio(system, degree: int, repeats: int = 3, limit: float = 60.0) -> tuple[float, float | None]:
+    """Seconds per point: the union basis mod p (discover's screen) against exact (N) over Q at the same points
+    (exact in a separate process, stopped after `limit` seconds: its heights grow like d^n along the orbit)."""
+    kmap = kahan_map(system)
+    rng = random.Random(1)
+    values = {n: flint.fmpq(rng.randint(2, 9), rng.randint(2, 9)) for n in ("eps",) + kmap.field.parameters}
+    scene = make_scene(kmap, values)
+    start = time.perf_counter()
+    probes = [screen(scene, len(kmap.variables), degree, random.Random(k)) for k in range(repeats)]
+    modular = (time.perf_counter() - start) / repeats
+    out: mp.Queue = mp.Queue()
+    worker = mp.Process(target=_exact_profiles, args=(system, degree, values, [pr.point for pr in probes], out))
+    worker.start()
+    worker.join(limit)
+    if worker.is_alive():
+        worker.terminate()
+        worker.join()
+        return modular, None
+    return modular, out.get()
+
+
+def markdown(rows: list[dict], ratios: list[tuple[str, float, float]]) -> str:
+    out = ["# Performance of `hkproof discover`", "",
+           "Measured by `benchmarks/discover.py` in one run on the shared 2-core machine (timings are noisy; the "
+           "ratios in the second table are measured side by side). Goals of issue 13: Euler top under 5 s; first "
+           "Clebsch flow with four independent integrals, parameters symbolic, under 120 s.", "",
+           "| system | degree | budget (s) | total (s) | " + " | ".join(STAGES) + " | kernel dims | verified | "
+           "independent / carried by the kernels | skipped | complete |",
+           "|" + "---|" * (len(STAGES) + 9)]
+    for r in rows:
+        stages = " | ".join(f"{r['stages'].get(s, 0.0):.2f}" for s in STAGES)
+        out.append(f"| {r['label']} | {r['degree']} | {r['budget']:.0f} | {r['total']:.2f} | {stages} | {r['dims']} | "
+                   f"{r['verified']} | {r['independent']} / {r['expected']} | {r['skipped']} | "
+                   f"{'yes' if r['complete'] else 'no (budget)'} |")
+    out += ["", "## Screening the union basis: mod p against exact", "",
+            "| system | degree | mod p (s per point) | exact over Q (s per point) | exact / mod p |",
+            "|---|---|---|---|---|"]
+    for label, degree, modular, exact in ratios:
+        if exact is None:
+            out.append(f"| {label} | {degree} | {modular:.4f} | > 60 (stopped) | > {60 / modular:.0f} |")
+        else:
+            out.append(f"| {label} | {degree} | {modular:.4f} | {exact:.4f} | {exact / modular:.1f} |")
+    out += ["", "## Reading the numbers", "",
+            "- Screening is never the cost: the orbit mod p, its kernels and "
+            "the circuits take milliseconds; choosing the normalization of each minimal basis takes one line of "
+            "samples mod p per basis. The cost is the exact reconstruction of kernel coordinates: every sample "
+            "is an exact kernel at a rational point, and a dense ansatz in n variables of degrees (dP, dQ) needs "
+            "C(n + dP, n) + C(n + dQ, n) of them.",
+            "- Euler top: both integrals (the paper's c1 and d1 up to normalization) are reconstructed and proven "
+            "with the parameters symbolic, far below the 5 s goal.",
+            "- First Clebsch flow: the 28 quadratic monomials have a 4-dimensional kernel carried on the ten "
+            "monomials of Th. \"dClebsch max basis\", and the gradients of the kernel coordinates mod p show 4 "
+            "independent integrals. `discover` reconstructs and proves J (Th. \"dC basis 1\") in about a second; the "
+            "minimal-bases column is mostly degree probes mod p along random lines, which choose for each of the 93 "
+            "minimal bases the normalization c_k/c_j with the simplest ratios; the other three integrals appear "
+            "only in ratios of degree 10 and more along a line (822 ratios skipped), i.e. dense ansatzes of 10^5 "
+            "unknowns and more. The 120 s goal with four integrals is therefore NOT met: it "
+            "needs sparse interpolation (or the paper's relation-driven recipe (E)), which `discover` does not have.",
+            "- Non-integrable fields finish in milliseconds with an exact negative statement (no polynomial of "
+            "degree <= D vanishes on an orbit segment at the sampled parameter values)."]
+    return "\n".join(out) + "\n"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--quick", action="store_true", help="a 30 s budget for Clebsch (a smoke run)")
+    parser.add_argument("--out", default=str(Path(__file__).resolve().parents[1] / "docs" /
+                                             "performance-discover.md"))
+    args = parser.parse_args()
+    rows = run_cases(args.quick)
+    ratios = [(label, degree, *screening_ratio(system, degree))
+              for label, system, degree in (("euler-top", "euler-top", 2), ("volterra-3", "volterra-3", 3),
+                                            ("generic planar field", PLANAR, 4), ("clebsch", "clebsch", 2))]
+    Path(args.out).write_text(markdown(rows, ratios))
+    print(f"wrote {args.out}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,78 @@
+"""The atlas systems are what docs/atlas.md says: their continuous integrals are checked here, exactly."""
+from __future__ import annotations
+
+import pytest
+
+from hkproof.algebra.fraction import Frac
+from hkproof.dynamics.catalogue import get_system
+from hkproof.hk.integrals import lie_derivative
+from hkproof.proof.status import Status
+
+# (system, continuous integrals: Casimirs and Hamiltonians) -- conventions of docs/atlas.md
+CONTINUOUS = {
+    "so4-euler-top": ["m12**2 + m13**2 + m14**2 + m23**2 + m24**2 + m34**2",          # -tr M^2 / 2
+                      "m12*m34 - m13*m24 + m14*m23",                                  # Pf M
+                      "(a1 + a2)*m12**2 + (a1 + a3)*m13**2 + (a1 + a4)*m14**2 + (a2 + a3)*m23**2"
+                      " + (a2 + a4)*m24**2 + (a3 + a4)*m34**2",                        # -tr(M Omega) / 2
+                      "(a1**2 + a1*a2 + a2**2)*m12**2 + (a1**2 + a1*a3 + a3**2)*m13**2"
+                      " + (a1**2 + a1*a4 + a4**2)*m14**2 + (a2**2 + a2*a3 + a3**2)*m23**2"
+                      " + (a2**2 + a2*a4 + a4**2)*m24**2 + (a3**2 + a3*a4 + a4**2)*m34**2"],
+    # the last two: coefficients of lambda in tr (M + lambda A)^3 and tr (M + lambda A)^4, A = diag(a)
+    "volterra-3": ["x1 + x2 + x3", "x1*x2*x3"],
+    "volterra-4": ["x1 + x2 + x3 + x4", "x1*x3", "x2*x4"],
+    "volterra-5": ["x1 + x2 + x3 + x4 + x5", "x1*x2*x3*x4*x5",
+                   "x1**2 + x2**2 + x3**2 + x4**2 + x5**2 + 2*(x1*x2 + x2*x3 + x3*x4 + x4*x5 + x5*x1)"],
+    "toda-3": ["b1 + b2 + b3", "a1*a2*a3", "b1**2 + b2**2 + b3**2 + 2*(a1**2 + a2**2 + a3**2)",
+               "b1**3 + b2**3 + b3**3 + 3*(a1**2*(b1 + b2) + a2**2*(b2 + b3) + a3**2*(b3 + b1))"],
+    "gaudin-2": ["s1**2 + s2**2 + s3**2", "t1**2 + t2**2 + t3**2", "s3 + t3", "b*s3 + g*(s1*t1 + s2*t2 + s3*t3)"],
+    "kirchhoff": ["p1**2 + p2**2 + p3**2", "m1*p1 + m2*p2 + m3*p3", "m3",
+                  "a*(m1**2 + m2**2) + a3*m3**2 + b*(p1**2 + p2**2) + b3*p3**2"],
+}
+FLOW2 = "so4-euler-top-flow2"
+
+
+@pytest.mark.parametrize("name", sorted(CONTINUOUS))
+def test_continuous_integrals(name):
+    field = get_system(name)
+    for text in CONTINUOUS[name]:
+        h = Frac.parse(field.ring, text)
+        assert lie_derivative(field, h).is_zero(), f"{text} is not an integral of {name}"
+
+
+@pytest.mark.parametrize("name", sorted(CONTINUOUS))
+def test_a_perturbed_integral_fails(name):
+    field = get_system(name)
+    h = Frac.parse(field.ring, CONTINUOUS[name][-1]) + Frac.parse(field.ring, f"{field.variables[0]}**2")
+    assert not lie_derivative(field, h).is_zero()
+
+
+def test_so4_flows_commute_and_share_integrals():
+    """The second Manakov flow has the same integrals, and the two vector fields commute ([X, Y] = 0)."""
+    f1, f2 = get_system("so4-euler-top"), get_system(FLOW2)
+    for text in CONTINUOUS["so4-euler-top"]:
+        assert lie_derivative(f2, Frac.parse(f2.ring, text)).is_zero()
+    for v in f1.variables:
+        x = Frac.parse(f1.ring, v)
+        bracket = lie_derivative(f1, lie_derivative(f2, x)) - lie_derivative(f2, lie_derivative(f1, x))
+        assert bracket.is_zero()
+
+
+def test_atlas_claims_fail_when_perturbed():
+    from hkproof.orchestration.registry import get_claim
+    c = get_claim("atlas-volterra-3-integrals")
+    assert c.prove().status == Status.VERIFIED
+    assert c.prove({"independent": "3"}).status == Status.REFUTED
+    k = get_claim("atlas-volterra-3-kernels")
+    assert k.prove().status == Status.EVIDENCE_EXACT
+    assert k.prove({"new_dimensions": "1,1,1"}).status == Status.REFUTED
+    assert k.prove({"gradient_rank": "3"}).status == Status.REFUTED
+
+
+def test_negative_results_are_evidence_not_verified():
+    from hkproof.orchestration.registry import get_claim
+    assert get_claim("atlas-toda-3-kernels").prove().status == Status.EVIDENCE_EXACT
+    cert = get_claim("atlas-toda-3-integrals").prove()
+    assert cert.status == Status.VERIFIED and list(cert.formulas) == ["I1"]
+    ring = get_system("toda-3").ring
+    times_sum = Frac.parse(ring, cert.formulas["I1"]) * Frac.parse(ring, "b1 + b2 + b3")
+    assert not times_sum.variables()                   # a constant: I1 is a function of b1 + b2 + b3 alone

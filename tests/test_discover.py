@@ -1,0 +1,125 @@
+"""`discover`: integrals found from the field alone, certified exactly; nothing unproven is called verified."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from hkproof.algebra.fraction import Frac
+from hkproof.cli import main
+from hkproof.dynamics.catalogue import kahan_map
+from hkproof.dynamics.field import QuadraticField
+from hkproof.experiments import discovery
+from hkproof.experiments.discovery import circuits, discover, without_conserved
+from hkproof.hk.discover import certify
+from hkproof.hk.integrals import check_integral
+from hkproof.proof.status import Status
+
+PLANAR = QuadraticField("generic-planar", ("x", "y"), (),
+                        ("1 + 2*x - 3*y + x**2 - 5*x*y + 7*y**2", "-2 + x + 4*y - 3*x**2 + x*y + 2*y**2"))
+RANDOM_3D = QuadraticField("random-3d", ("u", "v", "w"), (),
+                           ("3*u*v - 2*w**2 + u - 1", "-u**2 + 5*v*w + 2*v + 3", "4*u*w - v**2 + 7*u*v - w"))
+
+
+def test_euler_top_two_independent_verified_integrals():
+    r = discover("euler-top", 2)
+    assert r.complete
+    assert r.independent == 2 and r.expected_independent == 2
+    f = kahan_map("euler-top")
+    for i in r.verified:
+        assert i.status == Status.VERIFIED
+        assert check_integral(f, Frac.parse(f.ring, str(i.frac))).status == Status.VERIFIED   # expr re-parses
+    assert {b["dimension"] for b in r.bases} == {1}
+    assert ["x1**2", "x2**2", "x3**2"] in [b["basis"] for b in r.bases]
+    assert r.kernels[-1]["dimension"] == 2
+
+
+@pytest.mark.parametrize("field", [PLANAR, RANDOM_3D])
+def test_non_integrable_fields_report_no_integral(field):
+    r = discover(field, 2, seconds=60)
+    assert r.complete and not r.integrals and r.independent == 0
+    assert "evidence(exact)" in r.negative
+    assert all(k["dimension"] == 0 for k in r.kernels)
+
+
+def test_lotka_volterra_has_no_integral_up_to_degree_three():
+    r = discover("lotka-volterra", 3)
+    assert not r.integrals and r.negative
+
+
+def test_forged_candidate_is_refuted_not_verified(monkeypatch):
+    """A reconstruction that returns a wrong formula must come out refuted."""
+    real = discovery.restore_weights
+
+    def forged(h, weights, weight):
+        good = real(h, weights, weight)
+        return None if good is None else good + Frac.parse(good.ring, "eps*x1")
+    monkeypatch.setattr(discovery, "restore_weights", forged)
+    r = discover("euler-top", 2)
+    assert r.integrals and all(i.status == Status.REFUTED for i in r.integrals)
+    assert r.independent == 0 and not r.verified
+
+
+def test_certify_perturbed_integral():
+    f = kahan_map("euler-top")
+    good = Frac.parse(f.ring, "(a3*x2**2 - a2*x3**2)/(a1*x2**2 - a2*x1**2)")
+    assert certify(f, good)[0] == Status.VERIFIED
+    assert certify(f, good + Frac.parse(f.ring, "eps**2*x1"))[0] == Status.REFUTED
+
+
+def test_conserved_coordinate_becomes_parameter():
+    field = QuadraticField("rot", ("x", "y", "z"), (), ("z*y", "-z*x", "0"))
+    moving, conserved = without_conserved(field)
+    assert conserved == ["z"] and moving.variables == ("x", "y") and "z" in moving.parameters
+    r = discover(field, 2)
+    names = {i.name: i for i in r.integrals}
+    assert names["z"].status == Status.VERIFIED and names["z"].kind == "conserved coordinate"
+    assert r.independent == 2          # z and a quadric in x, y with z-dependent coefficients
+
+
+def test_circuits_minimal_supports():
+    p = 101
+    kernel = [[1, 1, 0, 0], [0, 1, 1, 0]]     # supports {0,1}, {1,2}, {0,2}
+    supports, complete = circuits(kernel, p)
+    assert complete and sorted(supports) == [(0, 1), (0, 2), (1, 2)]
+
+
+def test_cli_json_and_latex(capsys):
+    assert main(["discover", "euler-top", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["independent"] == 2 and out["dimension"] == 3
+    assert {"name", "expr", "status", "basis", "seconds"} <= set(out["integrals"][0])
+    assert main(["discover", "euler-top", "--latex", "--param", "a1=2"]) == 0
+    text = capsys.readouterr().out
+    assert "\\frac" in text and "verified(specialized)" in text
+
+
+@pytest.mark.parametrize("argv", [["discover", "no-such-system"], ["discover", "euler-top", "--param", "b=1"],
+                                  ["discover", "euler-top", "--param", "a1=x"],
+                                  ["discover", "euler-top", "--param", "a1"],
+                                  ["discover", "euler-top", "--degree", "0"]])
+def test_bad_input_exit_2(argv, capsys):
+    assert main(argv) == 2
+    assert "error" in capsys.readouterr().err
+
+
+def test_user_toml_example():
+    path = Path(__file__).resolve().parents[1] / "docs" / "examples" / "discover-example.toml"
+    assert discover(QuadraticField.from_toml(path), 2).negative          # nothing of degree 2
+    r = discover(QuadraticField.from_toml(path), 3)                   # the modified energy, a cubic pencil
+    assert r.independent == 1 and [i.status for i in r.integrals] == [Status.VERIFIED]
+
+
+def test_budget_reports_what_was_covered(capsys):
+    r = discover("volterra-4", 2, seconds=0.0)
+    assert not r.complete and any("budget" in c for c in r.covered)
+    assert [k["new"] for k in r.kernels] == [1, 2]    # screening always runs before the budget is checked
+    assert not r.integrals
+    assert main(["discover", "euler-top", "--seconds", "0"]) == 0
+    assert "budget ran out" in capsys.readouterr().out
+
+
+def test_all_coordinates_conserved():
+    r = discover(QuadraticField("still", ("x", "y"), (), ("0", "0")), 2)
+    assert r.conserved == ["x", "y"] and r.independent == 2 and r.complete
