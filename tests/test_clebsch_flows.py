@@ -75,3 +75,31 @@ def test_the_general_flow_is_invariant_under_the_combined_shift():
 def test_second_theta_perturbed_relation_refuted():
     bad = THETA_RELATION.replace("(w3 - w1)*c2*(eps**2*L - c2)", "(w3 - w1)*c2*(eps**2*L + c2)")
     assert get_claim("flow-second-theta").prove({"relation": bad}).status is not Status.VERIFIED
+
+
+def test_flow_reduction_verified():
+    cert = proven("flow-reduction")
+    assert cert.status is Status.VERIFIED, cert.render()
+
+
+@pytest.mark.parametrize("key,text", [
+    ("w1_prime", "w1 + 2*y/z"),                # a wrong shift of one w
+    ("eps_prime", "-z*eps"),                   # the inverse map, not the map
+    ("eps_prime", "z**2*eps"),                 # a wrong rescaling of the step
+    ("eps_prime_z0", "2*y*eps"),               # z = 0: a wrong rescaling
+])
+def test_flow_reduction_perturbed_refuted(key, text):
+    assert get_claim("flow-reduction").prove({key: text}).status is not Status.VERIFIED
+
+
+def test_substitution_refuses_bad_input():
+    from hkproof.algebra.fraction import Frac
+    from hkproof.dynamics.catalogue import kahan_map
+    from hkproof.errors import HKProofError
+    from hkproof.hk.transport import Substitution
+    from hkproof.theorems._flows import yz_map
+    g, f2 = yz_map(), kahan_map("clebsch-flow2")
+    with pytest.raises(HKProofError):
+        Substitution(f2.ring, g.ring, {"nope": Frac(g.ring, 1)})            # not a variable of the source
+    with pytest.raises(HKProofError):
+        Substitution(f2.ring, g.ring, {"eps": Frac(f2.ring, 1)})            # image outside the target ring

@@ -18,12 +18,14 @@ from hkproof.hk.linear_relations import parse_relation, relation_rank
 from hkproof.hk.recipe_g import WHAT_IT_PROVES, recipe_g
 from hkproof.hk.reduced import Relation, prove_by_evenness
 from hkproof.hk.translation import ParameterTranslation, prove_on_slice
+from hkproof.hk.transport import Substitution, map_mismatches
 from hkproof.proof.certificate import Certificate, ProofStopped, StepRecorder
 from hkproof.proof.registry import REGISTRY, claim, require_proven
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import H, named
 from hkproof.theorems._common import parse_matrix, require_matrix_form
-from hkproof.theorems._flows import (B_OF_YZ, C_OF_YZ, CYCLIC, GENERAL, PHI0, e_names, map_components_under,
+from hkproof.theorems._flows import (B_OF_YZ, C_OF_YZ, CYCLIC, GENERAL, PHI0, REDUCTION, REDUCTION_Z0, e_names,
+                                     map_components_under, substitution, yz_map_at_z0,
                                      yz_map)
 
 GROUP = "clebsch-flows"
@@ -107,6 +109,69 @@ def prove_general_map(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.require(rank_over_fraction_field(rows) == 3 and not vdm.is_zero(), "(s, y, z) -> b is not invertible")
         s.note("(s, y, z) -> b is a linear bijection over Q(w) (w distinct), so identities proven with y, z, w "
                "symbolic hold with b symbolic; s (a multiple of the Casimir H3 in H) does not enter the map")
+
+
+# ---------------------------------------------------------------- the flow reduction -----------------------------
+FIRST = "clebsch"
+REDUCTION_CLAIM = {**{f"{k}_prime": v for k, v in REDUCTION.items()},
+                   **{f"{k}_prime_z0": v for k, v in REDUCTION_Z0.items()}}
+
+
+def reduction_substitutions(claimed: Mapping[str, str]) -> tuple[Substitution, Substitution]:
+    """(sigma, sigma0): the second flow's map -> the (y, z) family (z != 0) and the first flow's map -> its
+    hyperplane z = 0, read from the claimed images."""
+    images = {k: claimed[f"{k}_prime"] for k in REDUCTION}
+    images0 = {k: claimed[f"{k}_prime_z0"] for k in REDUCTION_Z0}
+    return (substitution(kahan_map(FLOW2), yz_map(), images),
+            substitution(kahan_map(FIRST), yz_map_at_z0(), images0))
+
+
+def _field_identity(s: StepRecorder, sigma: Substitution, source: KahanMap, target: KahanMap, factor: str) -> None:
+    """target's field = factor * sigma(source's field), component by component (eps does not occur in a field)."""
+    lam = Frac.parse(target.ring, factor)
+    for v, a, b in zip(source.variables, source.field.rhs, target.field.rhs):
+        s.require_equal(b, lam * sigma.apply(a), f"{v}' of the field")
+
+
+@claim("flow-reduction", GROUP, "Every flow's Kahan map is the second flow's (z != 0) or the first flow's (z = 0)",
+       "sec. 6, eqs. \"gcl\", \"dC2\", \"dC2 map\", \"Clebsch 2 b\"; the conjecture after eq. \"dC2 map\"",
+       "With b_k = s + y w_k - z w_i w_j (c_k = y + z w_k; every flow): for z != 0 the Kahan map of the (y, z) flow "
+       "with step eps equals the Kahan map of the second flow with w' = w + (y/z)(1, 1, 1) and eps' = z eps, as an "
+       "identity in Q(x, eps, w, y, z) (denominators powers of z); for z = 0 it is the first flow's map with "
+       "eps' = y eps (for y = z = 0 the field is 0 and the map the identity). Both substitutions are injective "
+       "homomorphisms of fields, so every rational identity about the second (first) flow's map carries over.",
+       claimed=REDUCTION_CLAIM)
+def prove_reduction(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    sigma, sigma0 = reduction_substitutions(claimed)
+    flow2, first, g, g0 = kahan_map(FLOW2), kahan_map(FIRST), yz_map(), yz_map_at_z0()
+    with cert.step("the fields: F_(y,z)(x; w) = z F_2(x; w'), F_(y,0)(x; w) = y F_1(x; w)",
+                   f"exact, componentwise; sigma: {sigma}", g.ring) as s:
+        _field_identity(s, sigma, flow2, g, "z")
+        _field_identity(s, sigma0, first, g0, "y")
+        s.note("Kahan's scheme of lambda F with step eps is that of F with step lambda eps (the equations are linear "
+               "in eps F): the next steps check this for the maps themselves")
+    with cert.step("z != 0: the second flow's map at (w', eps') is the (y, z) map", "Kahan matrices M, b (rows "
+                   "divided by their diagonal) and explicit components N_j / Delta, exact in Q(x, eps, w, y, z)",
+                   g.ring) as s:
+        bad = map_mismatches(sigma, flow2, g)
+        s.require(not bad, f"sigma(second flow) != (y, z) flow at {bad}")
+    with cert.step("z = 0: the first flow's map at eps' is the (y, 0) map", "Kahan matrices and explicit "
+                   "components, exact in Q(x, eps, w, y); the (y, z) components restrict to z = 0", g0.ring) as s:
+        bad = map_mismatches(sigma0, first, g0)
+        s.require(not bad, f"sigma0(first flow) != (y, 0) flow at {bad}")
+        for v, a, b in zip(g.variables, g.components(), g0.components()):
+            s.require_equal(a.specialize({"z": 0}, g0.ring), b, f"{v}~ of the (y, z) map at z = 0")
+        s.note("the lowest-terms components of the (y, z) map have denominators not divisible by z: the family's "
+               "map at z = 0 is the map of the field at z = 0")
+    with cert.step("both substitutions are injective", "Jacobian of the images at a rational point (full rank: "
+                   "the images are algebraically independent)", g.ring) as s:
+        point = {k: v for k, v in RANK_POINT.items() if k in g.ring.names}
+        s.require(sigma.is_injective_at(("eps", "w1", "w2", "w3"), point), "sigma is not injective")
+        s.require(sigma0.is_injective_at(("eps",), point), "sigma0 is not injective")
+        s.note("so sigma (sigma0) embeds Q(x, eps', w') into Q(x, eps, w, y, z)[1/z] (Q(x, eps, w, y)[1/y]): a "
+               "rational identity h o f_2 = h, a parity in eps' (eps' -> -eps' is eps -> -eps) or a non-zero "
+               "determinant about the second (first) flow holds for the image under sigma (sigma0) and the (y, z) "
+               "map; the exceptional parameters are z = 0 (then sigma0) and y = z = 0 (the zero field)")
 
 
 # ---------------------------------------------------------------- the second flow --------------------------------
