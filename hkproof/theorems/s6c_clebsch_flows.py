@@ -10,19 +10,20 @@ import flint
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import cramer, rank_over_fraction_field
 from hkproof.dynamics.catalogue import get_system, kahan_map
+from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.experiments.scan import scan
 from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.integrals import check_integral, lie_derivative
 from hkproof.hk.linear_relations import parse_relation, relation_rank
 from hkproof.hk.recipe_g import WHAT_IT_PROVES, recipe_g
-from hkproof.hk.reduced import Relation, prove_by_evenness
-from hkproof.hk.translation import ParameterTranslation, prove_on_slice
+from hkproof.hk.reduced import Relation, det_at_point, linear_combination_equals, prove_by_evenness
+from hkproof.hk.translation import ParameterTranslation
 from hkproof.hk.transport import Substitution, map_mismatches
 from hkproof.proof.certificate import Certificate, ProofStopped, StepRecorder
 from hkproof.proof.registry import REGISTRY, claim, require_proven
 from hkproof.proof.status import Status
-from hkproof.theorems._clebsch import H, named
+from hkproof.theorems._clebsch import H, named, recall, record
 from hkproof.theorems._common import parse_matrix, require_matrix_form
 from hkproof.theorems._flows import (B_OF_YZ, C_OF_YZ, CYCLIC, GENERAL, PHI0, REDUCTION, REDUCTION_Z0, e_names,
                                      map_components_under, substitution, yz_map_at_z0,
@@ -143,6 +144,8 @@ def _field_identity(s: StepRecorder, sigma: Substitution, source: KahanMap, targ
        claimed=REDUCTION_CLAIM)
 def prove_reduction(cert: Certificate, claimed: Mapping[str, str]) -> None:
     sigma, sigma0 = reduction_substitutions(claimed)
+    for k in REDUCTION_CLAIM:
+        cert.formula(k, claimed[k])
     flow2, first, g, g0 = kahan_map(FLOW2), kahan_map(FIRST), yz_map(), yz_map_at_z0()
     with cert.step("the fields: F_(y,z)(x; w) = z F_2(x; w'), F_(y,0)(x; w) = y F_1(x; w)",
                    f"exact, componentwise; sigma: {sigma}", g.ring) as s:
@@ -493,22 +496,9 @@ def _profile_evidence(cert: Certificate, sets: int, per: int) -> None:
 # ---------------------------------------------------------------- towards the conjecture: Theta for every flow ---
 THETA_RELATION = ("(w2 - w3)*c1*(eps**2*L - c1)*g1 + (w3 - w1)*c2*(eps**2*L - c2)*g2 "
                   "+ (w1 - w2)*c3*(eps**2*L - c3)*g3 = 0")
-# c_k = y + z w_k and b_k - b_j = y (w_k - w_j) - z (w_i w_j - w_j w_k) ... are unchanged by w -> w + c,
-# y -> y - z c: the flow of the family does not move (checked in each proof that uses it)
+# c_k = y + z w_k and b_k - b_j are unchanged by w -> w + c, y -> y - z c: the flow of the family does not move
 YZ_SHIFT = ParameterTranslation(("w1", "w2", "w3"), "w3", (("y", "-z"),))
-
-
-@claim("flow-theta-all", GROUP, "Theta = (p^2, m^2, H4) is an HK-basis of every flow; three integrals",
-       "sec. 6, Th. \"dC Theta\" and the conjecture after eq. \"dC2 map\"",
-       "With w, y, z, eps symbolic (b_k = s + y w_k - z w_i w_j, c_k = y + z w_k: every flow): (g1, g2, g3) from "
-       "(sum g_k I_k) o f^i = H4 o f^i, i = 0, 1, and the claimed relation in L = L_b of flow-general-phi0 are "
-       "even in eps, hence integrals; with g4..g6 by eq. \"Theta rels\" they span K_Theta (dim 1); L_b, g1, g2 "
-       "are functionally independent. The proof runs on the slice w3 = 0 of the shift (w, y) -> (w + c, y - z c), "
-       "which leaves every flow of the family unchanged.",
-       claimed={"relation": THETA_RELATION}, slow=True)
-def prove_theta_all_flows(cert: Certificate, claimed: Mapping[str, str]) -> None:
-    g = yz_map()
-    _theta(cert, g, C_OF_YZ, _cite_l(cert, g, "flow-general-phi0"), claimed["relation"], YZ_SHIFT)
+THETA_NAMES = ("g1", "g2", "g3")
 
 
 @claim("flow-second-theta", GROUP, "Second flow: Theta = (p^2, m^2, H4) is an HK-basis; L, g1, g2 independent",
@@ -519,7 +509,58 @@ def prove_theta_all_flows(cert: Certificate, claimed: Mapping[str, str]) -> None
        claimed={"relation": THETA_RELATION}, slow=True)
 def prove_second_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(FLOW2)
-    _theta(cert, f, ("w1", "w2", "w3"), _cite_l(cert, f, "flow-second-theorem"), claimed["relation"])
+    big_l = _cite_l(cert, f, "flow-second-theorem")
+    rel = _theta_relation(cert, f, ("w1", "w2", "w3"), big_l, claimed["relation"])
+    basis, h4 = _theta_basis(f)
+    sol = prove_by_evenness(cert, f, basis, h4, THETA_NAMES, (0, 1), [rel])
+    for k, v in zip(THETA_NAMES, sol):
+        record(cert, k, v)
+    _theta_kernel(cert, f, basis, h4)
+    _independent(cert, f, [big_l, *sol], "L, g1, g2")
+
+
+@claim("flow-theta-all", GROUP, "Theta = (p^2, m^2, H4) is an HK-basis of every flow; three integrals",
+       "sec. 6, Th. \"dC Theta\" and the conjecture after eq. \"dC2 map\"",
+       "With w, y, z, eps symbolic (b_k = s + y w_k - z w_i w_j, c_k = y + z w_k: every flow), z != 0: the second "
+       "flow's Theta kernel (flow-second-theta) carried by the substitution of flow-reduction is the unique solution "
+       "(g1, g2, g3) of (sum g_k I_k) o f^i = H4 o f^i, i = 0, 1, and the claimed relation in L = L_b (the integral "
+       "of flow-general-phi0, = z^3 sigma(L) for the second flow's L); the g_k are even in eps and integrals; with "
+       "g4..g6 by eq. \"Theta rels\" they span K_Theta (dim 1); L_b, g1, g2 are functionally independent. z = 0: "
+       "the first flow's Theta kernel (dc-theta) at eps' = y eps.",
+       claimed={"relation": THETA_RELATION})
+def prove_theta_all_flows(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    sigma, sigma0 = reduction_substitutions(require_proven(cert, "flow-reduction").formulas)
+    g, g0 = yz_map(), yz_map_at_z0()
+    second, flow2 = require_proven(cert, "flow-second-theta"), kahan_map(FLOW2)
+    l2 = _cite_l(cert, flow2, "flow-second-theorem")
+    with cert.step("z != 0: L_b = z^3 sigma(L) and the Theta kernel carried by sigma", "the substitution of "
+                   "flow-reduction applied exactly (one homogenized compose each); L_b = A/D as in flow-general-phi0",
+                   g.ring) as s:
+        big_l = Frac(g.ring, g.ring.gen("z") ** 3) * sigma.apply(l2)
+        known = {k: named(g, v, {}) for k, v in GENERAL_NAMES.items() if k.startswith("c")}
+        known.update({k: named(g, v, known) for k, v in GENERAL_NAMES.items() if k.startswith("E")})
+        a_poly, d_poly = named(g, GENERAL_CLAIM["A"], known), named(g, GENERAL_CLAIM["D"], known)
+        s.require_equal(big_l, a_poly / d_poly, "z^3 sigma(L) = A/D")
+        sol = [sigma.apply(recall(second, k, flow2.ring)) for k in THETA_NAMES]
+        s.note("sigma(f_2) = f_(y,z) (flow-reduction) and sigma is an injective homomorphism of fields fixing x: "
+               "the identities proven for the second flow -- rows i = 0, 1, L o f = L, g_k o f = g_k -- hold for "
+               "their images; the checks below apply the substitution to every transported statement")
+        for k, v in zip(THETA_NAMES, sol):
+            record(cert, k, v)
+    rel = _theta_relation(cert, g, C_OF_YZ, big_l, claimed["relation"])
+    basis, h4 = _theta_basis(g)
+    _transported_solution(cert, g, basis, h4, sol, [rel], "z != 0")
+    _theta_kernel(cert, g, basis, h4)
+    _independent(cert, g, [big_l, *sol], "L_b, g1, g2")
+    first = kahan_map(FIRST)
+    theta1 = require_proven(cert, "dc-theta")
+    with cert.step("z = 0: the first flow's Theta kernel at eps' = y eps", "sigma0 of flow-reduction applied "
+                   "exactly", g0.ring) as s:
+        sol0 = [sigma0.apply(recall(theta1, k, first.ring)) for k in THETA_NAMES]
+        s.note("sigma0(f_1) = f_(y,0) (flow-reduction): dc-theta's identities carry over")
+    basis0, h40 = _theta_basis(g0)
+    _transported_solution(cert, g0, basis0, h40, sol0, [], "z = 0")
+    _theta_kernel(cert, g0, basis0, h40)
 
 
 def _cite_l(cert: Certificate, kmap: KahanMap, claim_id: str) -> Frac:
@@ -527,29 +568,52 @@ def _cite_l(cert: Certificate, kmap: KahanMap, claim_id: str) -> Frac:
     return Frac.parse(kmap.ring, require_proven(cert, claim_id).formulas["L"])
 
 
-def _theta(cert: Certificate, f: KahanMap, c_of: Sequence[str], big_l: Frac, relation: str,
-           shift: ParameterTranslation | None = None) -> None:
-    """Th. "dC Theta" for a flow: rows i = 0, 1 of eq. "clebsch_ansatz_3a" plus a relation in L, Prop. "prop: even"
-    (on the slice of `shift` if given)."""
+def _theta_basis(f: KahanMap) -> tuple[list[Frac], Frac]:
+    """Eq. "clebsch_ansatz_3a": the reduced basis (I1, I2, I3) and the target H4."""
+    return [named(f, i) for i in ("I1", "I2", "I3")], named(f, "H4")
+
+
+def _theta_relation(cert: Certificate, f: KahanMap, c_of: Sequence[str], big_l: Frac, relation: str) -> Relation:
+    """The claimed relation among g1, g2, g3 with coefficients polynomials in the even integral L."""
     r = f.ring
     with cert.step("the relation in L", "coefficients polynomials in L (an even integral); parameters symbolic",
                    r) as s:
         s.require(big_l.is_even_in("eps"), "L is not even in eps")
         lhs = re.sub(r"\bc([123])\b", lambda m: c_of[int(m.group(1)) - 1], relation.split("=")[0])
-        unit = {n: Frac(r, 0) for n in ("g1", "g2", "g3")}
-        coefficients = [named(f, lhs, {"L": big_l, **unit, k: Frac(r, 1)}) for k in ("g1", "g2", "g3")]
+        unit = {n: Frac(r, 0) for n in THETA_NAMES}
+        coefficients = [named(f, lhs, {"L": big_l, **unit, k: Frac(r, 1)}) for k in THETA_NAMES]
         s.require(named(f, relation.split("=")[1], {"L": big_l}).is_zero(), "the relation is not homogeneous")
-    rel = Relation(coefficients, Frac(r, 0), source="L is an even integral (flow-general-phi0 / flow-second-theorem)")
-    basis = [named(f, i) for i in ("I1", "I2", "I3")]
-    h4 = named(f, "H4")
-    if shift is None:
-        sol = prove_by_evenness(cert, f, basis, h4, ("g1", "g2", "g3"), (0, 1), [rel])
-    else:
-        sol = prove_on_slice(cert, f, shift, basis, h4, ("g1", "g2", "g3"), (0, 1), [rel])
+    return Relation(coefficients, Frac(r, 0), source="L is an even integral (flow-second-theorem)")
+
+
+def _transported_solution(cert: Certificate, f: KahanMap, basis: Sequence[Frac], target: Frac,
+                          sol: Sequence[Frac], relations: Sequence[Relation], case: str) -> None:
+    """What a transported solution of rows i = 0, 1 (+ relations) must satisfy, checked on the new map."""
+    r = f.ring
+    with cert.step(f"{case}: the transported (g1, g2, g3) is the unique solution, even in eps",
+                   "exact parity; row i = 0 and the relations by substitution; row i = 1 by transport; det of the "
+                   "system at a rational point", r) as s:
+        for k, v in zip(THETA_NAMES, sol):
+            s.require(v.is_even_in(EPS), f"the transported {k} is not even in eps")
+        s.require(linear_combination_equals(basis, sol, target), "row i = 0 fails for the transported solution")
+        for rel in relations:
+            s.require(linear_combination_equals(rel.coefficients, sol, rel.rhs), "the relation fails")
+        point = {k: v for k, v in RANK_POINT.items() if k in r.names}
+        iterates = (0, 1) if relations else (0, 1, 2)
+        det = det_at_point(f, basis, iterates, relations, point)
+        s.require(det != 0, "the transported system is singular at the sample point")
+        s.note(f"det = {det} at a rational point: the solution is unique; it is even in eps and satisfies rows "
+               "i = 0, 1 (row 1: the image of the base claim's identity), so Prop. \"prop: even\" makes g1, g2, g3 "
+               "integrals -- as does the transport of g_k o f = g_k itself")
+
+
+def _theta_kernel(cert: Certificate, f: KahanMap, basis: Sequence[Frac], h4: Frac) -> None:
+    """K_Theta = [g1 : ... : g6 : -1] with eq. "Theta rels", dim 1 (exact rank of X_[0,6] at a rational point)."""
+    r = f.ring
     with cert.step("K_Theta = [g1 : ... : g6 : -1], dim 1", "eq. \"Theta rels\" expands sum g_k I_k in monomials "
                    "(identity for symbolic g_k); exact rank of X_[0,6] at a rational point", r) as s:
-        sym = r.extend(["g1", "g2", "g3"])
-        gk = [Frac.parse(sym, n) for n in ("g1", "g2", "g3")]
+        sym = r.extend(THETA_NAMES)
+        gk = [Frac.parse(sym, n) for n in THETA_NAMES]
         wk = [named(f, n).to_ring(sym) for n in ("w1", "w2", "w3")]
         full = gk + [(gk[1] - gk[2]) / (wk[1] - wk[2]), (gk[2] - gk[0]) / (wk[2] - wk[0]),
                      (gk[0] - gk[1]) / (wk[0] - wk[1])]
@@ -560,14 +624,19 @@ def _theta(cert: Certificate, f: KahanMap, c_of: Sequence[str], big_l: Frac, rel
         rows = [[Frac.parse(r, phi).evaluate({**point, **x}) for phi in PHI0] + [h4.evaluate({**point, **x})]
                 for x in f.orbit_exact(point, 6)]
         s.require(flint.fmpq_mat(rows).rank() == 6, "rank X_[0,6] != 6 for Theta at the sample point")
-    with cert.step("L, g1, g2 functionally independent", "exact Jacobian rank at a rational point (parameters and "
+
+
+def _independent(cert: Certificate, f: KahanMap, funcs: Sequence[Frac], names: str) -> None:
+    """The first three of `funcs` are functionally independent: exact Jacobian rank 3 at a rational point."""
+    r = f.ring
+    with cert.step(f"{names} functionally independent", "exact Jacobian rank at a rational point (parameters and "
                    "eps set first, then derivatives in x)", r) as s:
         point = {k: v for k, v in RANK_POINT.items() if k in r.names}
         params = {k: v for k, v in point.items() if k not in f.variables}
         small = r.drop(params)
-        funcs = [h.specialize(params, small) for h in [big_l, *sol]]
+        small_funcs = [h.specialize(params, small) for h in funcs]
         xs = {k: point[k] for k in f.variables}
-        rank = jacobian_rank_at(funcs[:3], f.variables, xs)
-        s.require(rank == 3, f"L, g1, g2 have Jacobian rank {rank} at the point")
-        s.note(f"rank of the Jacobian of (L, g1, g2, g3): {jacobian_rank_at(funcs, f.variables, xs)}; full rank at one "
-               "point proves independence over the field of the symbolic parameters")
+        rank = jacobian_rank_at(small_funcs[:3], f.variables, xs)
+        s.require(rank == 3, f"{names} have Jacobian rank {rank} at the point")
+        s.note(f"rank of the Jacobian of all {len(funcs)}: {jacobian_rank_at(small_funcs, f.variables, xs)}; full "
+               "rank at one point proves independence over the field of the symbolic parameters")
