@@ -16,14 +16,15 @@ from hkproof.experiments.scan import scan
 from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.integrals import check_integral, lie_derivative
 from hkproof.hk.linear_relations import parse_relation, relation_rank
+from hkproof.hk.row_check import check_solution_by_rows
 from hkproof.hk.recipe_g import WHAT_IT_PROVES, recipe_g
-from hkproof.hk.reduced import Relation, det_at_point, linear_combination_equals, prove_by_evenness
+from hkproof.hk.reduced import Relation, det_at_point, hk_row, linear_combination_equals, verify_by_evenness
 from hkproof.hk.translation import ParameterTranslation
 from hkproof.hk.transport import Substitution, map_mismatches
 from hkproof.proof.certificate import Certificate, ProofStopped, StepRecorder
 from hkproof.proof.registry import REGISTRY, claim, require_proven
 from hkproof.proof.status import Status
-from hkproof.theorems._clebsch import H, named, recall, record
+from hkproof.theorems._clebsch import H, named, recall, record, shift_frac
 from hkproof.theorems._common import parse_matrix, require_matrix_form
 from hkproof.theorems._flows import (B_OF_YZ, C_OF_YZ, CYCLIC, GENERAL, PHI0, REDUCTION, REDUCTION_Z0, e_names,
                                      map_components_under, substitution, yz_map_at_z0,
@@ -512,7 +513,15 @@ def prove_second_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
     big_l = _cite_l(cert, f, "flow-second-theorem")
     rel = _theta_relation(cert, f, ("w1", "w2", "w3"), big_l, claimed["relation"])
     basis, h4 = _theta_basis(f)
-    sol = prove_by_evenness(cert, f, basis, h4, THETA_NAMES, (0, 1), [rel])
+    with cert.step("candidate: g1 by Cramer's rule, g2, g3 by the cyclic symmetry", "one Cramer component over "
+                   "Q(m, p, eps, w); index shift 1 -> 2 -> 3 (the system is cyclically symmetric)", f.ring) as s:
+        rows, rhs = zip(*(hk_row(f, basis, h4, i) for i in (0, 1)))
+        (g1,), _ = cramer([*rows, rel.coefficients], [*rhs, rel.rhs], columns=[0])
+        candidate = [g1, shift_frac(g1), shift_frac(shift_frac(g1))]
+        s.note("only a candidate: the next steps prove it is the unique solution (substitution into every row)")
+    point = {k: v for k, v in RANK_POINT.items() if k in f.ring.names}
+    sol = verify_by_evenness(cert, f, basis, h4, THETA_NAMES, candidate, point, (0, 1), [rel],
+                             check=check_solution_by_rows)
     for k, v in zip(THETA_NAMES, sol):
         record(cert, k, v)
     _theta_kernel(cert, f, basis, h4)
