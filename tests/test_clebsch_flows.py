@@ -119,3 +119,19 @@ def test_row_check_by_horner_agrees_with_substitution(i):
     one = Frac(r, 1)
     assert row_holds(f, basis, one, i, good) and check_solution(f, basis, one, [i], [], good)
     assert not row_holds(f, basis, one, i, bad) and not check_solution(f, basis, one, [i], [], bad)
+
+
+def test_second_flow_relations_found_is_evidence():
+    cert = get_claim("flow-second-relations-found").prove()
+    assert cert.status is Status.EVIDENCE_EXACT, cert.render()
+
+
+@pytest.mark.parametrize("key,text", [
+    ("rel2_3", "a2*w2*(w1 - w3) - a3*w3*(w1 - w2) - a5*w1*w3*(w1 - w3) + a6*w1*w2*(w1 + w2) = 0"),
+    ("rel2_9", "a1*w3 + a3*(w1 - w3) - a4*w2*w3 = 0"),
+    ("rows01_theta", "17"),
+    ("rel18_8", "(a3 - a1 - (w3 - w1)*a5)/(w2 - w3) = (b3 - b1 - (w3 - w1)*b5)/(w3 - w2)"),
+])
+def test_second_flow_relations_perturbed(key, text):
+    cert = get_claim("flow-second-relations-found").prove({key: text})
+    assert cert.status < Status.EVIDENCE_EXACT

@@ -12,13 +12,15 @@ from hkproof.algebra.linalg import cramer, rank_over_fraction_field
 from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
+from hkproof.experiments.relations import find_relations
 from hkproof.experiments.scan import scan
 from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.integrals import check_integral, lie_derivative
 from hkproof.hk.linear_relations import parse_relation, relation_rank
 from hkproof.hk.row_check import check_solution_by_rows
 from hkproof.hk.recipe_g import WHAT_IT_PROVES, recipe_g
-from hkproof.hk.reduced import Relation, det_at_point, hk_row, linear_combination_equals, verify_by_evenness
+from hkproof.hk.reduced import (Relation, det_at_point, hk_row, linear_combination_equals, orbit_points,
+                                verify_by_evenness)
 from hkproof.hk.translation import ParameterTranslation
 from hkproof.hk.transport import Substitution, map_mismatches
 from hkproof.proof.certificate import Certificate, ProofStopped, StepRecorder
@@ -26,6 +28,9 @@ from hkproof.proof.registry import REGISTRY, claim, require_proven
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import H, named, recall, record, shift_frac
 from hkproof.theorems._common import parse_matrix, require_matrix_form
+from hkproof.theorems.s6b_clebsch_bases_345 import REL18, relation_rows
+from hkproof.theorems.s6b_clebsch_bases_345 import UNKNOWNS as ABC_NAMES
+from hkproof.theorems.s6b_clebsch_bases_345 import bases as phi_bases
 from hkproof.theorems._flows import (B_OF_YZ, C_OF_YZ, CYCLIC, GENERAL, PHI0, REDUCTION, REDUCTION_Z0, e_names,
                                      map_components_under, substitution, yz_map_at_z0,
                                      yz_map)
@@ -431,6 +436,85 @@ def prove_general_phi0(cert: Certificate, claimed: Mapping[str, str]) -> None:
 def _substitute_c(text: str) -> str:
     """c_k -> (y + z w_k) in a relation's text (E_k do not occur in relations)."""
     return re.sub(r"\bc([123])\b", lambda m: C_OF_YZ[int(m.group(1)) - 1], text)
+
+
+# ---------------------------------------------------------------- the second flow's Phi1, Phi2, Phi3: discovery ---
+# Found by hkproof (recipe (E), `find_relations`, 17 exact samples, degree 2 in w, eps-free); printed as found.
+SECOND_REL18 = {
+    "rel2_1": "b2*w2 - b5*w1*w3 - c3*w3 + c6*w1*w2 = 0",
+    "rel2_2": "a1*w1 - a4*w2*w3 - b2*w2 + b5*w1*w3 = 0",
+    "rel2_3": "a2*w2*(w1 - w3) - a3*w3*(w1 - w2) - a5*w1*w3*(w1 - w3) + a6*w1*w2*(w1 - w2) = 0",
+    "rel2_4": "b1*w1*(w2 - w3) + b3*w3*(w1 - w2) - b4*w2*w3*(w2 - w3) - b6*w1*w2*(w1 - w2) = 0",
+    "rel2_5": "c1*w1*(w2 - w3) - c2*w2*(w1 - w3) - c4*w2*w3*(w2 - w3) + c5*w1*w3*(w1 - w3) = 0",
+    "rel2_6": "a2 - a3 - (w2 - w3)*a4 + b2 - b3 - (w2 - w3)*b4 + c2 - c3 - (w2 - w3)*c4 = 0",
+    "rel2_7": "a1 - a3 - (w1 - w3)*a5 + b1 - b3 - (w1 - w3)*b5 + c1 - c3 - (w1 - w3)*c5 = 0",
+    "rel2_8": "(w1 - w3)*(a2 - a3 - (w2 - w3)*a4) + (w2 - w3)*(b2 - b3 - (w2 - w3)*b4) = 0",
+    "rel2_9": "a1*w3 + a3*(w1 - w3) - a4*w2*w3 + a5*(w1 - w3)**2 + b1*(w3 - w2) - b2*w2 + b3*(w2 - w3) "
+              "+ b5*(w1*w2 - w2*w3 + w3**2) = 0",
+}
+SECOND_REL18_RANKS = {"rows01": "15", "rows01_theta": "16", "symmetric": "18"}
+
+
+@claim("flow-second-relations-found", GROUP, "Second flow: nine linear relations among the kernel coordinates of "
+       "Phi1, Phi2, Phi3, found by recipe (E)", "sec. 6, conjecture after eq. \"dC2 map\"; analog of eqs. "
+       "\"rel18_1\" ... \"rel18_8\" (not in the paper)",
+       "For the second flow, exact relation finding (kernels of Phi_k = (p^2, m^2, m_k p_k) at rational points, "
+       "interpolation in eps and w) finds a nine-dimensional space of linear relations among alpha_j, beta_j, "
+       "gamma_j, spanned by the claimed relations (eps-free, coefficients in Z[w]). At a rational point the rows "
+       "i = 0, 1 and the relations have rank `rows01`, with the Theta relations alpha_j + beta_j + gamma_j = g_j "
+       "`rows01_theta` (two short of 18: the analogs of 'dC Psi add lin rel' are missing), and the symmetric rows "
+       "i = -1, 0, 1 with the relations `symmetric`. The first flow's chains rel18_6 and rel18_8 lie in this space "
+       "(so they hold for the second flow too); rel18_1 ... rel18_4 (the structure of eq. \"M2\") do not. "
+       "Evidence, not proof.",
+       claimed={**SECOND_REL18, **SECOND_REL18_RANKS, "rel18_6": REL18["rel18_6"], "rel18_8": REL18["rel18_8"]},
+       expected=Status.EVIDENCE_EXACT)
+def prove_second_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    f = kahan_map(FLOW2)
+    r = f.ring
+    phis = phi_bases(f)
+    with cert.step("the claimed relations are nine independent relations", "rank over Q(eps, w) of the augmented "
+                   "rows", r) as s:
+        claimed_rels = [parse_relation(r, claimed[k], ABC_NAMES) for k in SECOND_REL18]
+        s.require(relation_rank(claimed_rels) == 9, "the claimed relations are not nine independent ones")
+    with cert.step("recipe (E): the relation space of (Phi1, Phi2, Phi3) is spanned by the claimed relations",
+                   "exact kernels at rational points, interpolation in eps and w, fresh checks", r) as s:
+        search = find_relations(f, phis, names=list(ABC_NAMES))
+        found = [Relation(rel.coefficients, rel.rhs) for rel in search.relations]
+        s.require(search.dimension == 9 and len(found) == 9,
+                  f"relation space of dimension {search.dimension}, {len(found)} relations reconstructed")
+        s.require(relation_rank(found + claimed_rels) == 9, "a claimed relation is not in the space found")
+        for k, rel in enumerate(search.relations, start=1):
+            cert.formula(f"found_{k}", rel.text())
+        s.evidence(Status.EVIDENCE_EXACT, points=search.samples)
+        s.note(f"{search.samples} exact samples; every relation checked at fresh samples")
+    with cert.step("the first flow's relations: rel18_6, rel18_8 shared, rel18_1 ... rel18_4 not",
+                   "ranks over Q(eps, w) with the claimed relations", r) as s:
+        for key in ("rel18_6", "rel18_8"):
+            s.require(relation_rank(claimed_rels + relation_rows(f, claimed[key])) == 9,
+                      f"{key} is not in the second flow's relation space")
+        for key in ("rel18_1", "rel18_2", "rel18_3", "rel18_4"):
+            s.require(relation_rank(claimed_rels + relation_rows(f, REL18[key])) > 9,
+                      f"{key} unexpectedly holds for the second flow")
+    with cert.step("how far the relations go: exact ranks at a rational point", "fmpq_mat ranks of the rows "
+                   "(values of Phi_k o f^i) and the relations at the point", "Q at one rational point") as s:
+        point = {k: v for k, v in RANK_POINT.items() if k in r.names}
+        orbit = orbit_points(f, point, (-1, 0, 1))
+        rel_rows = [[c.evaluate(point) for c in rel.coefficients] for rel in claimed_rels]
+        theta_rows = [[flint.fmpq(int(k % 6 == j)) for k in range(18)] for j in range(6)]
+
+        def rank(iterates: Sequence[int], extra: Sequence[Sequence[flint.fmpq]]) -> int:
+            rows = [[phis[b][j].evaluate(orbit[i]) if k // 6 == b else flint.fmpq(0)
+                     for k, j in ((k, k % 6) for k in range(18))] for b in range(3) for i in iterates]
+            return flint.fmpq_mat(rows + rel_rows + list(extra)).rank()
+
+        for key, got in (("rows01", rank((0, 1), [])), ("rows01_theta", rank((0, 1), theta_rows)),
+                         ("symmetric", rank((-1, 0, 1), []))):
+            s.require(str(got) == claimed[key].strip(), f"rank {key} = {got}, claimed {claimed[key]}")
+        s.evidence(Status.EVIDENCE_EXACT, points=1)
+        s.note("rows i = 0, 1 and the nine relations leave a 3-dimensional family, the Theta relations (right-hand "
+               "sides the proven integrals g_j of flow-second-theta) one more condition: two relations with "
+               "integral right-hand sides are still to be found before Prop. \"prop: even\" applies; the symmetric "
+               "system determines alpha, beta, gamma (the paper's Step 2 route, which proves nothing by itself)")
 
 
 # ---------------------------------------------------------------- the conjecture: exact evidence ----------------
