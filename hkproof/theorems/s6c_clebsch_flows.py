@@ -2,16 +2,18 @@
 from __future__ import annotations
 
 import itertools
+import random
 import re
 from typing import Mapping, Sequence
 
 import flint
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.linalg import cramer, rank_over_fraction_field
+from hkproof.algebra.linalg import cramer, nullspace_q, rank_over_fraction_field
 from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
+from hkproof.errors import SingularPointError
 from hkproof.experiments.relations import find_relations
 from hkproof.experiments.scan import scan
 from hkproof.hk.independence import jacobian_rank_at
@@ -452,7 +454,9 @@ SECOND_REL18 = {
     "rel2_9": "a1*w3 + a3*(w1 - w3) - a4*w2*w3 + a5*(w1 - w3)**2 + b1*(w3 - w2) - b2*w2 + b3*(w2 - w3) "
               "+ b5*(w1*w2 - w2*w3 + w3**2) = 0",
 }
-SECOND_REL18_RANKS = {"rows01": "15", "rows01_theta": "16", "symmetric": "18"}
+SECOND_REL18_RANKS = {"rows01": "15", "rows01_theta": "16", "symmetric": "18", "L_relations": "5",
+                      "rows0_L": "17", "rows01_L": "18"}
+L_SAMPLE = {"eps": flint.fmpq(1, 3), "w1": 2, "w2": -3, "w3": 5}
 
 
 @claim("flow-second-relations-found", GROUP, "Second flow: nine linear relations among the kernel coordinates of "
@@ -464,8 +468,10 @@ SECOND_REL18_RANKS = {"rows01": "15", "rows01_theta": "16", "symmetric": "18"}
        "i = 0, 1 and the relations have rank `rows01`, with the Theta relations alpha_j + beta_j + gamma_j = g_j "
        "`rows01_theta` (two short of 18: the analogs of 'dC Psi add lin rel' are missing), and the symmetric rows "
        "i = -1, 0, 1 with the relations `symmetric`. The first flow's chains rel18_6 and rel18_8 lie in this space "
-       "(so they hold for the second flow too); rel18_1 ... rel18_4 (the structure of eq. \"M2\") do not. "
-       "Evidence, not proof.",
+       "(so they hold for the second flow too); rel18_1 ... rel18_4 (the structure of eq. \"M2\") do not. At fixed "
+       "rational eps, w there are `L_relations` more relations with coefficients linear in the integral L; with them "
+       "the rows i = 0 have rank `rows0_L` and the rows i = 0, 1 rank `rows01_L`: one row with an iterate would "
+       "suffice. Evidence, not proof.",
        claimed={**SECOND_REL18, **SECOND_REL18_RANKS, "rel18_6": REL18["rel18_6"], "rel18_8": REL18["rel18_8"]},
        expected=Status.EVIDENCE_EXACT)
 def prove_second_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> None:
@@ -511,10 +517,59 @@ def prove_second_relations_found(cert: Certificate, claimed: Mapping[str, str]) 
                          ("symmetric", rank((-1, 0, 1), []))):
             s.require(str(got) == claimed[key].strip(), f"rank {key} = {got}, claimed {claimed[key]}")
         s.evidence(Status.EVIDENCE_EXACT, points=1)
-        s.note("rows i = 0, 1 and the nine relations leave a 3-dimensional family, the Theta relations (right-hand "
+        s.note("rows i = 0, 1 and the nine relations leave a 2-dimensional family, the Theta relations (right-hand "
                "sides the proven integrals g_j of flow-second-theta) one more condition: two relations with "
                "integral right-hand sides are still to be found before Prop. \"prop: even\" applies; the symmetric "
                "system determines alpha, beta, gamma (the paper's Step 2 route, which proves nothing by itself)")
+    _l_relations(cert, f, phis, claimed)
+
+
+def _kernel_coordinates(f: KahanMap, phis: Sequence[Sequence[Frac]], point: Mapping[str, object]
+                        ) -> list[flint.fmpq] | None:
+    """alpha, beta, gamma at one exact point (kernels of X_[0,6], last coordinate -1), None if a kernel is not 1-dim."""
+    orbit = f.orbit_exact(point, 6)
+    out: list[flint.fmpq] = []
+    for basis in phis:
+        kernel = nullspace_q([[phi.evaluate({**point, **y}) for phi in basis] for y in orbit])
+        if len(kernel) != 1 or kernel[0][-1] == 0:
+            return None
+        out += [c / -kernel[0][-1] for c in kernel[0][:-1]]
+    return out
+
+
+def _l_relations(cert: Certificate, f: KahanMap, phis: Sequence[Sequence[Frac]], claimed: Mapping[str, str]) -> None:
+    """Relations sum (c_k + d_k L) a_k + c_0 + d_0 L = 0 at fixed eps, w: null space of samples (a, L a, 1, L)."""
+    r = f.ring
+    with cert.step("relations with coefficients linear in L (fixed eps, w)", "null space of exact samples of "
+                   "(alpha, beta, gamma, 1) and L times them; ranks with the rows at a fresh point",
+                   f"Q at eps, w = {L_SAMPLE}") as s:
+        big_l = _cite_l(cert, f, "flow-second-theorem")
+        rng = random.Random(1)
+        samples = []
+        while len(samples) < 60:
+            point = {**L_SAMPLE, **{v: flint.fmpq(rng.randint(-9, 9), rng.randint(1, 5)) for v in f.variables}}
+            try:
+                a = _kernel_coordinates(f, phis, point)
+            except SingularPointError:
+                continue
+            if a is not None:
+                samples.append([c * big_l.evaluate(point) ** d for d in (0, 1) for c in (*a, flint.fmpq(1))])
+        space = nullspace_q(samples)
+        s.require(str(len(space) - 18) == claimed["L_relations"].strip(),
+                  f"{len(space)} relations linear in L, i.e. {len(space) - 18} beyond the nine and their L-multiples")
+        point = {**L_SAMPLE, **{v: flint.fmpq(rng.randint(-9, 9), rng.randint(1, 5)) for v in f.variables}}
+        l0 = big_l.evaluate(point)
+        rel_rows = [[v[k] + v[19 + k] * l0 for k in range(18)] for v in space]
+        orbit = f.orbit_exact(point, 1)
+        hk = {i: [[phis[b][j].evaluate({**point, **orbit[i]}) if k // 6 == b else flint.fmpq(0)
+                   for k, j in ((k, k % 6) for k in range(18))] for b in range(3)] for i in (0, 1)}
+        for key, rows in (("rows0_L", hk[0]), ("rows01_L", hk[0] + hk[1])):
+            got = flint.fmpq_mat(rows + rel_rows).rank()
+            s.require(str(got) == claimed[key].strip(), f"rank {key} = {got}, claimed {claimed[key]}")
+        s.evidence(Status.EVIDENCE_EXACT, points=len(samples))
+        s.note("the relations in L are known only at this (eps, w): their symbolic reconstruction (interpolation in "
+               "eps and w, as recipe (E) does for constant relations) is the missing step; then the 18 unknowns "
+               "follow from rows i = 0, 1 and relations with even integral coefficients (L), Prop. \"prop: even\"")
 
 
 # ---------------------------------------------------------------- the conjecture: exact evidence ----------------
