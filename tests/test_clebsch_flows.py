@@ -150,3 +150,20 @@ def test_second_flow_l_relations_found_is_evidence():
 ])
 def test_second_flow_l_relations_perturbed(key, text):
     assert get_claim("flow-second-l-relations-found").prove({key: text}).status < Status.EVIDENCE_EXACT
+
+
+@pytest.mark.slow
+def test_second_flow_bases_345_at_fixed_w():
+    cert = get_claim("flow-second-bases-345").prove()
+    assert cert.status is Status.VERIFIED_SPECIALIZED, cert.render()
+    assert {"a1", "b6", "c3"} <= set(cert.formulas)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("old,new", [("a6*w1*(w1 - w2)", "a6*w1*(w1 + w2)"),      # changes the rank
+                                     ("-La2*eps**2", "-2*La2*eps**2")])           # keeps the rank
+def test_second_flow_bases_345_perturbed(old, new):
+    from hkproof.theorems.s6b_second_flow_bases import SECOND_PHI_RELATIONS
+    bad = SECOND_PHI_RELATIONS["phirel_11"].replace(old, new)
+    assert bad != SECOND_PHI_RELATIONS["phirel_11"]
+    assert get_claim("flow-second-bases-345").prove({"phirel_11": bad}).status < Status.VERIFIED_SPECIALIZED
