@@ -28,7 +28,8 @@ from hkproof.theorems._flows import yz_map
 from hkproof.theorems.s6c_clebsch_flows import (FLOW2, GROUP, REDUCTION_CLAIM, THETA_NAMES, reduction_substitutions)
 
 ORDER = ["flow-general-map", "flow-reduction", "flow-second-theorem", "flow-second-recipe-g", "flow-general-phi0",
-         "flow-second-theta", "flow-theta-all", "flow-second-relations-found", "flow-conjecture-evidence"]
+         "flow-second-theta", "flow-theta-all", "flow-second-relations-found", "flow-second-l-relations-found",
+         "flow-second-bases-345", "flow-conjecture-evidence"]
 
 
 def claims_table() -> tuple[list[str], float]:

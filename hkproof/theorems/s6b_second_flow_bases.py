@@ -136,16 +136,16 @@ def prove_l_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> No
 W_FIXED = {"w1": 2, "w2": -3, "w3": 5}
 
 
-def _relations_at(claimed: Mapping[str, str], ring: Ring, fixed: Mapping[str, int]) -> list[list[Frac]]:
-    """The claimed relations as rows over Q(eps, L) (w fixed): coefficient of a_k plus L times that of L a_k."""
+def _relations_at(claimed: Mapping[str, str], ring: Ring, fixed: Mapping[str, int]) -> list[Relation]:
+    """The claimed relations over Q(eps, L) (w fixed): coefficient of a_k plus L times that of L a_k."""
     general = kahan_map(FLOW2).ring.drop(kahan_map(FLOW2).variables).extend(["L"])
     n, big_l = len(UNKNOWNS), Frac(ring, ring.gen("L"))
-    rows = []
+    out = []
     for key in SECOND_PHI_RELATIONS:
         rel = parse_relation(general, claimed[key], [*UNKNOWNS, *L_NAMES])
         c = [x.specialize(fixed, ring) for x in rel.coefficients]
-        rows.append([c[k] + big_l * c[n + k] for k in range(n)])
-    return rows
+        out.append(Relation([c[k] + big_l * c[n + k] for k in range(n)], rel.rhs.specialize(fixed, ring)))
+    return out
 
 
 def _pivots(rows: Sequence[Sequence[Frac]], point: Mapping[str, object]) -> tuple[list[int], list[int]]:
@@ -161,8 +161,9 @@ def _pivots(rows: Sequence[Sequence[Frac]], point: Mapping[str, object]) -> tupl
 
 def solve_on_line(f: KahanMap, phis: Sequence[Sequence[Frac]], rel_rows: Sequence[Sequence[Frac]],
                   big_l: Frac) -> list[Frac]:
-    """alpha, beta, gamma: the relations (over Q(eps, L), small) leave 18 - 14 unknowns u, the rows i = 0 a line
-    u_p + t v, and the row i = 1 of Phi1 fixes t (its value by Horner in the numerators of f)."""
+    """alpha, beta, gamma: the homogeneous relations (rows over Q(eps, L), small) leave 18 - 14 unknowns u, the rows
+    i = 0 a line u_p + t v, and the row i = 1 of Phi1 fixes t (its value by Horner in the numerators of f). A
+    candidate only: the caller substitutes it into every relation (with its right-hand side) and row."""
     r = f.ring
     small = rel_rows[0][0].ring
     chosen, pivots = _pivots(rel_rows, {"eps": flint.fmpq(1, 7), "L": flint.fmpq(3, 11)})
@@ -220,11 +221,17 @@ def prove_second_bases(cert: Certificate, claimed: Mapping[str, str]) -> None:
     small = r.drop(f.variables).extend(["L"])
     with cert.step("the relations at w = (2, -3, 5): coefficients even in eps, polynomials in L",
                    "exact parity", small, fixed=W_FIXED) as s:
-        rel_rows = _relations_at(claimed, small, W_FIXED)
-        s.require(all(c.is_even_in(EPS) for row in rel_rows for c in row), "a coefficient is not even in eps")
+        small_rels = _relations_at(claimed, small, W_FIXED)
+        s.require(all(c.is_even_in(EPS) for rel in small_rels for c in (*rel.coefficients, rel.rhs)),
+                  "a coefficient is not even in eps")
         s.note("their coefficients are in Q(eps^2)[L], L an even integral (flow-second-theorem)")
-    relations = [Relation([substitute_named(c.to_ring(r.extend(["L"])), {"L": big_l}, r) for c in row], Frac(r, 0),
-                          "L (flow-second-theorem)") for row in rel_rows]
+    rel_rows = [list(rel.coefficients) for rel in small_rels]
+
+    def at_l(h: Frac) -> Frac:
+        return substitute_named(h.to_ring(r.extend(["L"])), {"L": big_l}, r)
+
+    relations = [Relation([at_l(c) for c in rel.coefficients], at_l(rel.rhs), "L (flow-second-theorem)")
+                 for rel in small_rels]
     with cert.step("candidate: eliminate with the relations and the rows i = 0, one row i = 1 fixes the rest",
                    "Cramer over Q(eps, L), then the line of the rows i = 0, then row i = 1 of Phi1 by Horner in the "
                    "numerators of f", r, fixed=W_FIXED) as s:
