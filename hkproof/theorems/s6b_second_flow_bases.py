@@ -165,7 +165,6 @@ def solve_on_line(f: KahanMap, phis: Sequence[Sequence[Frac]], rel_rows: Sequenc
     i = 0 a line u_p + t v, and the row i = 1 of Phi1 fixes t (its value by Horner in the numerators of f). A
     candidate only: the caller substitutes it into every relation (with its right-hand side) and row."""
     r = f.ring
-    small = rel_rows[0][0].ring
     chosen, pivots = _pivots(rel_rows, {"eps": flint.fmpq(1, 7), "L": flint.fmpq(3, 11)})
     free = [j for j in range(len(UNKNOWNS)) if j not in pivots]
     if len(free) != 4:

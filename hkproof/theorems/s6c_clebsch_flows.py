@@ -539,7 +539,6 @@ def _kernel_coordinates(f: KahanMap, phis: Sequence[Sequence[Frac]], point: Mapp
 
 def _l_relations(cert: Certificate, f: KahanMap, phis: Sequence[Sequence[Frac]], claimed: Mapping[str, str]) -> None:
     """Relations sum (c_k + d_k L) a_k + c_0 + d_0 L = 0 at fixed eps, w: null space of samples (a, L a, 1, L)."""
-    r = f.ring
     with cert.step("relations with coefficients linear in L (fixed eps, w)", "null space of exact samples of "
                    "(alpha, beta, gamma, 1) and L times them; ranks with the rows at a fresh point",
                    f"Q at eps, w = {L_SAMPLE}") as s:
