@@ -167,3 +167,16 @@ def test_second_flow_bases_345_perturbed(old, new):
     bad = SECOND_PHI_RELATIONS["phirel_11"].replace(old, new)
     assert bad != SECOND_PHI_RELATIONS["phirel_11"]
     assert get_claim("flow-second-bases-345").prove({"phirel_11": bad}).status < Status.VERIFIED_SPECIALIZED
+
+
+def test_substitution_injectivity_is_checked():
+    """w1, w2 -> the same image is not injective; the flow reduction's substitution is."""
+    from hkproof.dynamics.catalogue import kahan_map
+    from hkproof.theorems._flows import REDUCTION, substitution, yz_map
+    from hkproof.theorems.s6c_clebsch_flows import RANK_POINT
+    f2, g = kahan_map("clebsch-flow2"), yz_map()
+    point = {k: v for k, v in RANK_POINT.items() if k in g.ring.names}
+    moved = ("eps", "w1", "w2", "w3")
+    assert substitution(f2, g, REDUCTION).is_injective_at(moved, point)
+    collapsed = {**REDUCTION, "w2": REDUCTION["w1"]}
+    assert not substitution(f2, g, collapsed).is_injective_at(moved, point)
