@@ -72,7 +72,7 @@ def peers() -> list[str]:
         "| task | method | result | seconds | ratio |", "|---|---|---|---|---|",
         f"| second flow, Theta kernel in row i = 1 | `check_solution` (g times phi o f) | {ok_old} | {t_old:.1f} | 1 |",
         f"| same | `row_check` (Horner in N_j) | {ok_new} | {t_new:.1f} | {t_old / t_new:.1f}x faster |",
-        f"| L_b o f = L_b, every flow | substitution in Q(x, eps, w, y, z) | {verdict.verdict} | {t_subst:.1f} | 1 |",
+        f"| L_b o f = L_b, every flow | substitution in Q(x, eps, w, y, z) | {verdict.status.label} | {t_subst:.1f} | 1 |",
         f"| same | L_b = z^3 sigma(L_2), transported | exact | {t_transport:.3f} | "
         f"{t_subst / max(t_transport, 1e-3):.0f}x faster (or more) |",
     ]

@@ -6,17 +6,16 @@ from __future__ import annotations
 
 import multiprocessing as mp
 import platform
-import re
 import statistics
 import time
 from pathlib import Path
 
+from docs_section import write_section
 from hkproof.dynamics.catalogue import SYSTEMS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.proof.registry import select
 
 DOC = Path(__file__).resolve().parent.parent / "docs" / "performance.md"
-BEGIN, END = "<!-- foundation:begin -->", "<!-- foundation:end -->"
 
 
 def time_map(name: str, repeats: int = 7) -> float:
@@ -81,7 +80,7 @@ def main() -> None:
     suite, verified = time_suite()
     sym = time_sympy_clebsch()
     ours = dict(rows)["clebsch"]
-    lines = [BEGIN, "", f"Measured by `python benchmarks/foundation.py` on {platform.machine()}, "
+    lines = [f"Measured by `python benchmarks/foundation.py` on {platform.machine()}, "
              f"Python {platform.python_version()}, {time.strftime('%Y-%m-%d')}, all in one run "
              "(median of 7 for maps).", "",
              "| Kahan map N/Delta by Cramer, every parameter symbolic | time |", "|---|---|"]
@@ -93,15 +92,8 @@ def main() -> None:
               (f"| sympy 1.x (Berkowitz det, expanded) | {sym:.2f} s | {sym / ours:.0f}x slower |" if sym is not None
                else "| sympy (Berkowitz det) | > 600 s | — |"),
               "", f"All claims of sections 2 and 5: {verified} verified in {suite:.2f} s wall clock "
-              "(target: under 2 s).", "", END]
-    text = DOC.read_text() if DOC.exists() else "# Performance\n\n"
-    block = "\n".join(lines)
-    if BEGIN in text:
-        text = re.sub(re.escape(BEGIN) + ".*?" + re.escape(END), block, text, flags=re.S)
-    else:
-        text += "\n" + block + "\n"
-    DOC.write_text(text)
-    print(block)
+              "(target: under 2 s)."]
+    print(write_section(DOC, "foundation", lines))
 
 
 if __name__ == "__main__":

@@ -45,6 +45,25 @@ def cramer_seconds(names: Sequence[str], a: Sequence[Sequence[flint.fmpz_mpoly]]
     return timed_seconds(script, seconds)
 
 
+def membership_seconds(names: Sequence[str], generators: Sequence[flint.fmpz_mpoly], target: flint.fmpz_mpoly,
+                       seconds: int = 600) -> tuple[float | None, float | None]:
+    """Seconds Singular takes to decide target in <generators>: (lift: cofactors, std + reduce: normal form), each in
+    its own run with its own time limit; None where it did not finish. Variables are renamed v1..vk (Singular's
+    identifiers cannot hold every name hkproof uses)."""
+    ring = flint.fmpz_mpoly_ctx.get(tuple(f"v{i + 1}" for i in range(len(names))), "degrevlex")
+    old = generators[0].context()
+
+    def text(p: flint.fmpz_mpoly) -> str:
+        return str(p.compose(*ring.gens(), ctx=ring)) if p.context() is old else str(p)
+    head = (f"ring R = 0, ({', '.join(map(str, ring.gens()))}), dp;\noption(redSB);\n"
+            f"ideal I = {', '.join(text(g) for g in generators)};\npoly f = {text(target)};\n"
+            "system(\"--ticks-per-sec\", 1000);\nint t = rtimer;\n")
+    lift = timed_seconds(head + "matrix L = lift(I, f);\nprint(rtimer - t);\nquit;\n", seconds)
+    normal = timed_seconds(head + "ideal G = std(I);\npoly r = reduce(f, G);\nif (r != 0) { print(\"not in I\"); }\n"
+                           "print(rtimer - t);\nquit;\n", seconds)
+    return lift, normal
+
+
 def gcd_seconds(names: Sequence[str], a: flint.fmpz_mpoly, b: flint.fmpz_mpoly, seconds: int = 1800) -> float | None:
     """Seconds Singular's gcd takes on the same two polynomials (rtimer inside Singular, parsing excluded)."""
     script = (f"ring R = 0, ({', '.join(names)}), dp;\npoly a = {a};\npoly b = {b};\n"

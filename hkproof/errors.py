@@ -13,6 +13,14 @@ class UnknownSymbolError(ParseError):
     """An expression uses a symbol that is neither a variable nor a parameter of the system."""
 
 
+class FormulaTooLargeError(ParseError):
+    """A formula asks for more than the documented limits allow (a huge literal, exponent or expansion)."""
+
+
+class RingMismatchError(HKProofError):
+    """Two rational functions from different rings were combined; convert one with Frac.to_ring first."""
+
+
 class NotQuadraticError(HKProofError):
     """A vector field is not of degree <= 2 in the phase variables (Kahan's scheme needs eq. "Kahan gen")."""
 
@@ -35,3 +43,7 @@ class UnknownClaimError(HKProofError):
 
 class DependentBasisError(ParseError):
     """The functions of a candidate HK-basis are linearly dependent (Def. "Hirota mech" needs independence)."""
+
+
+class UsageError(HKProofError):
+    """A command line that does not fit the command's options (a missing argument, a bad count, an unknown name)."""

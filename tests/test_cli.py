@@ -53,7 +53,7 @@ def test_map_command():
 
 
 @pytest.mark.parametrize("args,message", [
-    (("integral", "euler-top", "x1 + zz"), "unknown symbol"),
+    (("integral", "euler-top", "x1 + zz"), "unknown name 'zz'"),
     (("integral", "no-such-system", "x"), "unknown system"),
     (("map", "does-not-exist.toml"), "no such file"),
     (("prove", "no-such-theorem"), "no theorem"),

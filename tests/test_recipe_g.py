@@ -8,6 +8,7 @@ import pytest
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.groebner import MembershipCertificate
 from hkproof.cli import main
+from hkproof.proof.status import Status
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.hk.integrals import check_integral
 from hkproof.hk.recipe_g import delta_polynomial, eliminate, groebner_membership, recipe_g
@@ -25,15 +26,15 @@ def euler():
 def test_integrals_certified(euler, expr):
     h = Frac.parse(euler.ring, expr)
     res = recipe_g(euler, h)
-    assert res.verdict == "verified" and res.power == 2
-    assert check_integral(euler, h).verdict == "verified"
+    assert res.status is Status.VERIFIED and res.power == 2
+    assert check_integral(euler, h).status is Status.VERIFIED
 
 
 @pytest.mark.parametrize("expr", ["a3*x2**2 - a2*x3**2", "x1**2", C1.replace("a3*x2**2", "2*a3*x2**2"),
                                   D1.replace("eps**2", "2*eps**2")])
 def test_non_integrals_refuted(euler, expr):
     """The continuous integral H1, a monomial, and perturbed c1, d1 are not integrals of the map."""
-    assert recipe_g(euler, Frac.parse(euler.ring, expr)).verdict == "refuted"
+    assert recipe_g(euler, Frac.parse(euler.ring, expr)).status is Status.REFUTED
 
 
 def test_certificate_is_checked_by_expansion(euler):
@@ -72,4 +73,4 @@ def test_second_flow_perturbed_integral_refuted():
     """Recipe (G) refutes the second-flow L with one coefficient changed."""
     f = kahan_map("clebsch-flow2")
     bad = Frac.parse(f.ring, "(w1*m1**2 + w2*w3*p1**2 + w2*m2**2)/(1 + eps**2*w1*(w1*m1**2 + w2*w3*p1**2))")
-    assert recipe_g(f, bad).verdict == "refuted"
+    assert recipe_g(f, bad).status is Status.REFUTED

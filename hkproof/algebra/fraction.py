@@ -2,14 +2,18 @@
 from __future__ import annotations
 
 from enum import Enum
+from fractions import Fraction
 from functools import lru_cache
-from typing import Mapping, Sequence
+from typing import Mapping, Sequence, TypeAlias
 
 import flint
 import sympy
 
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
-from hkproof.errors import ParseError, SingularPointError
+from hkproof.errors import ParseError, RingMismatchError, SingularPointError
+
+
+Operand: TypeAlias = "Frac | int | flint.fmpz | flint.fmpq | Fraction | flint.fmpz_mpoly"
 
 
 class Parity(str, Enum):
@@ -38,7 +42,18 @@ def normalize_sign(num: flint.fmpz_mpoly, den: flint.fmpz_mpoly) -> tuple[flint.
 
 
 class Frac:
-    """A rational function num/den over Z[v]: gcd(num, den) = 1 and the last term of den positive."""
+    """A rational function num/den over Z[v]: gcd(num, den) = 1 and the last term of den positive.
+
+    Integers, rationals and polynomials of the same ring coerce into the field; elements of other rings do not.
+
+    >>> from hkproof.algebra.ring import get_ring
+    >>> r = get_ring(("x", "eps"))
+    >>> h = Frac.parse(r, "x/(1 + eps**2)")
+    >>> h + 1, h * r.gen("eps"), bool(h - h)
+    ((eps**2 + x + 1)/(eps**2 + 1), (x*eps)/(eps**2 + 1), False)
+    >>> h.parity("eps"), h.is_even_in("eps")
+    (<Parity.EVEN: 'even'>, True)
+    """
 
     __slots__ = ("ring", "num", "den")
 
@@ -56,21 +71,12 @@ class Frac:
 
     # ---- construction ---------------------------------------------------------------------------
     @classmethod
-    def parse(cls, ring: Ring, text: str | sympy.Expr) -> "Frac":
-        """Read a rational function from a string (sympy syntax) or a sympy expression (strings parsed once)."""
-        if isinstance(text, str):
-            return _parse_cached(ring, text)
-        return cls._parse(ring, text)
-
-    @classmethod
-    def _parse(cls, ring: Ring, text: str | sympy.Expr) -> "Frac":
-        expr = ring.sympify(text)
-        num, den = sympy.fraction(sympy.together(expr))
-        p, dp = ring.poly_from_sympy(num)
-        q, dq = ring.poly_from_sympy(den)
-        if q.is_zero():
-            raise ParseError(f"{text!r} has a zero denominator")
-        return cls(ring, p * dq, q * dp)
+    def parse(cls, ring: Ring, text: str, known: Mapping[str, "Frac"] | None = None) -> "Frac":
+        """Read a rational function exactly (hkproof.algebra.formula: no eval; decimals are exact decimals)."""
+        from hkproof.algebra.formula import parse_formula
+        if known:
+            return parse_formula(ring, text, known)
+        return _parse_cached(ring, text)
 
     @classmethod
     def rational(cls, ring: Ring, value: Rational) -> "Frac":
@@ -78,16 +84,24 @@ class Frac:
         return cls(ring, ring.constant(int(v.p)), ring.constant(int(v.q)))
 
     # ---- arithmetic ----------------------------------------------------------------------------
-    def _coerce(self, other: "Frac | int") -> "Frac":
+    def _coerce(self, other: object) -> "Frac":
+        """other as an element of this field: a Frac of the same ring, a polynomial of its ring, or a rational."""
         if isinstance(other, Frac):
             if other.ring != self.ring:
-                raise ParseError(f"cannot combine elements of {self.ring} and {other.ring}")
+                raise RingMismatchError(f"cannot combine an element of {self.ring} with one of {other.ring}")
             return other
-        if isinstance(other, int):
+        if isinstance(other, (int, flint.fmpz)) and not isinstance(other, bool):
+            return Frac(self.ring, self.ring.constant(int(other)), reduced=True)
+        if isinstance(other, (flint.fmpq, Fraction)):
+            return Frac(self.ring, int(other.numerator), int(other.denominator))
+        if isinstance(other, flint.fmpz_mpoly):
+            if other.context() is not self.ring.ctx:
+                raise RingMismatchError(f"cannot combine an element of {self.ring} with a polynomial in "
+                                        f"{other.context().names()}")
             return Frac(self.ring, other, reduced=True)
         return NotImplemented
 
-    def __add__(self, other: "Frac | int") -> "Frac":
+    def __add__(self, other: "Operand") -> "Frac":
         o = self._coerce(other)
         if o is NotImplemented:
             return o
@@ -102,16 +116,16 @@ class Frac:
     def __neg__(self) -> "Frac":
         return Frac(self.ring, -self.num, self.den, reduced=True)
 
-    def __sub__(self, other: "Frac | int") -> "Frac":
+    def __sub__(self, other: "Operand") -> "Frac":
         o = self._coerce(other)
         if o is NotImplemented:
             return o
         return self + (-o)
 
-    def __rsub__(self, other: "Frac | int") -> "Frac":
+    def __rsub__(self, other: "Operand") -> "Frac":
         return (-self) + other
 
-    def __mul__(self, other: "Frac | int") -> "Frac":
+    def __mul__(self, other: "Operand") -> "Frac":
         o = self._coerce(other)
         if o is NotImplemented:
             return o
@@ -128,13 +142,13 @@ class Frac:
             raise ZeroDivisionError("inverse of the zero rational function")
         return Frac(self.ring, self.den, self.num)
 
-    def __truediv__(self, other: "Frac | int") -> "Frac":
+    def __truediv__(self, other: "Operand") -> "Frac":
         o = self._coerce(other)
         if o is NotImplemented:
             return o
         return self * o.inverse()
 
-    def __rtruediv__(self, other: "Frac | int") -> "Frac":
+    def __rtruediv__(self, other: "Operand") -> "Frac":
         return self.inverse() * other
 
     def __pow__(self, k: int) -> "Frac":
@@ -143,11 +157,15 @@ class Frac:
         return Frac(self.ring, self.num**k, self.den**k, reduced=True)
 
     def __eq__(self, other: object) -> bool:
-        if isinstance(other, int):
-            other = Frac(self.ring, other)
-        if not isinstance(other, Frac) or other.ring != self.ring:
+        if isinstance(other, Frac) and other.ring != self.ring:
+            return False
+        o = self._coerce(other)
+        if o is NotImplemented:
             return NotImplemented
-        return self.num == other.num and self.den == other.den
+        return self.num == o.num and self.den == o.den
+
+    def __bool__(self) -> bool:
+        return not self.num.is_zero()
 
     def __hash__(self) -> int:
         return hash((self.ring, str(self.num), str(self.den)))
@@ -157,6 +175,15 @@ class Frac:
 
     def is_polynomial(self) -> bool:
         return self.den.is_constant()
+
+    def is_constant(self) -> bool:
+        return self.num.is_constant() and self.den.is_constant()
+
+    def constant_value(self) -> flint.fmpq:
+        """The rational number of a constant function (ParseError if it depends on a variable)."""
+        if not self.is_constant():
+            raise ParseError(f"{self} is not a constant (it involves {sorted(self.variables())})")
+        return flint.fmpq(self.num.coefficient(0) if len(self.num) else 0, self.den.coefficient(0))
 
     # ---- structure ----------------------------------------------------------------------------
     def variables(self) -> set[str]:
@@ -176,13 +203,25 @@ class Frac:
     def degrees_in(self, names: Sequence[str]) -> tuple[int, int]:
         """(total degree of num, total degree of den) in the given variables only."""
         idx = [self.ring.index(n) for n in names]
-        return tuple(max((sum(m[i] for i in idx) for m in p.monoms()), default=0)
-                     for p in (self.num, self.den))
+        num, den = (max((sum(m[i] for i in idx) for m in p.monoms()), default=0) for p in (self.num, self.den))
+        return num, den
+
+    def substitute(self, values: Mapping[str, flint.fmpz_mpoly | int], target: Ring | None = None) -> "Frac":
+        """The function with the named variables replaced by polynomials of `target` (Ring.substitute), reduced.
+
+        >>> from hkproof.algebra.ring import get_ring
+        >>> r = get_ring(("x", "y"))
+        >>> h = Frac.parse(r, "x/(x + y)")
+        >>> h.substitute({"y": r.gen("x")})
+        (1)/(2)
+        """
+        target = target or self.ring
+        return Frac(target, self.ring.substitute(self.num, values, target),
+                    self.ring.substitute(self.den, values, target))
 
     def negate_variable(self, name: str) -> "Frac":
         """The function with `name` replaced by its negative (eps -> -eps)."""
-        args = [(-g if n == name else g) for n, g in zip(self.ring.names, self.ring.gens())]
-        return Frac(self.ring, self.num.compose(*args), self.den.compose(*args))
+        return self.substitute({name: -self.ring.gen(name)})
 
     def parity(self, name: str) -> Parity:
         """Exact parity in one variable: even, odd or neither (lowest terms make this a polynomial test)."""
@@ -273,8 +312,9 @@ def poly_str(p: flint.fmpz_mpoly) -> str:
 
 @lru_cache(maxsize=4096)
 def _parse_cached(ring: Ring, text: str) -> Frac:
-    """Frac._parse of a string, memoized (a Frac is never changed in place)."""
-    return Frac._parse(ring, text)
+    """A formula read once per ring (a Frac is never changed in place)."""
+    from hkproof.algebra.formula import parse_formula
+    return parse_formula(ring, text)
 
 
 def homogenized_compose(ring: Ring, p: flint.fmpz_mpoly, moved: Sequence[str],
@@ -290,7 +330,7 @@ def homogenized_compose(ring: Ring, p: flint.fmpz_mpoly, moved: Sequence[str],
         data[m + (d - sum(m[i] for i in idx),)] = c
     ph = hring.ctx.from_dict(data)
     args = list(ring.gens())
-    for i, img in zip(idx, images):
+    for i, img in zip(idx, images, strict=True):
         args[i] = img
     args.append(den)
     return ph.compose(*args), d

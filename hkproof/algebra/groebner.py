@@ -20,7 +20,7 @@ class MembershipCertificate:
     def check(self) -> bool:
         """Expand both sides and compare: the only step the conclusion rests on."""
         total = self.target.context().constant(0)
-        for lam, g in zip(self.cofactors, self.generators):
+        for lam, g in zip(self.cofactors, self.generators, strict=True):
             total += lam * g
         return total == self.multiplier ** self.power * self.target
 
@@ -38,9 +38,9 @@ def groebner_basis(generators: Sequence[flint.fmpz_mpoly],
     if limits is None:
         return vec.buchberger_naive().autoreduction()
     basis, complete = vec.buchberger_naive(limits=limits)
-    return basis.autoreduction() if complete else None
+    return basis.autoreduction() if complete else None  # type: ignore[attr-defined]  # missing from flint's stubs
 
 
 def in_ideal(p: flint.fmpz_mpoly, basis: flint.fmpz_mpoly_vec) -> bool:
     """p in the ideal over Q iff its normal form modulo the Groebner basis is zero."""
-    return p.reduction_primitive_part(basis).is_zero()
+    return p.reduction_primitive_part(basis).is_zero()  # type: ignore[attr-defined]  # missing from flint's stubs

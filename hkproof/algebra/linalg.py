@@ -79,7 +79,7 @@ def cramer_polynomials(a: PolyMatrix, b: Sequence[flint.fmpz_mpoly], columns: Se
     if columns is None and max(len(x) for x in b) <= min(len(x) for row in a for x in row if not x.is_zero()):
         # b as small as A's smallest entries: one pass over [A | b] gives det A and every det A_j (b moved from
         # the last place to j)
-        minors = maximal_minors([list(row) + [x] for row, x in zip(a, b)])
+        minors = maximal_minors([list(row) + [x] for row, x in zip(a, b, strict=True)])
         nums = [minors.get((full & ~(1 << j)) | (1 << n), zero) for j in range(n)]
         return minors.get(full, zero), [-x if (n - 1 - j) % 2 else x for j, x in enumerate(nums)]
     total, nums = zero, [zero] * n
@@ -163,7 +163,7 @@ def cleared_system(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac]
     """(A, b, L) with A x = b / L equivalent to rows x = rhs: each row cleared by the lcm of its coefficients'
     denominators, the right-hand side column by its own common denominator L (so A keeps small entries)."""
     a, scaled = [], []
-    for r, b in zip(rows, rhs):
+    for r, b in zip(rows, rhs, strict=True):
         row_lcm = lcm([f.den for f in r])
         a.append([f.num * (row_lcm / f.den) for f in r])
         scaled.append(b * Frac(b.ring, row_lcm))
@@ -190,7 +190,7 @@ def rank_over_fraction_field(rows: Sequence[Sequence[Frac]]) -> int:
     if not rows:
         return 0
     lcms = [lcm([row[j].den for row in rows]) for j in range(len(rows[0]))]
-    work = [[f.num * (m / f.den) for f, m in zip(row, lcms)] for row in rows]
+    work = [[f.num * (m / f.den) for f, m in zip(row, lcms, strict=True)] for row in rows]
     rank = 0
     for col in range(len(lcms)):
         candidates = [r for r in range(rank, len(work)) if not work[r][col].is_zero()]
@@ -202,7 +202,7 @@ def rank_over_fraction_field(rows: Sequence[Sequence[Frac]]) -> int:
         for r in range(rank + 1, len(work)):
             c = work[r][col]
             if not c.is_zero():
-                work[r] = [a * p[col] - c * b for a, b in zip(work[r], p)]
+                work[r] = [a * p[col] - c * b for a, b in zip(work[r], p, strict=True)]
                 g = _row_content(work[r])
                 if g is not None:
                     work[r] = [a / g for a in work[r]]

@@ -10,17 +10,18 @@ import sympy
 
 from hkproof.errors import ParseError, UnknownSymbolError
 
-Rational = int | Fraction | flint.fmpq
+Rational = int | Fraction | flint.fmpq | str  # a str is read exactly by to_fmpq ('1/3', '0.1')
 
 
 def to_fmpq(value: Rational | str) -> flint.fmpq:
-    """An exact rational from an int, a Fraction, an fmpq or a string such as '3/7'."""
+    """An exact rational from an int, a Fraction, an fmpq or a string such as '3/7' or '0.1' (read exactly)."""
     if isinstance(value, flint.fmpq):
         return value
     if isinstance(value, flint.fmpz):
         return flint.fmpq(value)
     if isinstance(value, str):
-        value = Fraction(value)
+        from hkproof.algebra.formula import parse_rational
+        return parse_rational(value)
     if isinstance(value, bool) or not isinstance(value, (int, Fraction)):
         raise ParseError(f"{value!r} is not an exact rational number (give an int, a fraction 'a/b' or a Fraction)")
     value = Fraction(value)
@@ -66,42 +67,27 @@ class Ring:
         return self.names.index(name)
 
     # ---- conversion -------------------------------------------------------------------------
-    def poly_from_sympy(self, expr: sympy.Expr) -> tuple[flint.fmpz_mpoly, int]:
-        """(P, d) with expr = P/d, P with integer coefficients, d a positive integer."""
-        self.check_symbols(expr)
-        poly = sympy.Poly(sympy.expand(expr), *self._symbols.values(), domain="QQ")
-        terms = poly.terms()
-        den = 1
-        for _, c in terms:
-            den = sympy.ilcm(den, sympy.Rational(c).q)
-        data = {tuple(int(e) for e in m): int(sympy.Rational(c) * den) for m, c in terms}
-        return self.ctx.from_dict(data), int(den)
-
-    def check_symbols(self, expr: sympy.Expr) -> None:
-        unknown = {str(s) for s in expr.free_symbols} - set(self.names)
-        if unknown:
-            raise UnknownSymbolError(
-                f"unknown symbol(s) {sorted(unknown)}; the ring has variables {list(self.names)}")
-
-    def sympify(self, text: str | sympy.Expr) -> sympy.Expr:
-        """Parse a string into a sympy expression over this ring's names (no implicit multiplication)."""
-        if isinstance(text, sympy.Expr):
-            return text
-        try:
-            expr = sympy.sympify(text, locals=dict(self._symbols))
-        except (sympy.SympifyError, SyntaxError, TypeError) as exc:
-            raise ParseError(f"cannot read {text!r} as a formula: {exc}") from None
-        if not isinstance(expr, sympy.Expr):
-            raise ParseError(f"{text!r} is not an algebraic expression")
-        if expr.has(sympy.zoo, sympy.nan, sympy.oo):
-            raise ParseError(f"{text!r} is undefined (division by zero)")
-        self.check_symbols(expr)
-        return expr
-
     def to_sympy(self, p: flint.fmpz_mpoly) -> sympy.Expr:
         syms = list(self._symbols.values())
-        return sympy.Add(*[sympy.Integer(int(c)) * sympy.Mul(*[s**e for s, e in zip(syms, m)])
+        return sympy.Add(*[sympy.Integer(int(c)) * sympy.Mul(*[s**e for s, e in zip(syms, m, strict=True)])
                            for m, c in p.to_dict().items()])
+
+    def substitute(self, p: flint.fmpz_mpoly, values: Mapping[str, flint.fmpz_mpoly | int],
+                   target: "Ring | None" = None) -> flint.fmpz_mpoly:
+        """p with the named variables replaced by polynomials of `target` (default: this ring) and every other
+        variable sent to the variable of the same name in `target`: one compose.
+
+        >>> r = get_ring(("x", "y"))
+        >>> r.substitute(r.gen("x") ** 2 + r.gen("y"), {"x": r.gen("y") + 1})
+        y^2 + 3*y + 1
+        """
+        target = target or self
+        unknown = sorted(set(values) - set(self.names))
+        if unknown:
+            raise UnknownSymbolError(f"{unknown} are not variables of {self}")
+        given = [values[n] if n in values else target.gen(n) for n in self.names]
+        args = [a if isinstance(a, flint.fmpz_mpoly) else target.constant(int(a)) for a in given]
+        return p.compose(*args, ctx=target.ctx)
 
     def to_q(self, p: flint.fmpz_mpoly) -> flint.fmpq_mpoly:
         return flint.fmpq_mpoly(p, self.qctx)
@@ -121,8 +107,8 @@ class Ring:
     def specialize_poly(self, p: flint.fmpz_mpoly, values: Mapping[str, Rational],
                         target: "Ring") -> tuple[flint.fmpz_mpoly, flint.fmpz]:
         """(P, d) with p|values = P/d in `target` (the ring without the fixed names), d > 0 an integer."""
-        ints = {k: v for k, v in values.items() if isinstance(v, int) and not isinstance(v, bool)}
-        rest = {k: to_fmpq(v) for k, v in values.items() if k not in ints}
+        ints: dict[str | int, int] = {k: v for k, v in values.items() if isinstance(v, int) and not isinstance(v, bool)}
+        rest: dict[str | int, flint.fmpq] = {k: to_fmpq(v) for k, v in values.items() if k not in ints}
         if ints:
             p = p.subs(ints)
         if not rest:

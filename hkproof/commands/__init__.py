@@ -5,6 +5,8 @@ import argparse
 from dataclasses import dataclass
 from typing import Any, Callable
 
+from hkproof.errors import ParseError
+
 
 @dataclass
 class Result:
@@ -22,3 +24,42 @@ def add_command(sub: argparse._SubParsersAction, name: str, help: str,
     p.add_argument("--json", action="store_true", help="print a JSON object instead of text")
     p.set_defaults(run=run)
     return p
+
+
+def at_least(minimum: int) -> Callable[[str], int]:
+    """An argparse type: an integer >= minimum (a bad count is a usage error, exit 2)."""
+    def read(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"{value} is too small (at least {minimum})")
+        return value
+    read.__name__ = f"integer >= {minimum}"
+    return read
+
+
+def add_values_options(p: argparse.ArgumentParser) -> None:
+    """--eps, --param NAME=VALUE and --seed: eps and parameters fixed exactly, the others random."""
+    p.add_argument("--eps", help="a non-zero rational eps, read exactly, e.g. 1/10 or 0.1 (hkproof's eps is half "
+                   "the time step; default: random)")
+    p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                   help="fix a parameter to an exact rational (repeatable; the others are random)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the random points and values (default 0)")
+
+
+def fixed_values(args: argparse.Namespace) -> dict[str, str]:
+    """The values fixed on the command line (--eps and every --param NAME=VALUE), as text; QuadraticField.check_values
+    reads them exactly and checks them against the system."""
+    values: dict[str, str] = {}
+    for item in args.param:
+        name, sep, value = item.partition("=")
+        if not sep or not name.strip() or not value.strip():
+            raise ParseError(f"--param expects NAME=VALUE, got {item!r}")
+        if name.strip() in values:
+            raise ParseError(f"--param {name.strip()} is given twice")
+        values[name.strip()] = value.strip()
+    if args.eps is not None:
+        values["eps"] = args.eps
+    return values

@@ -5,8 +5,8 @@ import argparse
 import random
 
 from hkproof.algebra.fraction import Frac
-from hkproof.commands import Result, add_command
-from hkproof.commands.scan import scene_values
+from hkproof.algebra.formula import check_name, split_list
+from hkproof.commands import Result, add_command, add_values_options, at_least, fixed_values
 from hkproof.dynamics.catalogue import SYSTEMS, kahan_map
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ParseError
@@ -23,14 +23,11 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="the function T: a formula, or a formula recorded by a proven claim (e.g. dc-theta:g1)")
     p.add_argument("--on", required=True, action="append", metavar="NAME=EXPR | CLAIM:NAME[,NAME...]",
                    help="the functions U (repeatable), e.g. --on dc345-abcd:A,B,C,D")
-    p.add_argument("--degrees", type=int, nargs=2, default=(1, 1), metavar=("DEG_P", "DEG_Q"),
+    p.add_argument("--degrees", type=at_least(0), nargs=2, default=(1, 1), metavar=("DEG_P", "DEG_Q"),
                    help="total degrees of P and Q (default 1 1)")
     p.add_argument("--cap", action="append", default=[], metavar="NAME=K",
                    help="degree cap of one U in the monomials (e.g. D=1 when D^2 is known in the others)")
-    p.add_argument("--eps", help="a rational step size (default: random)")
-    p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
-                   help="fix a parameter to a rational (repeatable; the others are random)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the random points and values (default 0)")
+    add_values_options(p)
 
 
 def run_depend(args: argparse.Namespace) -> Result:
@@ -44,8 +41,10 @@ def run_depend(args: argparse.Namespace) -> Result:
         name, sep, k = item.partition("=")
         if not sep or not k.strip().isdigit():
             raise ParseError(f"--cap expects NAME=K with K a non-negative integer, got {item!r}")
+        if name.strip() not in knowns:
+            raise ParseError(f"--cap {name.strip()}: not one of the functions U given with --on ({list(knowns)})")
         caps[name.strip()] = int(k)
-    values = random_values(f, random.Random(args.seed), scene_values(args) or None)
+    values = random_values(f, random.Random(args.seed), fixed_values(args) or None)
     search = find_rational_relations(target, knowns, values, f.variables, degrees=tuple(args.degrees),
                                      max_degree=caps, target_name=target_name, seed=args.seed)
     at = ", ".join(f"{k} = {v}" for k, v in values.items())
@@ -69,7 +68,7 @@ def _functions(f: KahanMap, item: str) -> dict[str, Frac]:
     """NAME=EXPR (a formula in the system's ring) or CLAIM:NAME[,NAME...] (formulas of a proven claim)."""
     if "=" in item:
         name, expr = item.split("=", 1)
-        return {name.strip(): Frac.parse(f.ring, expr)}
+        return {check_name(name.strip(), "function name"): f.field.parse(expr)}
     claim_id, sep, names = item.partition(":")
     if not sep:
         raise ParseError(f"{item!r}: give NAME=EXPR or CLAIM:NAME[,NAME...]")
@@ -77,7 +76,7 @@ def _functions(f: KahanMap, item: str) -> dict[str, Frac]:
     if not cert.status.is_verified:
         raise HKProofError(f"claim {claim_id} is {cert.status.label}: its formulas are not integrals proven here")
     out = {}
-    for name in (n.strip() for n in names.split(",")):
+    for name in split_list(names, "list of names"):
         if name not in cert.formulas:
             raise ParseError(f"claim {claim_id} records no formula {name!r} (it has {sorted(cert.formulas)})")
         out[name] = Frac.parse(f.ring, cert.formulas[name])

@@ -4,41 +4,74 @@ from __future__ import annotations
 import argparse
 
 from hkproof.algebra.fraction import Frac
-from hkproof.commands import Result, add_command
-from hkproof.dynamics.catalogue import kahan_map
+from hkproof.commands import Result, add_command, fixed_values
+from hkproof.dynamics.catalogue import get_system, kahan_map
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.errors import ParseError
+from hkproof.experiments.refute import modular_witness
 from hkproof.hk.integrals import check_integral
 from hkproof.hk.recipe_g import recipe_g
+from hkproof.proof.status import Status
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = add_command(sub, "integral", "decide exactly whether EXPR is an integral of the Kahan map of SYSTEM",
-                    run_integral)
+    p = add_command(sub, "integral", "decide exactly whether EXPR is an integral of the Kahan map of SYSTEM "
+                    "(exit 0 verified, 1 refuted)", run_integral)
     p.add_argument("system", help="a catalogue name or a TOML file")
-    p.add_argument("expr", help="a rational function in the system's variables, eps and parameters")
+    p.add_argument("expr", help="a rational function in the system's variables, eps (half the time step) and "
+                   "parameters, e.g. \"(x1**2 - x2**2)/3\"; decimals are read exactly (0.1 = 1/10)")
     p.add_argument("--method", choices=("substitution", "groebner"), default="substitution",
                    help="substitution: h(N/Delta) - h = 0; groebner: recipe (G), Delta^k delta = sum lambda_i E_i "
                         "with cofactors checked by expansion")
+    p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                   help="check at this exact parameter value only (repeatable): the verdict is then "
+                        "verified(specialized)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the random point of the first, modular check")
 
 
 def run_integral(args: argparse.Namespace) -> Result:
-    f = kahan_map(args.system)
-    h = Frac.parse(f.ring, args.expr)
-    if getattr(args, "method", "substitution") == "groebner":
-        return _run_recipe_g(f, h, args.expr)
+    field = get_system(args.system)
+    h = field.parse(args.expr)
+    values = fixed_values(argparse.Namespace(param=args.param, eps=None))
+    if values:
+        exact = field.check_values(values)
+        if "eps" in exact:
+            raise ParseError("--param fixes parameters, not eps: an integral must hold for every step size")
+        small = field.specialize(exact)
+        h, field = h.specialize(exact, small.ring), small
+    f = kahan_map(field)
+    status = Status.VERIFIED_SPECIALIZED if values else Status.VERIFIED
+    payload = {"system": f.field.name, "expr": str(h), "fixed": values}
+    notes = []
+    if not h.variables() & set(f.variables):
+        notes.append("h does not depend on the phase variables: it is trivially invariant")
+    payload["notes"] = notes
+    witness = modular_witness(f, h, seed=args.seed)
+    if witness is not None:
+        payload.update({"verdict": Status.REFUTED.label, "method": "evaluation mod p at a random point",
+                        "witness": witness.to_dict()})
+        return Result(payload, f"refuted: {args.expr} is not an integral of the Kahan map of {f.field.name}: "
+                      f"{witness.text()}", 1)
+    if args.method == "groebner":
+        return _run_recipe_g(f, h, args.expr, status, payload)
     verdict = check_integral(f, h)
-    payload = {"system": f.field.name, "expr": str(h), **verdict.to_dict()}
-    text = (f"{verdict.verdict}: {args.expr} is {'an' if verdict.verdict == 'verified' else 'not an'} integral of "
-            f"the Kahan map of {f.field.name} (exact, in {verdict.ring}, by {verdict.method})")
-    return Result(payload, text, 0 if verdict.verdict == "verified" else 1)
+    ok = verdict.status is Status.VERIFIED
+    label = status.label if ok else Status.REFUTED.label
+    payload.update({**verdict.to_dict(), "verdict": label})
+    text = (f"{label}: {args.expr} is {'an' if ok else 'not an'} integral of the Kahan map of {f.field.name} "
+            f"(exact, in {verdict.ring}, by {verdict.method})" + "".join(f"\nnote: {n}" for n in notes))
+    return Result(payload, text, 0 if ok else 1)
 
 
-def _run_recipe_g(f, h: Frac, expr: str) -> Result:
+def _run_recipe_g(f: KahanMap, h: Frac, expr: str, status: Status, payload: dict) -> Result:
     """The --method groebner branch: recipe (G) with a cofactor certificate."""
     res = recipe_g(f, h)
     ring = f"Z[{', '.join(f.field.tilde_ring.names)}]"
-    payload = {"system": f.field.name, "expr": str(h), "ring": ring, "method": "recipe (G): elimination of x~, "
-               "cofactors checked by expansion", **res.to_dict()}
-    text = (f"{res.verdict}: {expr} is {'an' if res.verdict == 'verified' else 'not an'} integral of the Kahan map of "
+    ok = res.status is Status.VERIFIED
+    label = status.label if ok else res.status.label
+    payload.update({"ring": ring, "method": "recipe (G): elimination of x~, cofactors checked by expansion",
+                    **res.to_dict(), "verdict": label})
+    text = (f"{label}: {expr} is {'an' if ok else 'not an'} integral of the Kahan map of "
             f"{f.field.name} (recipe (G) in {ring}; certificate det M^{res.power} * delta = sum lambda_i E_i, "
             f"{res.cofactor_terms} cofactor terms)")
-    return Result(payload, text, 0 if res.verdict == "verified" else 1)
+    return Result(payload, text, 0 if ok else 1)

@@ -17,14 +17,14 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run_map(args: argparse.Namespace) -> Result:
     f = kahan_map(args.system)
     nums, delta = f.explicit
-    comps = {f"{v}_tilde": str(c) for v, c in zip(f.variables, f.components())}
+    comps = {f"{v}_tilde": str(c) for v, c in zip(f.variables, f.components(), strict=True)}
     payload = {"system": f.field.name, "variables": list(f.variables), "parameters": list(f.field.parameters),
                "ring": f"Q[{', '.join(f.ring.names)}]", "denominator": poly_str(delta),
-               "numerators": {f"{v}_tilde": poly_str(p) for v, p in zip(f.variables, nums)},
+               "numerators": {f"{v}_tilde": poly_str(p) for v, p in zip(f.variables, nums, strict=True)},
                "components": comps}
     lines = [f"Kahan map of {f.field.name} in Q[{', '.join(f.ring.names)}]:",
              f"  Delta = {poly_str(delta)}"]
-    lines += [f"  {v}~ = ({poly_str(p)}) / Delta" for v, p in zip(f.variables, nums)]
+    lines += [f"  {v}~ = ({poly_str(p)}) / Delta" for v, p in zip(f.variables, nums, strict=True)]
     return Result(payload, "\n".join(lines))
 
 
@@ -32,5 +32,5 @@ def run_systems(args: argparse.Namespace) -> Result:
     payload = [{"name": f.name, "variables": list(f.variables), "parameters": list(f.parameters),
                 "rhs": list(f.rhs_text), "description": f.description} for f in SYSTEMS.values()]
     text = "\n".join(f"{f.name}: {f.description}\n    " +
-                     "\n    ".join(f"{v}' = {r}" for v, r in zip(f.variables, f.rhs_text)) for f in SYSTEMS.values())
+                     "\n    ".join(f"{v}' = {r}" for v, r in zip(f.variables, f.rhs_text, strict=True)) for f in SYSTEMS.values())
     return Result(payload, text)

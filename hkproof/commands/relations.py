@@ -6,8 +6,9 @@ import random
 
 import sympy
 
-from hkproof.commands import Result, add_command
-from hkproof.commands.scan import add_scene_options, scene_values
+from hkproof.algebra.formula import check_name, split_list
+from hkproof.commands import Result, add_command, at_least, fixed_values
+from hkproof.commands.scan import add_scene_options
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.experiments.points import random_values
 from hkproof.experiments.pslq import agreement, pslq_relations
@@ -19,15 +20,15 @@ def register(sub: argparse._SubParsersAction) -> None:
                     "coordinates of HK-bases with d = 1, with eps and the parameters symbolic", run_relations)
     add_scene_options(p, several_bases=True)
     p.add_argument("--names", help='names of the kernel coordinates, e.g. "c1, c2, c3" (default c1, c2, ...)')
-    p.add_argument("--max-degree", type=int, default=6, help="largest degree of a coefficient tried (default 6)")
-    p.add_argument("--pslq", type=int, metavar="DIGITS",
+    p.add_argument("--max-degree", type=at_least(0), default=6, help="largest degree of a coefficient tried (default 6)")
+    p.add_argument("--pslq", type=at_least(1), metavar="DIGITS",
                    help="also run PSLQ at this many digits (eps and parameters fixed) and compare")
 
 
 def run_relations(args: argparse.Namespace) -> Result:
     f = kahan_map(args.system)
-    names = [n.strip() for n in args.names.split(",")] if args.names else None
-    fixed = {k: v for k, v in scene_values(args).items()}
+    names = [check_name(n) for n in split_list(args.names, "--names")] if args.names else None
+    fixed = fixed_values(args)
     search = find_relations(f, args.basis, names=names, values=fixed or None, max_degree=args.max_degree,
                             seed=args.seed)
     payload = {"system": f.field.name, "bases": args.basis, **search.to_dict()}
@@ -49,7 +50,7 @@ def run_relations(args: argparse.Namespace) -> Result:
                      f"{len(ps.relations)} relation(s), {right} in the exact span, recovering {recovered} of "
                      f"{search.dimension}; {ps.rejected} candidate(s) rejected as inconsistent across points")
         cols = [sympy.Symbol(n) for n in search.names] + [sympy.Integer(1)]
-        lines += [f"  {sympy.Add(*[a * c for a, c in zip(rel, cols)])} = 0" for rel in ps.relations]
+        lines += [f"  {sympy.Add(*[a * c for a, c in zip(rel, cols, strict=True)])} = 0" for rel in ps.relations]
     return Result(payload, "\n".join(lines), 0 if len(search.relations) == search.dimension else 1)
 
 

@@ -3,9 +3,8 @@ from __future__ import annotations
 
 import argparse
 
-from hkproof.commands import Result, add_command
+from hkproof.commands import Result, add_command, add_values_options, at_least, fixed_values
 from hkproof.dynamics.catalogue import SYSTEMS
-from hkproof.errors import ParseError
 from hkproof.experiments.profiles import HK_BASIS, SINGULAR, KernelProfile
 from hkproof.experiments.scan import ScanResult, scan
 
@@ -14,10 +13,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "scan", "algorithm (N): kernel-dimension profiles of a candidate HK-basis at random points",
                     run_scan)
     add_scene_options(p)
-    p.add_argument("--points", type=int, default=10, help="number of random initial points (default 10)")
+    p.add_argument("--points", type=at_least(1), default=10, help="number of random initial points (default 10)")
     p.add_argument("--arithmetic", choices=["exact", "modular", "float", "mpmath"], default="exact",
                    help="exact Q, mod large primes, float64 or mpmath (default exact)")
-    p.add_argument("--digits", type=int, default=50, help="decimal digits for --arithmetic mpmath (default 50)")
+    p.add_argument("--digits", type=at_least(1), default=50, help="decimal digits for --arithmetic mpmath (default 50)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
 
 
@@ -27,27 +26,11 @@ def add_scene_options(p: argparse.ArgumentParser, several_bases: bool = False) -
     p.add_argument("--basis", required=True, action="append" if several_bases else "store",
                    help='the candidate basis, e.g. "x1**2, x2**2, x3**2, 1"'
                    + (" (repeat to relate the kernels of several bases)" if several_bases else ""))
-    p.add_argument("--eps", help="a rational step size (default: random)")
-    p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
-                   help="fix a parameter to a rational (repeatable; the others are random)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the random points and values (default 0)")
-
-
-def scene_values(args: argparse.Namespace) -> dict[str, str]:
-    """The values fixed on the command line: --eps and every --param NAME=VALUE."""
-    values = {}
-    for item in args.param:
-        name, sep, value = item.partition("=")
-        if not sep:
-            raise ParseError(f"--param expects NAME=VALUE, got {item!r}")
-        values[name.strip()] = value.strip()
-    if args.eps is not None:
-        values["eps"] = args.eps
-    return values
+    add_values_options(p)
 
 
 def run_scan(args: argparse.Namespace) -> Result:
-    result = scan(args.system, args.basis, points=args.points, values=scene_values(args) or None,
+    result = scan(args.system, args.basis, points=args.points, values=fixed_values(args) or None,
                   arithmetic=args.arithmetic, digits=args.digits, seed=args.seed,
                   progress=None if not args.no_progress and not args.json else False)
     return Result(result.to_dict(), format_scan(result))

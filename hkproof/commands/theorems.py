@@ -34,6 +34,6 @@ def run_prove(args: argparse.Namespace) -> Result:
     claims = select(ids=args.ids, groups=args.group, include_slow=not args.no_slow)
     certs = [c.prove() for c in claims]
     text = "\n".join(cert.render() for cert in certs) + summary(claims, certs)
-    ok = all(c.succeeded(cert) for c, cert in zip(claims, certs))
-    return Result([{**cert.to_dict(), "expected": c.expected.label} for c, cert in zip(claims, certs)], text,
+    ok = all(c.succeeded(cert) for c, cert in zip(claims, certs, strict=True))
+    return Result([{**cert.to_dict(), "expected": c.expected.label} for c, cert in zip(claims, certs, strict=True)], text,
                   0 if ok else 1)

@@ -9,7 +9,7 @@ import flint
 from hkproof.algebra.fraction import Frac, homogenized_compose, normalize_sign
 from hkproof.algebra.linalg import cramer_polynomials
 from hkproof.algebra.ring import Rational, to_fmpq
-from hkproof.dynamics.field import EPS, QuadraticField
+from hkproof.dynamics.field import EPS, TILDE, QuadraticField
 from hkproof.errors import ParseError, SingularPointError
 
 
@@ -33,11 +33,11 @@ class KahanMap:
         xt = [t.gen(v) for v in self.field.tilde_variables]
         eps = t.gen(EPS)
         out = []
-        for v, f in zip(self.variables, self.field.rhs):
+        for v, f in zip(self.variables, self.field.rhs, strict=True):
             g = f.to_ring(t)
             # 2*F^(x, x~) = 4 F((x + x~)/2) - F(x) - F(x~), split by degree to stay in Z[...]
             polar = _twice_polarization(t, g.num, x, xt, self.variables, self.field.tilde_variables)
-            e = (t.gen(v + "_t") - t.gen(v)) * g.den - eps * polar
+            e = (t.gen(v + TILDE) - t.gen(v)) * g.den - eps * polar
             out.append(e)
         return tuple(out)
 
@@ -46,7 +46,7 @@ class KahanMap:
         """(M, b) with M(x, eps) x~ = b(x, eps), polynomials in Z[x, eps, params] (paper's matrix form)."""
         t = self.field.tilde_ring
         r = self.ring
-        zero_tilde = {v: 0 for v in self.field.tilde_variables}
+        zero_tilde: dict[str | int, int] = {v: 0 for v in self.field.tilde_variables}
         rows, rhs = [], []
         for e in self.equations:
             rows.append(tuple(e.derivative(t.index(w)).project_to_context(r.ctx)
@@ -81,8 +81,7 @@ class KahanMap:
 
     # ---- composition and iterates ---------------------------------------------------------------
     def negate_eps(self, p: flint.fmpz_mpoly) -> flint.fmpz_mpoly:
-        args = [(-g if n == EPS else g) for n, g in zip(self.ring.names, self.ring.gens())]
-        return p.compose(*args)
+        return self.ring.substitute(p, {EPS: -self.ring.gen(EPS)})
 
     @cached_property
     def inverse_explicit(self) -> tuple[tuple[flint.fmpz_mpoly, ...], flint.fmpz_mpoly]:
@@ -93,10 +92,10 @@ class KahanMap:
     def equations_reversible(self) -> bool:
         """E(x~, x, -eps) = -E(x, x~, eps) for every equation: the symmetry behind f^-1(x, eps) = f(x, -eps)."""
         t = self.field.tilde_ring
-        swap = {v: w for v, w in zip(self.variables, self.field.tilde_variables)}
-        swap.update({w: v for v, w in swap.items()})
-        args = [(-g if n == EPS else t.gen(swap[n]) if n in swap else g) for n, g in zip(t.names, t.gens())]
-        return all(e.compose(*args) == -e for e in self.equations)
+        swap = {v: t.gen(w) for v, w in zip(self.variables, self.field.tilde_variables, strict=True)}
+        swap.update({w: t.gen(v) for v, w in zip(self.variables, self.field.tilde_variables, strict=True)})
+        swap[EPS] = -t.gen(EPS)
+        return all(t.substitute(e, swap) == -e for e in self.equations)
 
     def pullback(self, h: Frac, power: int = 1) -> Frac:
         """h o f^power, in lowest terms; negative powers use f^-1(x, eps) = f(x, -eps)."""
@@ -152,6 +151,14 @@ class KahanMap:
         return orbit
 
 
+def commutator_at(f: KahanMap, g: KahanMap, point: Mapping[str, Rational]) -> dict[str, flint.fmpq]:
+    """f(g(x)) - g(f(x)), exactly, at a rational point fixing x, eps and the parameters (the same for both maps)."""
+    def step(kmap: KahanMap, at: Mapping[str, Rational]) -> dict[str, Rational]:
+        return {**at, **kmap.step_exact(at)}
+    fg, gf = step(f, step(g, point)), step(g, step(f, point))
+    return {v: to_fmpq(fg[v]) - to_fmpq(gf[v]) for v in f.variables}
+
+
 def _complete(names: Sequence[str], point: Mapping[str, Rational]) -> list[flint.fmpq]:
     missing = [n for n in names if n not in point]
     if missing:
@@ -179,7 +186,7 @@ def _twice_polarization(t, num, x, xt, names, tilde_names) -> flint.fmpz_mpoly:
     q, lin, const = (t.ctx.from_dict(parts[k]) for k in (2, 1, 0))
     gens = list(t.gens())
     sum_args, tilde_args = list(gens), list(gens)
-    for i, j, a, b in zip(idx, [t.index(n) for n in tilde_names], x, xt):
+    for i, j, a, b in zip(idx, [t.index(n) for n in tilde_names], x, xt, strict=True):
         sum_args[i] = a + b
         tilde_args[i] = b
     q_sum = q.compose(*sum_args)

@@ -2,6 +2,7 @@
 across a clear singular-value gap and answering "ambiguous" otherwise."""
 from __future__ import annotations
 
+from itertools import pairwise
 import math
 from abc import abstractmethod
 from typing import Sequence
@@ -50,7 +51,7 @@ class Approximate(FieldArithmetic):
             other = checker.profile(scene, basis, point).ranks
             certainty["confirmed_with"] = checker.name
             certainty["confirmation"] = "agree" if other == ranks else "disagree"
-            ranks = [a if a == b else None for a, b in zip(ranks, other)]
+            ranks = [a if a == b else None for a, b in zip(ranks, other, strict=True)]
         return RawProfile(ranks, rows, {"arithmetic": self.name, **certainty})
 
     @abstractmethod
@@ -63,7 +64,7 @@ class Approximate(FieldArithmetic):
         n = len(orbit[0])
         errors = [self.u]
         worst = 1.0
-        for x, y in zip(orbit, orbit[1:]):
+        for x, y in pairwise(orbit):
             m = [[self.affine(e, x) for e in row] for row in prep.matrix]
             dm = [[0.0] * n for _ in range(n)]
             for r, row in enumerate(prep.matrix):
@@ -85,7 +86,7 @@ class Approximate(FieldArithmetic):
         if row_err is None:
             row_err = [self.u] * nrows
         colnorm = [self.norm([rows[i][j] for i in range(nrows)]) or 1 for j in range(ncols)]
-        scaled = [[v / cn for v, cn in zip(r, colnorm)] for r in rows]
+        scaled = [[v / cn for v, cn in zip(r, colnorm, strict=True)] for r in rows]
         scaled = [[v / (self.norm(r) or 1) for v in r] for r in scaled]
         ranks: list[int | None] = []
         worst_gap, worst_noise = math.inf, 0.0
@@ -110,9 +111,9 @@ class Approximate(FieldArithmetic):
         rows = raw.rows[:len(raw.rows[0]) - d]
         ncols = len(rows[0])
         colnorm = [self.norm([r[j] for r in rows]) or 1 for j in range(ncols)]
-        scaled = [[v / cn for v, cn in zip(r, colnorm)] for r in rows]
+        scaled = [[v / cn for v, cn in zip(r, colnorm, strict=True)] for r in rows]
         vectors = self.null_vectors(scaled, d)
-        vectors = [[v / cn for v, cn in zip(vec, colnorm)] for vec in vectors]
+        vectors = [[v / cn for v, cn in zip(vec, colnorm, strict=True)] for vec in vectors]
         return self.normalize(vectors)
 
     def normalize(self, vectors: list[list[Number]]) -> list[list[Number]]:
@@ -128,7 +129,7 @@ class Approximate(FieldArithmetic):
             for k in range(d):
                 if k != i:
                     f = vecs[k][j] / vecs[i][j]
-                    vecs[k] = [a - f * b for a, b in zip(vecs[k], vecs[i])]
+                    vecs[k] = [a - f * b for a, b in zip(vecs[k], vecs[i], strict=True)]
             used.append(j)
         return vecs
 

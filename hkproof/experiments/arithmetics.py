@@ -144,7 +144,7 @@ def pivot_columns(rref: Any, rank: int) -> list[int]:
     return pivots
 
 
-def ranks_from_pivots(pivots: Sequence[int], nrows: int) -> list[int]:
+def ranks_from_pivots(pivots: Sequence[int], nrows: int) -> list[int | None]:
     """rank of the top s rows of X = number of pivot columns < s in rref(X^T)."""
     return [sum(1 for p in pivots if p < s) for s in range(1, nrows + 1)]
 
@@ -188,7 +188,7 @@ class ExactQ(FieldArithmetic):
             raise SingularPointError("det M(x, eps) = 0 (exactly)") from None
         return [sol[i, 0] for i in range(len(b))]
 
-    def prefix_ranks(self, rows: list[list[flint.fmpq]]) -> tuple[list[int], dict]:
+    def prefix_ranks(self, rows: list[list[flint.fmpq]]) -> tuple[list[int | None], dict]:
         r, _, rank = integer_rows(rows).transpose().rref()
         return ranks_from_pivots(pivot_columns(r, rank), len(rows)), {"method": "exact rank over Q"}
 

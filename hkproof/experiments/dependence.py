@@ -41,7 +41,7 @@ class RationalRelation:
 
     def _poly(self, coefficients: Mapping[Monomial, flint.fmpq]) -> sympy.Expr:
         syms = sympy.symbols(self.names)
-        return sympy.Add(*[sympy.Rational(int(c.p), int(c.q)) * sympy.Mul(*[s ** e for s, e in zip(syms, m)])
+        return sympy.Add(*[sympy.Rational(int(c.p), int(c.q)) * sympy.Mul(*[s ** e for s, e in zip(syms, m, strict=True)])
                            for m, c in coefficients.items() if c != 0])
 
     def text(self) -> str:
@@ -92,7 +92,8 @@ def find_rational_relations(target: Frac, knowns: Mapping[str, Frac], values: Ma
                                     "have no value")
     funcs = [h.specialize(fixed, small) for h in (target, *knowns.values())]
     rng = random.Random(seed)
-    rows, tries = [], 0
+    rows: list[list[flint.fmpq]] = []
+    tries = 0
     while len(rows) < unknowns + extra:
         tries += 1
         if tries > 4 * (unknowns + extra) + 20:
@@ -106,19 +107,20 @@ def find_rational_relations(target: Frac, knowns: Mapping[str, Frac], values: Ma
 
         def value(m: Monomial) -> flint.fmpq:
             out = flint.fmpq(1)
-            for x, e in zip(u, m):
+            for x, e in zip(u, m, strict=True):
                 out *= x ** e
             return out
         rows.append([t * value(m) for m in p_mons] + [-value(m) for m in q_mons])
     kernel = nullspace_q(rows)
-    found, among = [], []
+    found: list[RationalRelation] = []
+    among: list[RationalRelation] = []
     if kernel:
         # echelon form with the P coordinates first: rows with a pivot in P involve the target; the others (P = 0)
         # are relations among the knowns alone, which say nothing about the target
         echelon, rank = flint.fmpq_mat(kernel).rref()
         for i in range(rank):
             v = [echelon[i, j] for j in range(unknowns)]
-            rel = RationalRelation(target_name, names, dict(zip(p_mons, v[:len(p_mons)])),
-                                   dict(zip(q_mons, v[len(p_mons):])), fixed)
+            rel = RationalRelation(target_name, names, dict(zip(p_mons, v[:len(p_mons)], strict=True)),
+                                   dict(zip(q_mons, v[len(p_mons):], strict=True)), fixed)
             (found if any(v[:len(p_mons)]) else among).append(rel)
     return DependenceSearch(found, among, unknowns, len(rows))

@@ -41,7 +41,7 @@ def euler_orbit(kmap: KahanMap, values: Mapping[str, float | str], x0: Sequence[
     x = [float(v) for v in x0]
     out = [x]
     for _ in range(steps):
-        x = [xi + h * arithmetic.evaluate(num, x) / arithmetic.evaluate(den, x) for xi, (num, den) in zip(x, rhs)]
+        x = [xi + h * arithmetic.evaluate(num, x) / arithmetic.evaluate(den, x) for xi, (num, den) in zip(x, rhs, strict=True)]
         out.append(x)
     return np.array(out)
 
@@ -53,5 +53,6 @@ def kernel_cloud(kmap: KahanMap, basis: Sequence, values: Mapping[str, float | s
     rows = []
     for x in points:
         p = problem.profile([Fraction(str(v)) for v in x], Float64())
-        rows.append(p.kernel[0] if p.verdict == HK_BASIS and p.dimension == 1 else [np.nan] * len(basis))
+        ok = p.verdict == HK_BASIS and p.dimension == 1 and p.kernel is not None
+        rows.append(p.kernel[0] if ok and p.kernel is not None else [np.nan] * len(basis))
     return np.array(rows, dtype=float)

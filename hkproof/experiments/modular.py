@@ -64,6 +64,15 @@ class ModP(FieldArithmetic):
             raise UnluckyPrimeError(f"det M(x, eps) = 0 mod {self.p}") from None
         return [int(sol[i, 0]) for i in range(b.nrows())]
 
+    def evaluate(self, poly, x: Sequence[int]) -> int:
+        """A compiled polynomial at x mod p (powers by modular exponentiation: x1**100000 costs 17 squarings)."""
+        total = 0
+        for c, exps in poly:
+            for i, e in exps:
+                c = c * pow(x[i], e, self.p) % self.p
+            total += c
+        return total % self.p
+
     def basis_row(self, prep: Prepared, x: Sequence[int]) -> list[int]:
         row = []
         for num, den in prep.basis:
@@ -76,7 +85,7 @@ class ModP(FieldArithmetic):
     def solve(self, m: list[list[int]], b: list[int]) -> list[int]:
         return self._solve(flint.nmod_mat(m, self.p), flint.nmod_mat([[v] for v in b], self.p))
 
-    def prefix_ranks(self, rows: list[list[int]]) -> tuple[list[int], dict]:
+    def prefix_ranks(self, rows: list[list[int]]) -> tuple[list[int | None], dict]:
         r, rank = flint.nmod_mat(rows, self.p).transpose().rref()
         return ranks_from_pivots(pivot_columns(r, rank), len(rows)), {"prime": self.p}
 
@@ -124,7 +133,7 @@ class Modular(Arithmetic):
                 unlucky.append({"prime": f.p, "reason": str(exc)})
                 continue
             results.append((f.p, raw))
-            best = max(results, key=lambda pr: sum(pr[1].ranks))[1].ranks
+            best = max(results, key=lambda pr: sum(r or 0 for r in pr[1].ranks))[1].ranks
             agree = [q for q, r in results if r.ranks == best]
             if len(agree) > self.checks:
                 unlucky += [{"prime": q, "reason": f"ranks {r.ranks} below {best}"}

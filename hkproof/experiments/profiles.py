@@ -8,6 +8,7 @@ from typing import Sequence
 
 import flint
 
+from hkproof.algebra.formula import split_list
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational, Ring
 from hkproof.dynamics.kahan import KahanMap
@@ -25,20 +26,7 @@ SINGULAR = "singular"          # the orbit meets Delta = 0: the point is skipped
 
 def parse_basis(ring: Ring, text: str | Sequence[str]) -> list[Frac]:
     """Phi from 'phi1, phi2, ...' (commas inside parentheses do not split) or from a list of strings."""
-    if isinstance(text, str):
-        parts, depth, start = [], 0, 0
-        for i, ch in enumerate(text):
-            if ch in "([":
-                depth += 1
-            elif ch in ")]":
-                depth -= 1
-            elif ch == "," and depth == 0:
-                parts.append(text[start:i])
-                start = i + 1
-        parts.append(text[start:])
-    else:
-        parts = list(text)
-    parts = [p.strip() for p in parts if p.strip()]
+    parts = split_list(text, "basis") if isinstance(text, str) else [p.strip() for p in text]
     if len(parts) < 2:
         raise ParseError("a candidate HK-basis needs at least two functions")
     return [Frac.parse(ring, p) for p in parts]
@@ -47,9 +35,10 @@ def parse_basis(ring: Ring, text: str | Sequence[str]) -> list[Frac]:
 def fundamental_finite(ranks: Sequence[int | None]) -> tuple[str, int | None]:
     """Verdict and d from rank X_[0,s-1], s = 1..l: condition "fundamental finite" read off the ranks."""
     l = len(ranks)
-    if any(r is None for r in ranks):
+    known = [r for r in ranks if r is not None]
+    if len(known) != l:
         return AMBIGUOUS, None
-    d = l - ranks[-1]
+    d = l - known[-1]
     expected = [min(s, l - d) for s in range(1, l + 1)]
     if list(ranks) != expected:
         return IRREGULAR, None
@@ -124,7 +113,7 @@ class ProfileProblem:
         verdict, d = fundamental_finite(raw.ranks)
         l = len(self.basis)
         kernel = None
-        if with_kernel and verdict == HK_BASIS:
+        if with_kernel and verdict == HK_BASIS and d is not None:
             kernel = [[arithmetic.to_json(v) for v in vec] for vec in arithmetic.kernel(raw, d)]
         dims = [None if r is None else l - r for r in raw.ranks]
         return KernelProfile(label, verdict, d, dims, kernel, raw.certainty, time.perf_counter() - start)

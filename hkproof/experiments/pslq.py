@@ -71,7 +71,7 @@ def pslq_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], values
     names = list(names) if names else [f"c{k + 1}" for k in range(width - 1)]
     search = PSLQSearch(names, digits)
     rng = random.Random(seed)
-    samples = []
+    samples: list[list] = []
     with mpmath.workdps(digits):
         while len(samples) < points and search.undecided_points < 4 * points:
             c = _coordinates(problems, _real_point(kmap, rng, digits))
@@ -97,7 +97,7 @@ def pslq_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], values
                     search.rejected += 1
                     continue
                 full = [0] * width
-                for k, v in zip(cols, vecs.pop()):
+                for k, v in zip(cols, vecs.pop(), strict=True):
                     full[k] = v
                 if rank_q(found + [full]) > len(found):
                     found.append(full)
@@ -108,9 +108,9 @@ def pslq_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], values
 
 def _primitive(v: Sequence[int]) -> list[int]:
     """The integer vector divided by its content, first non-zero entry positive."""
-    g = 0
+    g = flint.fmpz(0)
     for a in v:
-        g = flint.fmpz(g).gcd(a)
+        g = g.gcd(a)
     v = [int(a) // int(g) for a in v]
     first = next(a for a in v if a)
     return [-a for a in v] if first < 0 else v

@@ -38,7 +38,7 @@ class Relation:
 
     def text(self) -> str:
         lhs = sympy.Add(*[sympy.factor(c.to_sympy()) * sympy.Symbol(n)
-                          for n, c in zip(self.names, self.coefficients) if not c.is_zero()])
+                          for n, c in zip(self.names, self.coefficients, strict=True) if not c.is_zero()])
         rhs = sympy.factor(self.rhs.to_sympy())
         if self.normalized_name:
             return f"{lhs + rhs * sympy.Symbol(self.normalized_name)} = 0"
@@ -51,7 +51,7 @@ class Relation:
         return [c.evaluate(at) for c in self.coefficients] + [-self.rhs.evaluate(at)]
 
     def to_dict(self) -> dict:
-        return {"relation": self.text(), "coefficients": {n: str(c) for n, c in zip(self.names, self.coefficients)},
+        return {"relation": self.text(), "coefficients": {n: str(c) for n, c in zip(self.names, self.coefficients, strict=True)},
                 "rhs": str(self.rhs), "checked_at_fresh_samples": self.checked}
 
 
@@ -118,8 +118,8 @@ class CoordinateSampler:
             rank = new
         if stable < extra:
             return None
-        r, rank = q_matrix(rows).rref()
-        return [[r[i, j] for j in range(self.width)] for i in range(rank)]
+        echelon, rank = q_matrix(rows).rref()
+        return [[echelon[i, j] for j in range(self.width)] for i in range(rank)]
 
 
 def _monomials(names: Sequence[str], degree: int) -> list[tuple[int, ...]]:
@@ -136,7 +136,7 @@ def _monomials(names: Sequence[str], degree: int) -> list[tuple[int, ...]]:
 
 def _monomial_value(exps: Sequence[int], point: Sequence[flint.fmpq]) -> flint.fmpq:
     v = flint.fmpq(1)
-    for x, e in zip(point, exps):
+    for x, e in zip(point, exps, strict=True):
         if e:
             v *= x ** e
     return v
@@ -166,7 +166,7 @@ def find_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], *, nam
     def sample() -> tuple[list[flint.fmpq], list[list[flint.fmpq]]]:
         for _ in range(20):
             t = [to_fmpq(random_rational(rng, 30)) for _ in free]
-            vals = {**fixed, **{n: flint.fmpq(1) for n in weights.normalized}, **dict(zip(free, t))}
+            vals = {**fixed, **{n: flint.fmpq(1) for n in weights.normalized}, **dict(zip(free, t, strict=True))}
             space = sampler.relation_space(vals)
             if space is not None:
                 search.samples += 1
@@ -256,9 +256,9 @@ def _sparsest(fit: _Interpolation, found: list[list[Polynomial]], max_degree: in
             if rel:
                 candidates.append((degree, size, rel[0]))
     chosen: list[list[Polynomial]] = []
-    for _, _, rel in sorted(candidates, key=lambda c: c[:2]) + [(0, 0, r) for r in found]:
-        if len(chosen) < len(found) and _rank_at(chosen + [rel], fit.generic_t) > len(chosen):
-            chosen.append(rel)
+    for _, _, one in sorted(candidates, key=lambda c: c[:2]) + [(0, 0, r) for r in found]:
+        if len(chosen) < len(found) and _rank_at(chosen + [one], fit.generic_t) > len(chosen):
+            chosen.append(one)
     return chosen
 
 
@@ -284,7 +284,7 @@ def _column_weights(weights: Weights, bases: Sequence[Sequence[Frac]]) -> list[l
     out = []
     for b in bases:
         last = weights.of_frac(b[-1])
-        out += [[a - c for a, c in zip(last, weights.of_frac(phi))] for phi in b[:-1]]
+        out += [[a - c for a, c in zip(last, weights.of_frac(phi), strict=True)] for phi in b[:-1]]
     return out + [[flint.fmpq(0)] * len(weights.basis)]
 
 
@@ -292,10 +292,10 @@ def _restore(kmap: KahanMap, weights: Weights, free: Sequence[str], rel, bases, 
     """Multiply each term by the monomial in the normalized names that makes the relation weighted homogeneous."""
     ring = kmap.ring
     offsets = _column_weights(weights, bases)
-    terms = [(k, dict(zip(free, m)), c) for k, col in enumerate(rel) for m, c in col.items()]
+    terms = [(k, dict(zip(free, m, strict=True)), c) for k, col in enumerate(rel) for m, c in col.items()]
     k0, e0, _ = terms[0]
-    target = [a + b for a, b in zip(weights.of_monomial(e0), offsets[k0])]
-    extra = []
+    target = [a + b for a, b in zip(weights.of_monomial(e0), offsets[k0], strict=True)]
+    extra: list[dict] = []
     for k, exps, _ in terms:
         e = weights.restore(exps, offsets[k], target)
         if e is None or any(v.q != 1 for v in e.values()):
@@ -309,7 +309,7 @@ def _restore(kmap: KahanMap, weights: Weights, free: Sequence[str], rel, bases, 
     for _, _, c in terms:
         den = den.lcm(c.q)
     columns = [ring.ctx.from_dict({}) for _ in rel]
-    for (k, exps, c), e in zip(terms, extra):
+    for (k, exps, c), e in zip(terms, extra, strict=True):
         mono = [0] * len(ring.names)
         for n, v in exps.items():
             mono[ring.index(n)] += v

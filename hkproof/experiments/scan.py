@@ -60,7 +60,7 @@ class ScanResult:
 
 
 def _field_spec(field: QuadraticField) -> tuple:
-    return field.name, field.variables, field.parameters, field.rhs_text, field.description
+    return field.name, field.variables, field.parameters, field.rhs_text, field.description, field.step
 
 
 @lru_cache(maxsize=8)
@@ -108,7 +108,7 @@ def scan(system: str | KahanMap, basis: str | Sequence[str], *, points: int | Se
                 bar.update(len(results[futures[fut]]))
     finally:
         bar.close()
-        if own:
+        if own and pool is not None:
             pool.shutdown()
     profiles = [KernelProfile(**d) for i in range(len(chunks)) for d in results[i]]
     return ScanResult(kmap.field.name, list(basis_texts), get_arithmetic(arithmetic, digits=digits).name,

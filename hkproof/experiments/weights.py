@@ -32,19 +32,19 @@ class Weights:
     def of_frac(self, h: Frac) -> list[flint.fmpq]:
         """Weight of a weighted-homogeneous h = num/den (its first monomials)."""
         ring = h.ring
-        num = dict(zip(ring.names, h.num.monoms()[0]))
-        den = dict(zip(ring.names, h.den.monoms()[0]))
-        return [a - b for a, b in zip(self.of_monomial(num), self.of_monomial(den))]
+        num = dict(zip(ring.names, h.num.monoms()[0], strict=True))
+        den = dict(zip(ring.names, h.den.monoms()[0], strict=True))
+        return [a - b for a, b in zip(self.of_monomial(num), self.of_monomial(den), strict=True)]
 
     def restore(self, exponents: dict[str, int], offset: Sequence[flint.fmpq],
                 target: Sequence[flint.fmpq]) -> dict[str, flint.fmpq] | None:
         """Exponents of the normalized names making a monomial (with `offset` added) have weight `target`."""
         if not self.normalized:
             return {}
-        have = [a + b for a, b in zip(self.of_monomial(exponents), offset)]
+        have = [a + b for a, b in zip(self.of_monomial(exponents), offset, strict=True)]
         rows = [[w[self.names.index(n)] for n in self.normalized] for w in self.basis]
-        rhs = [t - h for t, h in zip(target, have)]
-        system = flint.fmpq_mat([r + [b] for r, b in zip(rows, rhs)])
+        rhs = [t - h for t, h in zip(target, have, strict=True)]
+        system = flint.fmpq_mat([r + [b] for r, b in zip(rows, rhs, strict=True)])
         if system.rank() != len(self.normalized):
             return None
         r, rank = system.rref()
@@ -59,7 +59,7 @@ class Weights:
 
 def _homogeneity_rows(ring_names: Sequence[str], h: flint.fmpz_mpoly) -> list[list[int]]:
     monos = h.monoms()
-    return [[a - b for a, b in zip(m, monos[0])] for m in monos[1:]]
+    return [[a - b for a, b in zip(m, monos[0], strict=True)] for m in monos[1:]]
 
 
 def scaling_weights(kmap: KahanMap, functions: Sequence[Frac] = (), fixed: Sequence[str] = ()) -> Weights:
@@ -68,10 +68,10 @@ def scaling_weights(kmap: KahanMap, functions: Sequence[Frac] = (), fixed: Seque
     ring = kmap.ring
     names = ring.names
     rows: list[list[int]] = []
-    for v, f in zip(kmap.variables, kmap.field.rhs):
+    for v, f in zip(kmap.variables, kmap.field.rhs, strict=True):
         rows += _homogeneity_rows(names, f.num) + _homogeneity_rows(names, f.den)
         if not f.num.is_zero():
-            row = [a - b for a, b in zip(f.num.monoms()[0], f.den.monoms()[0])]
+            row = [a - b for a, b in zip(f.num.monoms()[0], f.den.monoms()[0], strict=True)]
             row[names.index(v)] -= 1
             row[names.index(EPS)] += 1
             rows.append(row)

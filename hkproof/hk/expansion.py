@@ -1,7 +1,7 @@
 """Exact Taylor expansions of rational functions in one variable (the step size eps), and weighted degrees."""
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Any, Sequence
 
 import flint
 
@@ -47,7 +47,7 @@ def weighted_degrees(ring: Ring, p: flint.fmpz_mpoly, weights: dict[str, int]) -
     return {sum(m[i] * w for i, w in idx) for m in p.monoms()}
 
 
-def support_stats(ring: Ring, p: flint.fmpz_mpoly, names: Sequence[str]) -> dict[str, object]:
+def support_stats(ring: Ring, p: flint.fmpz_mpoly, names: Sequence[str]) -> dict[str, Any]:
     """Size of p as a polynomial in `names` (coefficients in the other variables): degrees, monomials, terms."""
     idx = [ring.index(n) for n in names]
     monomials = {tuple(m[i] for i in idx) for m in p.monoms()}

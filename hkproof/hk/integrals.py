@@ -6,19 +6,20 @@ from dataclasses import dataclass
 from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
+from hkproof.proof.status import Status
 
 
 @dataclass
 class IntegralVerdict:
-    """Exact verdict: `verified` when h o f = h identically, `refuted` when the difference is non-zero."""
+    """Exact verdict: VERIFIED when h o f = h identically, REFUTED when the difference is non-zero."""
 
-    verdict: str
+    status: Status
     ring: str
     method: str
     difference_terms: int
 
     def to_dict(self) -> dict:
-        return {"verdict": self.verdict, "ring": self.ring, "method": self.method,
+        return {"verdict": self.status.label, "ring": self.ring, "method": self.method,
                 "difference_terms": self.difference_terms}
 
 
@@ -32,14 +33,14 @@ def check_integral(kmap: KahanMap, h: Frac) -> IntegralVerdict:
     diff = integral_difference(kmap, h)
     ring = f"Q({', '.join(kmap.ring.names)})"
     if diff.is_zero():
-        return IntegralVerdict("verified", ring, "substitution h(N/Delta) - h", 0)
-    return IntegralVerdict("refuted", ring, "substitution h(N/Delta) - h", len(diff.num))
+        return IntegralVerdict(Status.VERIFIED, ring, "substitution h(N/Delta) - h", 0)
+    return IntegralVerdict(Status.REFUTED, ring, "substitution h(N/Delta) - h", len(diff.num))
 
 
 def lie_derivative(field: QuadraticField, h: Frac) -> Frac:
     """dh/dt along the continuous flow x' = F(x): sum_i dh/dx_i F_i."""
     ring = field.ring
     total = Frac(ring, 0)
-    for v, f in zip(field.variables, field.rhs):
+    for v, f in zip(field.variables, field.rhs, strict=True):
         total = total + h.derivative(v) * f
     return total

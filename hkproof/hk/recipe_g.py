@@ -20,6 +20,7 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.groebner import MembershipCertificate, groebner_basis, in_ideal
 from hkproof.algebra.linalg import det
 from hkproof.dynamics.kahan import KahanMap
+from hkproof.proof.status import Status
 
 WHAT_IT_PROVES = ("Delta^k * delta = sum_i lambda_i E_i in Z[x, x~, eps, params] (checked by expansion), "
                   "Delta = det M; "
@@ -29,11 +30,10 @@ WHAT_IT_PROVES = ("Delta^k * delta = sum_i lambda_i E_i in Z[x, x~, eps, params]
 
 def delta_polynomial(kmap: KahanMap, c: Frac) -> flint.fmpz_mpoly:
     """delta(x, x~) = p(x~) q(x) - p(x) q(x~) in Z[x, x~, eps, params] (recipe (G), step ii)."""
-    t = kmap.field.tilde_ring
-    to_tilde = [t.gen(n + "_t") if n in kmap.variables else t.gen(n) for n in kmap.ring.names]
-    p, q = (c.num.compose(*to_tilde, ctx=t.ctx), c.den.compose(*to_tilde, ctx=t.ctx))
-    here = [t.gen(n) for n in kmap.ring.names]
-    p0, q0 = c.num.compose(*here, ctx=t.ctx), c.den.compose(*here, ctx=t.ctx)
+    t, r = kmap.field.tilde_ring, kmap.ring
+    to_tilde = {v: t.gen(w) for v, w in zip(kmap.variables, kmap.field.tilde_variables, strict=True)}
+    p, q = r.substitute(c.num, to_tilde, t), r.substitute(c.den, to_tilde, t)
+    p0, q0 = r.substitute(c.num, {}, t), r.substitute(c.den, {}, t)
     return p * q0 - p0 * q
 
 
@@ -43,8 +43,8 @@ def adjugate_data(kmap: KahanMap) -> tuple[list[list[flint.fmpz_mpoly]], flint.f
     t = kmap.field.tilde_ring
     m, b = kmap.matrix
     n = len(b)
-    up = [[e.compose(*[t.gen(v) for v in kmap.ring.names], ctx=t.ctx) for e in row] for row in m]
-    bt = [e.compose(*[t.gen(v) for v in kmap.ring.names], ctx=t.ctx) for e in b]
+    up = [[kmap.ring.substitute(e, {}, t) for e in row] for row in m]
+    bt = [kmap.ring.substitute(e, {}, t) for e in b]
     zero, one = t.constant(0), t.constant(1)
     adj = [[det([[(one if r == i else zero) if col == j else up[r][col] for col in range(n)] for r in range(n)])
             for i in range(n)] for j in range(n)]
@@ -109,16 +109,16 @@ def eliminate(kmap: KahanMap, target: flint.fmpz_mpoly) -> tuple[MembershipCerti
 class RecipeGResult:
     """Outcome of recipe (G) for c = p/q: verified with a checked certificate, or refuted by a non-zero residual."""
 
-    verdict: str
+    status: Status
     power: int
     cofactor_terms: int
     residual_terms: int
     seconds: dict
 
     def to_dict(self) -> dict:
-        return {"verdict": self.verdict, "multiplier": f"det M ^ {self.power}", "cofactor_terms": self.cofactor_terms,
+        return {"verdict": self.status.label, "multiplier": f"det M ^ {self.power}", "cofactor_terms": self.cofactor_terms,
                 "residual_terms": self.residual_terms, "seconds": {k: round(x, 4) for k, x in self.seconds.items()},
-                "proves": WHAT_IT_PROVES if self.verdict == "verified" else
+                "proves": WHAT_IT_PROVES if self.status is Status.VERIFIED else
                 "delta(x, f(x)) = residual / Delta^k is not identically zero: c o f != c"}
 
 
@@ -129,13 +129,13 @@ def recipe_g(kmap: KahanMap, c: Frac) -> RecipeGResult:
     cert, residual = eliminate(kmap, target)
     built = time.perf_counter()
     if not residual.is_zero():
-        return RecipeGResult("refuted", cert.power, cert.terms, len(residual),
+        return RecipeGResult(Status.REFUTED, cert.power, cert.terms, len(residual),
                              {"cofactors": built - start, "check": 0.0})
     ok = cert.check()
     checked = time.perf_counter()
     if not ok:
         raise AssertionError("recipe (G): the cofactor identity failed to expand to Delta^k delta (internal error)")
-    return RecipeGResult("verified", cert.power, cert.terms, 0, {"cofactors": built - start, "check": checked - built})
+    return RecipeGResult(Status.VERIFIED, cert.power, cert.terms, 0, {"cofactors": built - start, "check": checked - built})
 
 
 def groebner_membership(kmap: KahanMap, c: Frac, power: int = 0,

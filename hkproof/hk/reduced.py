@@ -69,7 +69,7 @@ def linear_combination_equals(coefficients: Sequence[Frac], values: Sequence[Fra
     g = rhs.den.gcd(common)
     extra = rhs.den / g
     total = -rhs.num * (common / g)
-    for c, v in zip(coefficients, values):
+    for c, v in zip(coefficients, values, strict=True):
         total += c.num * v.num * (lc / c.den) * (lv / v.den) * extra
     return total.is_zero()
 
@@ -95,7 +95,7 @@ def _prop_even_checks(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], 
                 s.note(f"relation {k + 1}: right-hand side is an integral by {rel.source}")
         s.note(f"rows from iterates {list(iterates)}: non-symmetric, contain 0")
     with cert.step("solution is even in eps", "exact parity of each component in lowest terms", ring) as s:
-        for n, a in zip(names, solution):
+        for n, a in zip(names, solution, strict=True):
             par = a.parity(EPS)
             s.require(par is Parity.EVEN, f"{n} is {par.value} in eps, not even: {a}")
         s.note(f"{', '.join(names)} even in eps")
@@ -121,7 +121,7 @@ def verify_by_evenness(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac],
         value = det_at_point(kmap, basis, iterates, relations, point)
         s.require(value != 0, f"the determinant vanishes at {dict(point)}: choose another point")
         s.note(f"det = {value} != 0 at the point, so the system has at most one solution")
-        for n, a in zip(names, candidate):
+        for n, a in zip(names, candidate, strict=True):
             cert.formula(n, a)
     _prop_even_checks(cert, kmap, basis, target, names, iterates, relations, list(candidate), check)
     return list(candidate)
@@ -169,7 +169,7 @@ def prove_by_evenness(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], 
                    ring) as s:
         solution = solve_reduced_system(kmap, basis, target, iterates, relations)
         s.note("det of the system is not identically zero")
-        for n, a in zip(names, solution):
+        for n, a in zip(names, solution, strict=True):
             cert.formula(n, a)
     _prop_even_checks(cert, kmap, basis, target, names, iterates, relations, solution, check)
     return solution

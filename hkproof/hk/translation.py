@@ -7,8 +7,8 @@ from dataclasses import dataclass
 from typing import Mapping, Sequence
 
 import flint
-import sympy
 
+from hkproof.algebra.formula import tokens
 from hkproof.algebra.fraction import Frac, normalize_sign
 from hkproof.algebra.ring import Rational, Ring
 from hkproof.dynamics.catalogue import kahan_map
@@ -37,7 +37,7 @@ class ParameterTranslation:
             raise HKProofError(f"the pivot {self.pivot!r} is not one of the shifted parameters {self.names}")
         moving = set(self.names) | {v for v, _ in self.velocity}
         for v, text in self.velocity:
-            if {str(x) for x in sympy.sympify(text).free_symbols} & moving:
+            if {t.text for t in tokens(text) if t.kind == "name"} & moving:
                 raise HKProofError(f"the velocity {text!r} of {v} involves a moving parameter: the shift would "
                                    "not be linear in c")
 
@@ -76,9 +76,9 @@ class ParameterTranslation:
         """The invariant function of `ring` whose restriction is h0: n -> n - velocity_n w_pivot (an automorphism,
         so lowest terms are kept; the sign is normalized again, the last term having changed)."""
         pivot = ring.gen(self.pivot)
-        moves = dict(self._velocities(ring))
-        args = [ring.gen(n) - moves[n] * pivot if n in moves else ring.gen(n) for n in h0.ring.names]
-        return Frac(ring, *normalize_sign(h0.num.compose(*args), h0.den.compose(*args)), reduced=True)
+        moves = {n: ring.gen(n) - v * pivot for n, v in self._velocities(ring) if n in h0.ring.names}
+        num, den = (h0.ring.substitute(p, moves, ring) for p in (h0.num, h0.den))
+        return Frac(ring, *normalize_sign(num, den), reduced=True)
 
     def restrict_relation(self, rel: Relation) -> Relation:
         return Relation([self.restrict(c) for c in rel.coefficients], self.restrict(rel.rhs), rel.source)
@@ -98,12 +98,12 @@ def verify_on_slice(cert: Certificate, kmap: KahanMap, shift: ParameterTranslati
     Parity in eps is untouched by the shift. So `verify_by_evenness` on the slice proves the full statement;
     if something is not invariant, the checks run in the full ring.
     """
-    if not _system_invariant(cert, kmap, shift, basis, target, relations, dict(zip(names, candidate))):
+    if not _system_invariant(cert, kmap, shift, basis, target, relations, dict(zip(names, candidate, strict=True))):
         return verify_by_evenness(cert, kmap, basis, target, names, candidate, point, iterates, relations)
     small, sbasis, starget, srelations = _restricted(kmap, shift, basis, target, relations)
     verify_by_evenness(cert, small, sbasis, starget, names, [shift.restrict(a) for a in candidate],
                        {k: v for k, v in point.items() if k != shift.pivot}, iterates, srelations)
-    for n, a in zip(names, candidate):
+    for n, a in zip(names, candidate, strict=True):
         cert.formula(n, a)
     return list(candidate)
 
@@ -121,7 +121,7 @@ def prove_on_slice(cert: Certificate, kmap: KahanMap, shift: ParameterTranslatio
     small, sbasis, starget, srelations = _restricted(kmap, shift, basis, target, relations)
     solution = prove_by_evenness(cert, small, sbasis, starget, names, iterates, srelations)
     lifted = [shift.lift(a, kmap.ring) for a in solution]
-    for n, a in zip(names, lifted):
+    for n, a in zip(names, lifted, strict=True):
         cert.formula(n, a)
     return lifted
 
@@ -153,7 +153,7 @@ def _system_invariant(cert: Certificate, kmap: KahanMap, shift: ParameterTransla
 
 
 def _parts(kmap: KahanMap, basis: Sequence[Frac], target: Frac, relations: Sequence[Relation],
-           candidate: Mapping[object, Frac]) -> dict[str, Frac]:
+           candidate: Mapping[str, Frac] | Mapping[int, Frac]) -> dict[str, Frac]:
     """Everything a reduced system (and a candidate solution) is made of, by name."""
     parts: dict[str, Frac] = {f"component {i + 1} of f": c for i, c in enumerate(kmap.components())}
     parts.update({f"basis function {k + 1}": b for k, b in enumerate(basis)})

@@ -24,15 +24,15 @@ def run_script(groups: Sequence[str], argv: Sequence[str] | None = None) -> int:
         for c in certs:
             print(c.render())
         print(summary(claims, certs))
-    return 0 if all(c.succeeded(cert) for c, cert in zip(claims, certs)) else 1
+    return 0 if all(c.succeeded(cert) for c, cert in zip(claims, certs, strict=True)) else 1
 
 
 def summary(claims: Sequence[Claim], certs: Sequence[Certificate]) -> str:
     """One line: how many theorems are verified, how many open claims reached their evidence, what failed."""
-    verified = sum(cert.status is Status.VERIFIED for c, cert in zip(claims, certs) if not c.is_open)
+    verified = sum(cert.status is Status.VERIFIED for c, cert in zip(claims, certs, strict=True) if not c.is_open)
     theorems = sum(not c.is_open for c in claims)
-    open_ok = sum(c.succeeded(cert) for c, cert in zip(claims, certs) if c.is_open)
-    failed = [f"{c.id} ({cert.status.label})" for c, cert in zip(claims, certs) if not c.succeeded(cert)]
+    open_ok = sum(c.succeeded(cert) for c, cert in zip(claims, certs, strict=True) if c.is_open)
+    failed = [f"{c.id} ({cert.status.label})" for c, cert in zip(claims, certs, strict=True) if not c.succeeded(cert)]
     seconds = sum(cert.seconds for cert in certs)
     text = f"\n{verified} of {theorems} theorems verified"
     if theorems < len(claims):

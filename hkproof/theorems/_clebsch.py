@@ -1,19 +1,17 @@
 """Shared data of section 6: the Clebsch integrals (eqs. "Clebsch H1" ... "Clebsch I") and the cyclic symmetry."""
 from __future__ import annotations
 
-import re
 from functools import lru_cache
 from typing import Mapping
 
 import flint
-import sympy
 
+from hkproof.algebra.formula import parse_rational, rename
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import lcm
 from hkproof.algebra.ring import Ring
 from hkproof.dynamics.catalogue import CLEBSCH_VARS
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import ParseError, UnknownSymbolError
 from hkproof.hk.translation import ParameterTranslation
 from hkproof.proof.certificate import Certificate
 
@@ -42,14 +40,13 @@ _CYCLE = {"m1": "m2", "m2": "m3", "m3": "m1", "p1": "p2", "p2": "p3", "p3": "p1"
 def cycled(text: str, times: int = 1) -> str:
     """The formula with every index shifted cyclically 1 -> 2 -> 3 -> 1, `times` times."""
     for _ in range(times % 3):
-        text = re.sub(r"\b(m[123]|p[123]|w[123]|d[789]|g[123])\b", lambda m: _CYCLE[m.group(1)], text)
+        text = rename(text, _CYCLE)
     return text
 
 
 def shift(ring: Ring, p: flint.fmpz_mpoly) -> flint.fmpz_mpoly:
     """p with every index shifted cyclically (the renaming of `cycled`, done by one compose)."""
-    args = [ring.gen(_CYCLE[n]) if n in _CYCLE else g for n, g in zip(ring.names, ring.gens())]
-    return p.compose(*args)
+    return ring.substitute(p, {n: ring.gen(_CYCLE[n]) for n in ring.names if n in _CYCLE})
 
 
 _FOUND: dict[str, Frac] = {}
@@ -72,41 +69,22 @@ def shift_frac(h: Frac) -> Frac:
     return Frac(h.ring, shift(h.ring, h.num), shift(h.ring, h.den))
 
 
-def number(text: str) -> sympy.Rational:
+def number(text: str) -> flint.fmpq:
     """A claimed count or degree, read exactly (so that '(6) + 1/7' is a different number, not an error)."""
-    try:
-        value = sympy.sympify(text)
-    except (sympy.SympifyError, SyntaxError, TypeError) as exc:
-        raise ParseError(f"cannot read {text!r} as a number: {exc}") from None
-    if not value.is_Rational:
-        raise ParseError(f"{text!r} is not a rational number")
-    return value
+    return parse_rational(text)
 
 
 def substitute(text: str, values: dict[str, str]) -> str:
     """Replace whole-word names in a formula by parenthesized formulas (H1 -> (m1**2 + ...))."""
-    pattern = r"\b(" + "|".join(re.escape(k) for k in sorted(values, key=len, reverse=True)) + r")\b"
-    return re.sub(pattern, lambda m: f"({values[m.group(1)]})", text)
+    return rename(text, {k: f"({v})" for k, v in values.items()})
 
 
-def named(kmap: KahanMap, text: str, values: dict[str, str | Frac] | None = None) -> Frac:
-    """A formula in the map's ring, with H1..H4, I1..I3 (and `values`) as known functions.
-
-    The formula is read by sympy but evaluated with exact Frac arithmetic (no sympy expansion of big terms).
-    """
+def named(kmap: KahanMap, text: str, values: Mapping[str, str | Frac] | None = None) -> Frac:
+    """A formula in the map's ring, with H1..H4, I1..I3 (and `values`) as known functions, read exactly."""
     ring = kmap.ring
     known = {**_integrals(ring), **{k: (v if isinstance(v, Frac) else Frac.parse(ring, v))
                                     for k, v in (values or {}).items()}}
-    return _evaluate(ring, _formula(text, (*ring.names, *known)), known)
-
-
-@lru_cache(maxsize=4096)
-def _formula(text: str, names: tuple[str, ...]) -> sympy.Expr:
-    """The sympy tree of a formula over `names`, parsed once (sympy parsing dominates small proofs)."""
-    try:
-        return sympy.sympify(text, locals={n: sympy.Symbol(n) for n in names})
-    except (sympy.SympifyError, SyntaxError, TypeError) as exc:
-        raise ParseError(f"cannot read {text!r} as a formula: {exc}") from None
+    return Frac.parse(ring, text, known)
 
 
 def substitute_named(q: Frac, values: Mapping[str, Frac], ring: Ring) -> Frac:
@@ -130,27 +108,3 @@ def substituted(q: Frac, values: Mapping[str, Frac], ring: Ring) -> tuple[flint.
 def _integrals(ring: Ring) -> dict[str, Frac]:
     """H1..H4 and I1..I3 as elements of Q(ring), parsed once."""
     return {k: Frac.parse(ring, v) for k, v in {**H, **I}.items()}
-
-
-def _evaluate(ring: Ring, expr: sympy.Expr, known: dict[str, Frac]) -> Frac:
-    """A sympy expression tree evaluated in Q(ring) with symbols bound to `known` or to ring variables."""
-    if expr.is_Symbol:
-        name = str(expr)
-        if name in known:
-            return known[name]
-        if name not in ring.names:
-            raise UnknownSymbolError(f"unknown symbol '{name}' (variables {list(ring.names)}, known {sorted(known)})")
-        return Frac(ring, ring.gen(name))
-    if expr.is_Rational:
-        return Frac(ring, int(expr.p), int(expr.q))
-    args = [_evaluate(ring, a, known) for a in expr.args] if not expr.is_Pow else None
-    if expr.is_Add:
-        return sum(args[1:], args[0])
-    if expr.is_Mul:
-        out = args[0]
-        for a in args[1:]:
-            out = out * a
-        return out
-    if expr.is_Pow and expr.exp.is_Integer:
-        return _evaluate(ring, expr.base, known) ** int(expr.exp)
-    raise ParseError(f"{expr} is not a rational expression")

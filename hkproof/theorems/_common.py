@@ -3,11 +3,9 @@ from __future__ import annotations
 
 from typing import Sequence
 
-import sympy
-
+from hkproof.algebra import formula
 from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import ParseError
 from hkproof.proof.certificate import StepRecorder
 
 
@@ -18,13 +16,7 @@ def parse(kmap: KahanMap, text: str) -> Frac:
 
 def parse_matrix(kmap: KahanMap, text: str) -> list[list[Frac]]:
     """A claimed matrix written as a nested list '[[a, b], [c, d]]'."""
-    try:
-        rows = sympy.sympify(text, locals={n: sympy.Symbol(n) for n in kmap.ring.names})
-    except (sympy.SympifyError, SyntaxError) as exc:
-        raise ParseError(f"cannot read the matrix {text!r}: {exc}") from None
-    if not isinstance(rows, (list, tuple)) or not all(isinstance(r, (list, tuple)) for r in rows):
-        raise ParseError(f"{text!r} is not a nested list of rows")
-    return [[Frac.parse(kmap.ring, e) for e in r] for r in rows]
+    return formula.parse_matrix(kmap.ring, text)
 
 
 def monomial_squares(kmap: KahanMap, names: Sequence[str]) -> list[Frac]:

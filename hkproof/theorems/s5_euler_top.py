@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from typing import Mapping
 
+from hkproof.algebra.formula import indexed, rename
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import rank_over_fraction_field
 from hkproof.dynamics.catalogue import kahan_map
@@ -23,9 +24,8 @@ DELTA = "1 - eps**2*(a2*a3*x1**2 + a3*a1*x2**2 + a1*a2*x3**2) - 2*eps**3*a1*a2*a
 
 def _cycled(text: str, times: int) -> str:
     """The formula with indices shifted cyclically (1 -> 2 -> 3 -> 1) `times` times."""
-    import re
     for _ in range(times):
-        text = re.sub(r"\b(x[123]|a[123])\b", lambda m: CYCLE[m.group(1)], text)
+        text = rename(text, CYCLE)
     return text
 
 
@@ -52,8 +52,7 @@ def prove_et_continuous(cert: Certificate, claimed: Mapping[str, str]) -> None:
         hs = {k: parse(f, claimed[k]) for k in ("H1", "H2", "H3")}
         for k, h in hs.items():
             s.require(lie_derivative(field, h).is_zero(), f"{k} is not an integral of the Euler top")
-        rel = Frac.parse(r, claimed["relation"].replace("H1", f"({claimed['H1']})")
-                         .replace("H2", f"({claimed['H2']})").replace("H3", f"({claimed['H3']})"))
+        rel = Frac.parse(r, claimed["relation"], hs)
         s.require(rel.is_zero(), f"{claimed['relation']} = {rel}, not 0")
 
 
@@ -127,13 +126,12 @@ def prove_et_first(cert: Certificate, claimed: Mapping[str, str]) -> None:
         for i, j in ((1, 2), (2, 3), (1, 3)):
             xi, xj = parse(f, f"x{i}**2"), parse(f, f"x{j}**2")
             d = xi * f.pullback(xj) - xj * f.pullback(xi)
-            text = claimed["det_factorization"].replace("a_i", f"a{i}").replace("a_j", f"a{j}") \
-                .replace("x_i", f"x{i}").replace("x_j", f"x{j}").replace("Delta", f"({DELTA})")
-            s.require_equal(d, parse(f, text), f"det for (i, j) = ({i}, {j})")
+            text = indexed(claimed["det_factorization"], i=i, j=j)
+            s.require_equal(d, Frac.parse(r, text, {"Delta": parse(f, DELTA)}), f"det for (i, j) = ({i}, {j})")
         s.note(f"Delta = {delta}")
     with cert.step("linear relation a1 c1 + a2 c2 = a3", "exact", r) as s:
-        rel = claimed["relation"].replace("c1", f"({c1})").replace("c2", f"({c2})")
-        s.require(parse(f, rel).is_zero(), f"{claimed['relation']} is not 0")
+        s.require(Frac.parse(r, claimed["relation"], {"c1": c1, "c2": c2}).is_zero(),
+                  f"{claimed['relation']} is not 0")
 
 
 @claim("et-second-hk-basis", GROUP, "Prop. \"dET second HK basis\": Phi1 = (x1^2, x2^2, 1), integrals d1, d2",
@@ -158,12 +156,11 @@ def prove_et_second(cert: Certificate, claimed: Mapping[str, str]) -> None:
         for i, j, k in ((1, 2, 3), (2, 3, 1), (3, 1, 2)):
             xi = parse(f, f"x{i}**2")
             d = f.pullback(xi) - xi
-            text = claimed["det_factorization"].replace("a_i", f"a{i}").replace("a_j", f"a{j}") \
-                .replace("a_k", f"a{k}").replace("x_i", f"x{i}").replace("Delta", f"({DELTA})")
-            s.require_equal(d, parse(f, text), f"det for i = {i}")
+            text = indexed(claimed["det_factorization"], i=i, j=j, k=k)
+            s.require_equal(d, Frac.parse(r, text, {"Delta": parse(f, DELTA)}), f"det for i = {i}")
     with cert.step("linear relation a1 d1 + a2 d2 = eps^2 a1 a2 a3", "exact", r) as s:
-        rel = claimed["relation"].replace("d1", f"({d1})").replace("d2", f"({d2})")
-        s.require(parse(f, rel).is_zero(), f"{claimed['relation']} is not 0")
+        s.require(Frac.parse(r, claimed["relation"], {"d1": d1, "d2": d2}).is_zero(),
+                  f"{claimed['relation']} is not 0")
     c1 = Frac.parse(r, proven("et-first-hk-basis").formulas["c1"])
     point = sample_point(r.names)
     with cert.step("d1 independent of c1", "exact Jacobian rank at a rational point", r) as s:

@@ -1,19 +1,20 @@
 """Section 6.4-6.6: Th. "dC basis 1" (J), Th. "dC basis 2" (d7, d8, d9) and Th. "dC Theta" (g1..g6)."""
 from __future__ import annotations
 
-import resource
 import time
 import tracemalloc
 
-import flint
 from typing import Mapping
 
+from hkproof.algebra.formula import indexed
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import clear_row_denominators, cramer, det
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.dynamics.field import EPS
+from hkproof.dynamics.field import EPS, TILDE
 from hkproof.errors import ParseError
 from hkproof.hk.expansion import coefficients_in, taylor
+from hkproof.hk.balance import orbit_matrix
+from hkproof.proof.resources import peak_rss_mb
 from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals, prove_by_evenness
 from hkproof.hk.translation import prove_on_slice, slice_decides, verify_on_slice
@@ -67,7 +68,7 @@ def prove_basis1_relations(cert: Certificate, claimed: Mapping[str, str]) -> Non
         J = named(f, claimed["J"])
         for k in range(3):
             s.require_equal(c[k], named(f, claimed[f"c{k + 1}"]), f"c{k + 1}")
-            via_j = named(f, claimed["c_k_via_J"].replace("w_k", f"w{k + 1}"), {"J": J})
+            via_j = named(f, indexed(claimed["c_k_via_J"], k=k + 1), {"J": J})
             s.require_equal(c[k], via_j, f"c{k + 1} = 1/J + eps^2 w{k + 1}")
             record(cert, f"c{k + 1}", c[k])
         record(cert, "J", J)
@@ -76,8 +77,7 @@ def prove_basis1_relations(cert: Certificate, claimed: Mapping[str, str]) -> Non
             g = h.to_ring(t)
             if not tilde:
                 return g
-            args = [t.gen(n + "_t") if n in X else gen for n, gen in zip(t.names, t.gens())]
-            return Frac(t, g.num.compose(*args), g.den.compose(*args))
+            return g.substitute({n: t.gen(n + TILDE) for n in X})
         delta = at(J, True).num * at(J, False).den - at(J, False).num * at(J, True).den
         printed = Frac.parse(t, claimed["equivalent_form"])
         s.require(printed.is_polynomial() and (printed.num == delta or printed.num == -delta),
@@ -88,7 +88,7 @@ def prove_basis1_relations(cert: Certificate, claimed: Mapping[str, str]) -> Non
     with cert.step("J(x~) = J(x) modulo the equations eq. \"dC\"", "explicit cofactors, checked by expansion", t) as s:
         e = dict(zip(X, f.equations))
         x = {n: t.gen(n) for n in X}
-        xt = {n: t.gen(n + "_t") for n in X}
+        xt = {n: t.gen(n + TILDE) for n in X}
         eps = t.gen(EPS)
         cofactors = {f"p{i}": xt[f"p{i}"] + x[f"p{i}"] for i in (1, 2, 3)}
         for i, j, k in ((1, 2, 3), (2, 3, 1), (3, 1, 2)):
@@ -102,7 +102,7 @@ def prove_basis1_relations(cert: Certificate, claimed: Mapping[str, str]) -> Non
         s.require(f.pullback(J) == J, "J o f != J")
     with cert.step("dim K_Phi0 <= 1 at generic points", "exact rank of X_[0,2] at a rational point (orbit in Q)",
                    r) as s:
-        rank = _orbit_rank(f, p2 + [Frac(r, 1)], 3)
+        rank = orbit_matrix(f, p2 + [Frac(r, 1)], sample_point(r.names, seed=3), 3).rank()
         s.require(rank == 3, f"rank X_[0,2] = {rank} at the sample point")
         s.note("a non-zero 3x3 minor at one point is a non-zero rational function: rank 3, hence dim K <= 1, "
                "off a proper algebraic subset; with the integrals c_k, K_Phi0 = [c1 : c2 : c3 : -1] there")
@@ -122,7 +122,7 @@ def prove_basis1_even(cert: Certificate, claimed: Mapping[str, str]) -> None:
         rel = _relation(f, claimed["relation_12"], ("c1", "c2", "c3"))
         s.note("proven below as a row of a system whose solution is proven to consist of integrals")
     tracemalloc.start()
-    rss0, start = _peak_rss_mb(), time.perf_counter()
+    rss0, start = peak_rss_mb(), time.perf_counter()
     c = prove_by_evenness(cert, f, _functions(f, P2), Frac(r, 1), ("c1", "c2", "c3"), (0, 1), [rel])
     seconds, (_, peak) = time.perf_counter() - start, tracemalloc.get_traced_memory()
     tracemalloc.stop()
@@ -130,7 +130,7 @@ def prove_basis1_even(cert: Certificate, claimed: Mapping[str, str]) -> None:
         for k in range(3):
             s.require_equal(c[k], named(f, claimed[f"c{k + 1}"]), f"c{k + 1}")
         s.note(f"solve and checks: {seconds:.2f} s, Python heap peak {peak / 2**20:.1f} MB, process peak RSS "
-               f"{_peak_rss_mb():.0f} MB (was {rss0:.0f} MB before); paper: 22.33 s, 32.43 MB (Maple, 1.83 GHz)")
+               f"{peak_rss_mb():.0f} MB (was {rss0:.0f} MB before); paper: 22.33 s, 32.43 MB (Maple, 1.83 GHz)")
 
 
 # ---- Th. "dC basis 2" ------------------------------------------------------------------------------------------
@@ -310,16 +310,16 @@ def prove_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
             s.require_equal(named(f, form, d), rel.rhs, f"right-hand side {form.strip()}")
     with cert.step("g_k = (g_k^(4) + ...)/(2 H3 Delta), g_k^(4)", "normalization, eps^0 piece", r) as s:
         h3 = named(f, "H3")
-        for k, gk in enumerate(g, start=1):
+        for index, gk in enumerate(g, start=1):
             top = gk * 2 * h3 * delta
-            s.require(top.is_polynomial(), f"g{k} 2 H3 Delta is not a polynomial")
+            s.require(top.is_polynomial(), f"g{index} 2 H3 Delta is not a polynomial")
             coeffs = coefficients_in(r, top.num, EPS)
-            s.require(all(c.is_zero() for c in coeffs[1::2]) and len(coeffs) <= 7, f"g{k}: not of the stated form")
+            s.require(all(c.is_zero() for c in coeffs[1::2]) and len(coeffs) <= 7, f"g{index}: not of the stated form")
             for q in range(4):
                 piece = Frac(r, coeffs[2 * q], top.den) if 2 * q < len(coeffs) else Frac(r, 0)
-                s.require(_homogeneous_degree(r, piece.num) in (None, 2 * q + 4), f"g{k}^({2 * q + 4}) degree")
-            s.require_equal(Frac(r, coeffs[0], top.den), named(f, claimed["g_4"].replace("w_k", f"w{k}")),
-                            f"g{k}^(4)")
+                s.require(_homogeneous_degree(r, piece.num) in (None, 2 * q + 4), f"g{index}^({2 * q + 4}) degree")
+            s.require_equal(Frac(r, coeffs[0], top.den), named(f, indexed(claimed["g_4"], k=index)),
+                            f"g{index}^(4)")
     with cert.step("g4, g5, g6 and the expansion in monomials", "exact identity in Q(m, p, eps, w)", r) as s:
         gs = dict(zip(names, g))
         for k in ("g4", "g5", "g6"):
@@ -356,19 +356,6 @@ def _homogeneous_degree(r, p) -> int | None:
     idx = [r.index(n) for n in X]
     degs = {sum(m[i] for i in idx) for m in p.monoms()}
     return None if not degs else degs.pop() if len(degs) == 1 else -1
-
-
-def _orbit_rank(f, functions, rows: int, seed: int = 3) -> int:
-    """Exact rank of X_[0, rows-1] at a rational sample point (the orbit computed in Q)."""
-
-    point = sample_point(f.ring.names, seed=seed)
-    fixed = {k: v for k, v in point.items() if k not in X}
-    orbit = f.orbit_exact(point, rows - 1)
-    return flint.fmpq_mat([[h.evaluate({**fixed, **x}) for h in functions] for x in orbit]).rank()
-
-
-def _peak_rss_mb() -> float:
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
 J_VIA_ABCD = "((A - B)/(w1 - w2) - D)/(eps**2*(w3*D - (w1*A - w2*B)/(w1 - w2)))"

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import time
 from functools import lru_cache
-from typing import Mapping
+from typing import Any, Mapping
 
 import flint
 
@@ -28,7 +28,7 @@ OMEGA_POINTS = ((1, 2, 5), (1, 3, 7), (2, 3, 11), (1, 4, 9), (3, 5, 13), (2, 7, 
 
 
 @lru_cache(maxsize=1)
-def plain_second_iterate() -> dict[str, object]:
+def plain_second_iterate() -> dict[str, Any]:
     """Delta_h(N, Delta), P1_h(N, Delta), M1_h(N, Delta): the plain composition f o f for p1, m1 (eq. "dC map").
 
     p~~1 = P1_h / Delta_h and m~~1 = M1_h / (Delta Delta_h); the other components follow by the cyclic symmetry.
@@ -36,7 +36,7 @@ def plain_second_iterate() -> dict[str, object]:
     f = kahan_map(SYSTEM)
     r = f.ring
     nums, delta = f.explicit
-    out: dict[str, object] = {"seconds": {}}
+    out: dict[str, Any] = {"seconds": {}}
     for key, p in (("denominator", delta), ("p1", nums[3]), ("m1", nums[0])):
         start = time.perf_counter()
         out[key] = homogenized_compose(r, p, X, nums, delta)[0]
@@ -162,18 +162,18 @@ def _interpolated_gcd(r, nums, delta) -> flint.fmpz_mpoly:
     for g in samples:
         for m, c in g.to_dict().items():
             coefficients.setdefault(m, [])
-    data = {}
+    data: dict[tuple, int] = {}
     for m in coefficients:
-        values = [int(g.to_dict().get(m, 0)) for g in samples]
+        at_points = [int(g.to_dict().get(m, 0)) for g in samples]
         k = sum(m[3:]) // 2
         forms = [(a, b, k - a - b) for a in range(k + 1) for b in range(k + 1 - a)]
         system = flint.fmpq_mat([[w[0] ** e[0] * w[1] ** e[1] * w[2] ** e[2] for e in forms] for w in OMEGA_POINTS])
-        sol = _solve_overdetermined(system, values)
-        for e, c in zip(forms, sol):
-            if c.q != 1:
+        sol = _solve_overdetermined(system, at_points)
+        for e, coefficient in zip(forms, sol, strict=True):
+            if coefficient.q != 1:
                 raise HKProofError(f"interpolation of the gcd failed at the monomial {m} (unlucky points w)")
-            if c != 0:
-                data[m + (sum(m),) + e] = int(c.p)
+            if coefficient != 0:
+                data[m + (sum(m),) + e] = int(coefficient.p)
     return r.ctx.from_dict({_to_ring_exponent(r, key): c for key, c in data.items()})
 
 

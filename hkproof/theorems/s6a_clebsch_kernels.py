@@ -10,7 +10,7 @@ from hkproof.algebra.linalg import rank_q
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.experiments.profiles import HK_BASIS, ProfileProblem
 from hkproof.experiments.scene import make_scene
-from hkproof.algebra.ring import to_fmpq
+from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.registry import REGISTRY, claim, require_proven
 from hkproof.proof.status import Status
@@ -18,7 +18,7 @@ from hkproof.theorems._clebsch import PHI_MAX, SYSTEM, X, named, number, recall
 
 GROUP = "clebsch-kernels"
 # (eps, w1, w2, w3; m1, m2, m3, p1, p2, p3): rational points with distinct w and no singular step in 10 iterates
-POINTS = (
+POINTS: tuple[tuple[dict[str, Rational], tuple[Rational, ...]], ...] = (
     ({"eps": "1/7", "w1": 1, "w2": 3, "w3": -2}, (1, 2, -1, 3, 1, 2)),
     ({"eps": "1/5", "w1": "1/2", "w2": 2, "w3": 5}, (2, -1, 3, 1, "1/2", -2)),
     ({"eps": "2/9", "w1": -3, "w2": 1, "w3": 4}, ("1/3", 1, 2, -1, 2, 1)),

@@ -288,7 +288,7 @@ def prove_second_flow(cert: Certificate, claimed: Mapping[str, str]) -> None:
         cert.formula("L", big_l)
     _continuous_limit(cert, f, claimed, known, big_l)
     with cert.step("L is an integral (substitution)", "L(N/Delta) - L = 0 in Q(x, eps, w)", r) as s:
-        s.require(check_integral(f, big_l).verdict == "verified", "L o f != L")
+        s.require(check_integral(f, big_l).status is Status.VERIFIED, "L o f != L")
         s.note("confirmed independently by recipe (G) in flow-second-recipe-g")
     _kernel_lower_bound(cert, f, e, "L")
     _kernel_rank_bound(cert, f, e)
@@ -308,7 +308,7 @@ def prove_second_flow_recipe_g(cert: Certificate, claimed: Mapping[str, str]) ->
     with cert.step("L is an integral (recipe (G))", "elimination of x~ with adj M; Delta^k delta = sum lambda_i E_i "
                    "checked by expansion", f.field.tilde_ring) as s:
         res = recipe_g(f, big_l)
-        s.require(res.verdict == "verified", "delta(x, x~) for L is not in the Kahan ideal (times det M^k)")
+        s.require(res.status is Status.VERIFIED, "delta(x, x~) for L is not in the Kahan ideal (times det M^k)")
         s.note(f"det M^{res.power} delta = sum lambda_i E_i with {res.cofactor_terms} cofactor terms; {WHAT_IT_PROVES}")
 
 

@@ -1,0 +1,9 @@
+"""Resources a step may record in its certificate: the process's peak memory."""
+from __future__ import annotations
+
+import resource
+
+
+def peak_rss_mb() -> float:
+    """The peak resident memory of this process so far, in MB (Linux reports kilobytes)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
