@@ -28,7 +28,8 @@ from hkproof.proof.registry import claim, require_proven
 from hkproof.proof.status import Status
 from hkproof.theorems.s6b_clebsch_bases_345 import UNKNOWNS, bases
 from hkproof.theorems._clebsch import record, substitute_named
-from hkproof.theorems.s6c_clebsch_flows import FLOW2, GROUP, PHI_MAX_TEXT, RANK_POINT, SUB_BASES
+from hkproof.theorems.s6c_clebsch_flows import (FLOW2, GROUP, PHI_MAX_TEXT, RANK_POINT, SUB_BASES,
+                                                 kernel_coordinates)
 
 L_NAMES = tuple(f"L{u}" for u in UNKNOWNS)     # L a_j, L b_j, L c_j: kernel coordinates of (p^2, m^2, L m_k p_k)
 # As found by hkproof (benchmarks/clebsch_flows.py reruns the search; the claim below checks the span again).
@@ -82,6 +83,29 @@ def _combined(rel: Relation, big_l: Frac) -> Relation:
                     "L is an even integral (flow-second-theorem)")
 
 
+SAMPLES = ({"eps": flint.fmpq(1, 3), "w1": 2, "w2": -3, "w3": 5, "m1": 1, "m2": 2, "m3": -1, "p1": 3, "p2": -2,
+             "p3": 1}, {"eps": flint.fmpq(2, 5), "w1": -1, "w2": 4, "w3": 7, "m1": 2, "m2": -3, "m3": 1, "p1": 1,
+                        "p2": 5, "p3": -4})
+
+
+def _hold_at_samples(cert: Certificate, f: KahanMap, claimed: Mapping[str, str], big_l: Frac) -> None:
+    """Each claimed relation holds for the exact kernel coordinates at two rational points (exact identities at
+    fixed values, checked before any symbolic work so that a false relation is refuted at once)."""
+    general = f.ring.extend([*UNKNOWNS, *L_NAMES])
+    for point in SAMPLES:
+        with cert.step("the claimed relations at a rational point", "exact kernels of X_[0,6] (fmpq_mat)",
+                       general, fixed=point) as s:
+            coords = kernel_coordinates(f, bases(f), point)
+            s.require(coords is not None, f"a kernel is not one-dimensional at {point}")
+            l0 = big_l.evaluate(point)
+            values = {**point, **dict(zip(UNKNOWNS, coords)), **dict(zip(L_NAMES, (l0 * c for c in coords)))}
+            for key in SECOND_PHI_RELATIONS:
+                s.require(claimed[key].count("=") == 1, f"{key} is not an equation")
+                lhs, rhs = claimed[key].split("=")
+                value = Frac.parse(general, f"({lhs}) - ({rhs})").evaluate(values)
+                s.require(value == 0, f"{key} fails at a rational point ({value})")
+
+
 @claim("flow-second-l-relations-found", GROUP, "Second flow: 23 relations among alpha, beta, gamma with "
        "coefficients linear in the integral L, found by recipe (E)",
        "sec. 6, conjecture after eq. \"dC2 map\" (not in the paper)",
@@ -103,6 +127,7 @@ def prove_l_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> No
         for k, rel in zip(SECOND_PHI_RELATIONS, rels):
             s.require(all(c.is_even_in(EPS) for c in (*rel.coefficients, rel.rhs)), f"{k} is not even in eps")
         s.require(relation_rank(rels) == len(rels), "the claimed relations are not independent")
+    _hold_at_samples(cert, kahan_map(FLOW2), claimed, big_l)
     with cert.step("recipe (E) with the columns L alpha, L beta, L gamma: the space is spanned by the claimed "
                    "relations", "exact kernels at rational points, interpolation in eps and w, fresh checks", r) as s:
         search = find_relations(f, [*phis, *[b[:6] + [big_l * b[6]] for b in phis]], names=names)
@@ -218,6 +243,7 @@ def prove_second_bases(cert: Certificate, claimed: Mapping[str, str]) -> None:
     big_l = Frac.parse(general, second.formulas["L"]).specialize(W_FIXED, r)
     phis = bases(f)
     small = r.drop(f.variables).extend(["L"])
+    _hold_at_samples(cert, kahan_map(FLOW2), claimed, Frac.parse(general, second.formulas["L"]))
     with cert.step("the relations at w = (2, -3, 5): coefficients even in eps, polynomials in L",
                    "exact parity", small, fixed=W_FIXED) as s:
         small_rels = _relations_at(claimed, small, W_FIXED)

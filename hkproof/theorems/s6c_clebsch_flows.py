@@ -524,7 +524,7 @@ def prove_second_relations_found(cert: Certificate, claimed: Mapping[str, str]) 
     _l_relations(cert, f, phis, claimed)
 
 
-def _kernel_coordinates(f: KahanMap, phis: Sequence[Sequence[Frac]], point: Mapping[str, object]
+def kernel_coordinates(f: KahanMap, phis: Sequence[Sequence[Frac]], point: Mapping[str, object]
                         ) -> list[flint.fmpq] | None:
     """alpha, beta, gamma at one exact point (kernels of X_[0,6], last coordinate -1), None if a kernel is not 1-dim."""
     orbit = f.orbit_exact(point, 6)
@@ -548,7 +548,7 @@ def _l_relations(cert: Certificate, f: KahanMap, phis: Sequence[Sequence[Frac]],
         while len(samples) < 60:
             point = {**L_SAMPLE, **{v: flint.fmpq(rng.randint(-9, 9), rng.randint(1, 5)) for v in f.variables}}
             try:
-                a = _kernel_coordinates(f, phis, point)
+                a = kernel_coordinates(f, phis, point)
             except SingularPointError:
                 continue
             if a is not None:
