@@ -48,7 +48,7 @@ def test_claim_graph_declared_and_acyclic():
     for c in REGISTRY.values():
         assert set(c.uses) <= set(REGISTRY), f"{c.id} uses an unregistered claim"
         assert all(position[u] < position[c.id] for u in c.uses)
-    assert {"flow-general-phi0"} == set(REGISTRY["flow-theta-all"].uses)
+    assert {"flow-reduction", "flow-second-theta", "flow-second-theorem", "dc-theta"} == set(REGISTRY["flow-theta-all"].uses)
 
 
 def test_graph_refuses_cycles_and_unknown_citations(fresh_run):

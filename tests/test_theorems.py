@@ -103,23 +103,8 @@ def test_perturbed_claim_not_verified(claim, key):
     assert not claim.succeeded(cert), f"perturbing {key} left {claim.id} {cert.status.label}"
 
 
-# Provers that still read a claimed list without comparing its length (issue 11, item 6: zip(..., strict=True)).
-# Each is a real false "verified", pinned here; strict xfail turns into a failure once the prover is mended.
-_FLOW_ZIP = "s6c_clebsch_flows.prove_general_map indexes the first three entries of flow*_b / flow*_c"
-TRUNCATING = {
-    ("dc345-step1", "kernel_vector", "extra-row"): "s6b_clebsch_bases_345.prove_step1: zip('abc', weights)",
-    **{("flow-general-map", f"flow{k}_{bc}", "extra-row"): _FLOW_ZIP for k in (1, 2) for bc in "bc"},
-}
-
-
-def _shape_marks(c, key: str, kind: str) -> list:
-    marks = [pytest.mark.slow] if c.slow else []
-    if (c.id, key, kind) in TRUNCATING:
-        marks.append(pytest.mark.xfail(strict=True, reason="known false verified: " + TRUNCATING[c.id, key, kind]))
-    return marks
-
-
-SHAPES = [pytest.param(c, key, text, id=f"{c.id}:{key}:{kind}", marks=_shape_marks(c, key, kind))
+# Shape perturbations (an extra row, a missing entry, a swapped pair): every prover compares lengths (issue 11, item 6).
+SHAPES = [pytest.param(c, key, text, id=f"{c.id}:{key}:{kind}", marks=[pytest.mark.slow] if c.slow else [])
           for c in CLAIMS for key in c.claimed for kind, text in shape_perturbations(c.claimed[key]).items()]
 
 

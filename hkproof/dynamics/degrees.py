@@ -5,6 +5,7 @@ import math
 import random
 from dataclasses import dataclass, field
 from fractions import Fraction
+from itertools import pairwise
 from typing import Mapping, Sequence
 
 import flint
@@ -146,7 +147,7 @@ def differences(seq: Sequence[int], order: int) -> list[int]:
     """The order-th finite differences of seq."""
     out = list(seq)
     for _ in range(order):
-        out = [b - a for a, b in zip(out, out[1:])]
+        out = [b - a for a, b in pairwise(out)]
     return out
 
 

@@ -2,9 +2,9 @@
 across a clear singular-value gap and answering "ambiguous" otherwise."""
 from __future__ import annotations
 
-from itertools import pairwise
 import math
 from abc import abstractmethod
+from itertools import pairwise
 from typing import Sequence
 
 import flint
@@ -12,7 +12,12 @@ import mpmath
 import numpy as np
 
 from hkproof.errors import SingularPointError
-from hkproof.experiments.arithmetics import FieldArithmetic, Number, Prepared, RawProfile
+from hkproof.experiments.arithmetics import (
+    FieldArithmetic,
+    Number,
+    Prepared,
+    RawProfile,
+)
 
 
 class Approximate(FieldArithmetic):

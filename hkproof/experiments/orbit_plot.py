@@ -64,7 +64,7 @@ def plot_orbit(kmap: KahanMap, values: Mapping[str, object], x0: Sequence[Ration
         data = [orbit[:, c] for c in cols] if len(cols) > 1 else [np.arange(len(orbit)), orbit[:, cols[0]]]
         ax.plot(*data, ".", ms=1)
         labels = [names[c] for c in cols] if len(cols) > 1 else ["n", names[cols[0]]]
-        for setter, label in zip((ax.set_xlabel, ax.set_ylabel, getattr(ax, "set_zlabel", None)), labels):
+        for setter, label in zip((ax.set_xlabel, ax.set_ylabel, getattr(ax, "set_zlabel", None)), labels, strict=True):
             if setter is not None:
                 setter(label)
         _percentile_limits(ax, np.array(data).T)
@@ -86,5 +86,5 @@ def _percentile_limits(ax, xyz: np.ndarray, q: float = 1.0) -> None:
     lo, hi = np.nanpercentile(xyz, q, axis=0), np.nanpercentile(xyz, 100 - q, axis=0)
     pad = 0.1 * (hi - lo) + 1e-12
     setters = (ax.set_xlim, ax.set_ylim, getattr(ax, "set_zlim", None))
-    for setter, a, b, c in zip(setters, lo, hi, pad):
+    for setter, a, b, c in zip(setters, lo, hi, pad, strict=True):
         setter(a - c, b + c)

@@ -43,9 +43,9 @@ class Cofactor:
     exponents: tuple[int, ...]
 
     def text(self, atoms: Sequence[Atom]) -> str:
-        parts = [(a.name if e == 1 else f"{a.name}^{e}", e) for a, e in zip(atoms, self.exponents) if e]
+        parts = [(a.name if e == 1 else f"{a.name}^{e}", e) for a, e in zip(atoms, self.exponents, strict=True) if e]
         num = [t for t, e in parts if e > 0]
-        den = [(a.name if e == -1 else f"{a.name}^{-e}") for a, e in zip(atoms, self.exponents) if e < 0]
+        den = [(a.name if e == -1 else f"{a.name}^{-e}") for a, e in zip(atoms, self.exponents, strict=True) if e < 0]
         top = " * ".join(num) or "1"
         return top if not den else f"{top} / ({' * '.join(den)})"
 
@@ -193,7 +193,7 @@ class ModularScene:
             return None
         inv = pow(d, -1, p)
         fx = [int(n(*x)) * inv % p for n in self.nums]
-        vals = [int(q(*(fx if a.pulled else x))) for a, q in zip(self.atoms, self.atom_polys)]
+        vals = [int(q(*(fx if a.pulled else x))) for a, q in zip(self.atoms, self.atom_polys, strict=True)]
         if any(v == 0 for v in vals):
             return None
         return x, fx, vals
@@ -203,7 +203,7 @@ def _monomial_values(point: Sequence[int], monos: Sequence[tuple[int, ...]], p: 
     out = []
     for m in monos:
         v = 1
-        for xi, e in zip(point, m):
+        for xi, e in zip(point, m, strict=True):
             if e:
                 v = v * pow(xi, e, p) % p
         out.append(v)
@@ -225,10 +225,10 @@ def modular_kernels(scene: ModularScene, cofactors: Sequence[Cofactor], monos: S
         rows = []
         for mx, mf, vals in samples:
             kv = 1
-            for v, e in zip(vals, cof.exponents):
+            for v, e in zip(vals, cof.exponents, strict=True):
                 if e:
                     kv = kv * pow(v, e % (p - 1), p) % p
-            rows.append([(b - kv * a) % p for a, b in zip(mx, mf)])
+            rows.append([(b - kv * a) % p for a, b in zip(mx, mf, strict=True)])
         kernel = _kernel_mod_p(rows, len(monos), p)
         if kernel:
             out[k] = kernel
@@ -289,7 +289,7 @@ class SymbolicRows:
     def row(self, k: int, cofactor: Cofactor, monos: Sequence[tuple[int, ...]]) -> list[Frac]:
         pt = self.point(k)
         kv = Frac(self.small, 1)
-        for v, e in zip(pt["atoms"], cofactor.exponents):
+        for v, e in zip(pt["atoms"], cofactor.exponents, strict=True):
             if e:
                 kv = kv * v ** e
         return [_monomial(pt["fx"], m) - kv * _monomial(pt["x"], m) for m in monos]
@@ -297,7 +297,7 @@ class SymbolicRows:
 
 def _monomial(values: Sequence[Frac], m: tuple[int, ...]) -> Frac:
     out = Frac(values[0].ring, 1)
-    for v, e in zip(values, m):
+    for v, e in zip(values, m, strict=True):
         if e:
             out = out * v ** e
     return out
@@ -325,7 +325,7 @@ def reconstruct(rows: SymbolicRows, scene: ModularScene, cofactor: Cofactor, mon
     b = [-r[support.index(free)] for r in chosen]
     solution, _ = cramer(a, b)
     coeffs = {monos[free]: Frac(rows.small, 1)}
-    coeffs.update({monos[j]: c for j, c in zip(unknowns, solution)})
+    coeffs.update({monos[j]: c for j, c in zip(unknowns, solution, strict=True)})
     return _poly_in_ring(rows.kmap.ring, coeffs, rows.kmap.variables)
 
 
@@ -346,7 +346,7 @@ def reconstruct_at_values(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofac
         except HKProofError:
             continue
         k = flint.fmpq(1)
-        for a, e in zip(atoms, cofactor.exponents):
+        for a, e in zip(atoms, cofactor.exponents, strict=True):
             if e:
                 k *= kmap.ring.evaluate(a.poly, fx if a.pulled else point) ** e
         xs, fs = [x[v] for v in kmap.variables], [fx[v] for v in kmap.variables]
@@ -368,7 +368,7 @@ def reconstruct_at_values(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofac
 
 def _monomial_q(values: Sequence[flint.fmpq], m: tuple[int, ...]) -> flint.fmpq:
     out = flint.fmpq(1)
-    for v, e in zip(values, m):
+    for v, e in zip(values, m, strict=True):
         if e:
             out *= v ** e
     return out
@@ -401,7 +401,7 @@ def _poly_in_ring(ring: Ring, coeffs: dict[tuple[int, ...], Frac], variables: Se
     total = ring.ctx.constant(0)
     for m, c in coeffs.items():
         mono = ring.ctx.constant(1)
-        for v, e in zip(variables, m):
+        for v, e in zip(variables, m, strict=True):
             mono = mono * ring.gen(v) ** e
         total += (c.num * (common / c.den)).project_to_context(ring.ctx) * mono
     content = flint.fmpz(0)
@@ -415,7 +415,7 @@ def _poly_in_ring(ring: Ring, coeffs: dict[tuple[int, ...], Frac], variables: Se
 def cofactor_value(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor) -> Frac:
     """K as an element of Q(x, eps, params) (a pulled atom is composed with f: costly for large maps)."""
     out = Frac(kmap.ring, 1)
-    for a, e in zip(atoms, cofactor.exponents):
+    for a, e in zip(atoms, cofactor.exponents, strict=True):
         if e:
             q = Frac(kmap.ring, a.poly)
             out = out * (kmap.pullback(q) if a.pulled else q) ** e
@@ -436,7 +436,7 @@ def check_at_points(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, p
             continue
         at_f = {**pt, **fx}
         k = flint.fmpq(1)
-        for a, e in zip(atoms, cofactor.exponents):
+        for a, e in zip(atoms, cofactor.exponents, strict=True):
             if e:
                 v = ring.evaluate(a.poly, at_f if a.pulled else pt)
                 if v == 0:
@@ -480,7 +480,7 @@ def search_darboux(kmap: KahanMap, degree: int = 4, *, seed: int = 0, symbolic_l
                   for n in (EPS,) + kmap.field.parameters}
     else:               # the results hold at these values: small ones give readable polynomials
         ints = rng.sample([k for k in range(-9, 10) if k], len(kmap.field.parameters))
-        values = {EPS: flint.fmpq(1, rng.randint(3, 11)), **dict(zip(kmap.field.parameters, map(flint.fmpq, ints)))}
+        values = {EPS: flint.fmpq(1, rng.randint(3, 11)), **dict(zip(kmap.field.parameters, map(flint.fmpq, ints), strict=True))}
     prime = random_prime(rng)
     scene = ModularScene(kmap, atoms, values, prime)
     kernels = modular_kernels(scene, cofactors, monos, rng)

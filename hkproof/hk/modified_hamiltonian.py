@@ -53,7 +53,7 @@ def check_inputs(kmap: KahanMap, h: Frac, j: Sequence[Sequence[Frac]]) -> None:
     if h.den_variables_in(kmap.variables) or h.degrees_in(kmap.variables)[0] > 3:
         raise NotHamiltonianError(f"H = {h} must be a polynomial of degree <= 3 in {list(kmap.variables)}")
     grad = [h.derivative(v) for v in kmap.variables]
-    for i, (v, f) in enumerate(zip(kmap.variables, kmap.field.rhs)):
+    for i, (v, f) in enumerate(zip(kmap.variables, kmap.field.rhs, strict=True)):
         jg = sum((j[i][k] * grad[k] for k in range(len(grad))), Frac(kmap.ring, 0))
         if jg != f:
             raise NotHamiltonianError(f"H does not generate the field: (J grad H)_{v} = {jg} but {v}' = {f} "
@@ -71,7 +71,7 @@ def modified_hamiltonian(kmap: KahanMap, h: Frac) -> Frac:
     eps = Frac(r, r.gen(EPS))
     y, _ = cramer(_i_minus_eps_jacobian(kmap), list(kmap.field.rhs))
     grad = [h.derivative(v) for v in kmap.variables]
-    return h + Frac(r, 2) / 3 * eps * sum((g * c for g, c in zip(grad, y)), Frac(r, 0))
+    return h + Frac(r, 2) / 3 * eps * sum((g * c for g, c in zip(grad, y, strict=True)), Frac(r, 0))
 
 
 def measure_denominator(kmap: KahanMap) -> Frac:

@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Mapping, Sequence
+from typing import Callable, Mapping, Sequence
 
 import flint
 
@@ -13,6 +13,9 @@ from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
 from hkproof.proof.certificate import Certificate
+
+
+SolutionCheck = Callable[..., bool]
 
 
 @dataclass
@@ -72,7 +75,8 @@ def linear_combination_equals(coefficients: Sequence[Frac], values: Sequence[Fra
 
 
 def _prop_even_checks(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], target: Frac, names: Sequence[str],
-                      iterates: Sequence[int], relations: Sequence[Relation], solution: Sequence[Frac]) -> None:
+                      iterates: Sequence[int], relations: Sequence[Relation], solution: Sequence[Frac],
+                      check: SolutionCheck | None = None) -> None:
     """Checks (2)-(4) of Prop. "prop: even": hypotheses on the rows, evenness, substitution back."""
     ring = kmap.ring
     with cert.step("hypotheses of Prop. \"prop: even\"", "structure of the system", ring) as s:
@@ -96,13 +100,14 @@ def _prop_even_checks(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], 
             s.require(par is Parity.EVEN, f"{n} is {par.value} in eps, not even: {a}")
         s.note(f"{', '.join(names)} even in eps")
     with cert.step("solution satisfies the system", "substitution back into every equation", ring) as s:
-        s.require(check_solution(kmap, basis, target, iterates, relations, solution),
+        s.require((check or check_solution)(kmap, basis, target, iterates, relations, solution),
                   "the computed solution does not satisfy the system")
 
 
 def verify_by_evenness(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], target: Frac,
                        names: Sequence[str], candidate: Sequence[Frac], point: Mapping[str, Rational],
-                       iterates: Sequence[int] = (0, 1), relations: Sequence[Relation] = ()) -> list[Frac]:
+                       iterates: Sequence[int] = (0, 1), relations: Sequence[Relation] = (),
+                       check: SolutionCheck | None = None) -> list[Frac]:
     """Prop. "prop: even" for a candidate solution found by any means (e.g. one Cramer component and symmetry).
 
     Uniqueness is proven by a non-zero value of the system's determinant at one rational point (so the
@@ -118,7 +123,7 @@ def verify_by_evenness(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac],
         s.note(f"det = {value} != 0 at the point, so the system has at most one solution")
         for n, a in zip(names, candidate, strict=True):
             cert.formula(n, a)
-    _prop_even_checks(cert, kmap, basis, target, names, iterates, relations, list(candidate))
+    _prop_even_checks(cert, kmap, basis, target, names, iterates, relations, list(candidate), check)
     return list(candidate)
 
 
@@ -149,13 +154,14 @@ def _non_symmetric_range(iterates: Sequence[int]) -> bool:
 
 def prove_by_evenness(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], target: Frac,
                       names: Sequence[str], iterates: Sequence[int] = (0, 1),
-                      relations: Sequence[Relation] = ()) -> list[Frac]:
+                      relations: Sequence[Relation] = (), check: SolutionCheck | None = None) -> list[Frac]:
     """Prop. "prop: even" / recipe (D): solve, and check everything that makes the solution integrals.
 
     Steps recorded: (1) unique solution (det not identically 0); (2) the rows come from a non-symmetric
     range of iterates containing 0, relation coefficients are even in eps and their right-hand sides are
     even integrals proven earlier; (3) every component is even in eps; (4) the solution satisfies the system.
-    Returns the solution (named `names` in the certificate's formulas).
+    Returns the solution (named `names` in the certificate's formulas). `check` replaces `check_solution` for
+    step (4) (e.g. `hk.row_check.check_solution_by_rows`, the same substitution organized for big solutions).
     """
     ring = kmap.ring
     with cert.step("reduced system: unique solution by Cramer's rule",
@@ -165,5 +171,5 @@ def prove_by_evenness(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], 
         s.note("det of the system is not identically zero")
         for n, a in zip(names, solution, strict=True):
             cert.formula(n, a)
-    _prop_even_checks(cert, kmap, basis, target, names, iterates, relations, solution)
+    _prop_even_checks(cert, kmap, basis, target, names, iterates, relations, solution, check)
     return solution

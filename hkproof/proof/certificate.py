@@ -197,11 +197,11 @@ def _unpack(packed: tuple, rings: dict[tuple[str, ...], Ring]) -> Frac:
     if names not in rings:
         rings[names] = Ring(names)
     ring = rings[names]
-    num, den = (ring.ctx.from_dict(dict(zip(_exponents(raw, len(names)), coeffs))) for raw, coeffs in polys)
+    num, den = (ring.ctx.from_dict(dict(zip(_exponents(raw, len(names)), coeffs, strict=True))) for raw, coeffs in polys)
     return Frac(ring, num, den, reduced=True)
 
 
 def _exponents(raw: bytes, nvars: int) -> Iterator[tuple[int, ...]]:
     flat = array("L")
     flat.frombytes(raw)
-    return zip(*[iter(flat)] * nvars)
+    return zip(*[iter(flat)] * nvars, strict=True)

@@ -12,6 +12,7 @@ from hkproof.algebra.ring import Ring
 from hkproof.dynamics.catalogue import CLEBSCH_VARS, get_system, kahan_map
 from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
+from hkproof.hk.transport import Substitution
 
 GENERAL = "clebsch-general"
 # b = s (1,1,1) + y w + z (-w2 w3, -w3 w1, -w1 w2): c_k = y + z w_k by eq. "c thru b"; s drops out (p x p = 0)
@@ -57,3 +58,20 @@ def e_names() -> tuple[str, ...]:
 
 
 PHI0 = ("p1**2", "p2**2", "p3**2", "m1**2", "m2**2", "m3**2")
+
+
+# The flow reduction (claim flow-reduction): F_(y,z)(x; w) = z F_2(x; w + y/z), and Kahan's map of lambda F with step
+# eps is the map of F with step lambda eps; at z = 0, F_(y,0) = y F_1.
+REDUCTION = {"w1": "w1 + y/z", "w2": "w2 + y/z", "w3": "w3 + y/z", "eps": "z*eps"}
+REDUCTION_Z0 = {"eps": "y*eps"}
+
+
+@lru_cache(maxsize=None)
+def yz_map_at_z0() -> KahanMap:
+    """The (y, z) family on the hyperplane z = 0 (c_k = y, b_k = y w_k)."""
+    return kahan_map(yz_map().field.specialize({"z": 0}))
+
+
+def substitution(source: KahanMap, target: KahanMap, images: Mapping[str, str]) -> Substitution:
+    """sigma: Q(source's ring) -> Q(target's ring), name -> image (claimed text, read by Frac.parse)."""
+    return Substitution(source.ring, target.ring, {n: Frac.parse(target.ring, t) for n, t in images.items()})

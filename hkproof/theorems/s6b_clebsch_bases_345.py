@@ -1,23 +1,24 @@
 """Section 6.7: Th. "dC bases 345" (bases Phi1, Phi2, Phi3): relations rel18, M2 with A, B, C, D, Step 1."""
 from __future__ import annotations
 
+from itertools import pairwise
 from typing import Mapping, Sequence
 
 import flint
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.ring import Ring
 from hkproof.algebra.linalg import cramer, rank_over_fraction_field
+from hkproof.algebra.ring import Ring
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
+from hkproof.errors import ParseError
 from hkproof.experiments.relations import find_relations
 from hkproof.hk.expansion import coefficients_in
 from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.linear_relations import parse_relation
-from hkproof.errors import ParseError
 from hkproof.hk.reduced import Relation, linear_combination_equals, orbit_points
-from hkproof.proof.certificate import Certificate
 from hkproof.orchestration.registry import claim, require_proven
+from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import SYSTEM, X, named, recall, record, substitute_named
 
@@ -70,10 +71,10 @@ def relation_rows(f, text: str, unknowns: Sequence[str] = UNKNOWNS,
     known = dict(known or {})
     parts = text.split("=")
     out = []
-    for lhs, rhs in zip(parts, parts[1:]):
+    for lhs, rhs in pairwise(parts):
         rel = parse_relation(f.ring, f"{lhs} = {rhs}", [*unknowns, *known])
         k = len(unknowns)
-        moved = sum((c * v for c, v in zip(rel.coefficients[k:], known.values())), Frac(f.ring, 0))
+        moved = sum((c * v for c, v in zip(rel.coefficients[k:], known.values(), strict=True)), Frac(f.ring, 0))
         out.append(Relation(rel.coefficients[:k], rel.rhs - moved))
     return out
 
@@ -158,8 +159,8 @@ def _in_abcd(f, text: str, m2: str, known: Mapping[str, Frac]) -> Relation:
     for k in "ABCD":
         unit = m2_entries(f, m2, {**zero, k: Frac(r, 1)})
         columns.append(sum((c * (unit.get(u, Frac(r, 0)) - base.get(u, Frac(r, 0)))
-                            for c, u in zip(rel.coefficients, UNKNOWNS)), Frac(r, 0)))
-    skipped = [u for c, u in zip(rel.coefficients, UNKNOWNS) if not c.is_zero() and u not in base]
+                            for c, u in zip(rel.coefficients, UNKNOWNS, strict=True)), Frac(r, 0)))
+    skipped = [u for c, u in zip(rel.coefficients, UNKNOWNS, strict=True) if not c.is_zero() and u not in base]
     if skipped:
         raise ParseError(f"{text!r} involves {skipped}, which eq. \"M2\" does not give")
     return Relation(columns, rel.rhs)
@@ -213,23 +214,23 @@ def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
                            q.ring.constant(1), ["A", "B", "C", "D"])
         s.require(along.derivative("t").derivative("t").is_zero(),
                   "eq. \"ABCD dependence\" is not linear along (1, 1, 1, 0)")
-        slope = substitute_named(along.derivative("t"), dict(zip("ABCD", base)), r)
+        slope = substitute_named(along.derivative("t"), dict(zip("ABCD", base, strict=True)), r)
         s.require(not slope.is_zero(), "eq. \"ABCD dependence\" does not fix A + B + C")
-        t = -substitute_named(q, dict(zip("ABCD", base)), r) / slope
-        abcd = dict(zip("ABCD", [base[0] + t, base[1] + t, base[2] + t, base[3]]))
+        t = -substitute_named(q, dict(zip("ABCD", base, strict=True)), r) / slope
+        abcd = dict(zip("ABCD", [base[0] + t, base[1] + t, base[2] + t, base[3]], strict=True))
         s.require(all(linear_combination_equals(x.coefficients, list(abcd.values()), x.rhs) for x in rows),
                   "A, B, C, D do not satisfy the six relations")
-        for k, v in abcd.items():
-            record(cert, k, v)
+        for name, v in abcd.items():
+            record(cert, name, v)
     with cert.step("A, B, C, D are integrals, even in eps", "rational functions of the integrals d7, d8, g4, g5 "
                    "(dc-basis2, dc-theta); exact parity", r) as s:
-        for k, v in abcd.items():
-            s.require(v.is_even_in(EPS), f"{k} is not even in eps")
+        for name, v in abcd.items():
+            s.require(v.is_even_in(EPS), f"{name} is not even in eps")
         s.note("A, B, C, D are built from d7, d8, g4, g5 by field operations with constant coefficients, so "
                "h o f = h for each of them")
     m2 = m2_entries(f, claimed["M2"], abcd)
-    for k, v in m2.items():
-        record(cert, k, v)
+    for name, v in m2.items():
+        record(cert, name, v)
     with cert.step("eq. \"M2\": (d7, d8, d9) M2 = 0, det M2 = 0, rel18_1 ... rel18_4",
                    "exact identities in Q(m, p, eps, w)", r) as s:
         d = [known[k] for k in ("d7", "d8", "d9")]
@@ -244,10 +245,10 @@ def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
     with cert.step("eqs. \"dC A\" ... \"dC D\": the eps-structure, A^(2) = B^(2) = C^(2), D^(4)",
                    "coefficients in eps of 2 eps^2 Delta A and 2 Delta D; homogeneity in (m, p)", r) as s:
         e2 = Frac(r, r.gen(EPS) ** 2)
-        for k in "ABC":
-            pieces = _eps_pieces(s, r, abcd[k] * 2 * e2 * delta, f"2 eps^2 Delta {k}", 5, 0)
-            s.require_equal(pieces[0], named(f, claimed["A_leading"]), f"{k}^(0)")
-            s.require_equal(pieces[1], named(f, claimed["A_2"]), f"{k}^(2)")
+        for name in "ABC":
+            pieces = _eps_pieces(s, r, abcd[name] * 2 * e2 * delta, f"2 eps^2 Delta {name}", 5, 0)
+            s.require_equal(pieces[0], named(f, claimed["A_leading"]), f"{name}^(0)")
+            s.require_equal(pieces[1], named(f, claimed["A_2"]), f"{name}^(2)")
         pieces = _eps_pieces(s, r, abcd["D"] * 2 * delta, "2 Delta D", 4, 2)
         s.require_equal(pieces[0], named(f, claimed["D_leading"]), "D^(2)")
         s.require_equal(pieces[1], named(f, claimed["D_4"]), "D^(4)")
@@ -291,10 +292,10 @@ J456 = [BLOCK[c][j] for c in "abc" for j in (3, 4, 5)]
 def hk_rows_at(f, orbit: Mapping[int, Mapping[str, flint.fmpq]], iterates: Sequence[int]):
     """Rows of eqs. "Psi1 iterates" ... "Psi3 iterates" at exact points, as rows over the 18 unknowns."""
     rows, rhs = [], []
-    for c, basis in zip("abc", bases(f)):
+    for c, basis in zip("abc", bases(f), strict=True):
         for i in iterates:
             row = [flint.fmpq(0)] * len(UNKNOWNS)
-            for k, phi in zip(BLOCK[c], basis[:6]):
+            for k, phi in zip(BLOCK[c], basis[:6], strict=True):
                 row[k] = phi.evaluate(orbit[i])
             rows.append(row)
             rhs.append(basis[6].evaluate(orbit[i]))
@@ -328,7 +329,7 @@ def prove_step1(cert: Certificate, claimed: Mapping[str, str]) -> None:
         n = [p2[1] * p2f[2] - p2[2] * p2f[1], p2[2] * p2f[0] - p2[0] * p2f[2], p2[0] * p2f[1] - p2[1] * p2f[0]]
         weights = [named(f, w) for w in _kernel_weights(claimed["kernel_vector"])]
         v = [Frac(r, 0)] * len(UNKNOWNS)
-        for c, w in zip("abc", weights):
+        for c, w in zip("abc", weights, strict=True):
             for j in range(3):
                 v[BLOCK[c][j]] = w * n[j]
         for row in (p2, p2f):
@@ -387,7 +388,7 @@ def prove_independence(cert: Certificate, claimed: Mapping[str, str]) -> None:
     r = f.ring
     abcd = require_proven(cert, "dc345-abcd")
     J = recall(require_proven(cert, "dc-basis1-relations"), "J", r)
-    values = dict(zip(UNKNOWNS, proven_coordinates(cert, r)))
+    values = dict(zip(UNKNOWNS, proven_coordinates(cert, r), strict=True))
     point = sample_point(r.names, seed=3)
     with cert.step("J, alpha1, beta1, gamma1: Jacobian rank 4 at a rational point",
                    "exact derivatives of the proven integrals; exact rank", r) as s:

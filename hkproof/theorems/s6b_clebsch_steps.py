@@ -48,7 +48,7 @@ def _solve_block(cert: Certificate, f, c: str, extra: Relation, abcd: Certificat
     basis = bases(f)["abc".index(c)]
     sol = prove_on_slice(cert, f, TRANSLATION, basis[:6], basis[6], _block(c), (0, 1),
                          _m2_rows(abcd, c, r) + [extra])
-    for name, h in zip(_block(c), sol):
+    for name, h in zip(_block(c), sol, strict=True):
         record(cert, name, h)
     return sol
 
@@ -129,7 +129,7 @@ def prove_step5(cert: Certificate, claimed: Mapping[str, str]) -> None:
     for k, c, source in ((0, "b", "dc345-alpha"), (1, "c", "dc345-step5 (beta)")):
         sol = _solve_block(cert, f, c, _link(f, claimed["rel18_6"], k, _block(c), known, source), abcd)
         _symmetric_step(cert, f, c, sol, abcd, delta, claimed)
-        known = dict(zip(_block(c), sol))
+        known = dict(zip(_block(c), sol, strict=True))
 
 
 def kernel_vectors(cert: Certificate, r) -> dict[str, list[Frac]]:
@@ -156,7 +156,7 @@ def prove_max_basis(cert: Certificate, claimed: Mapping[str, str]) -> None:
     r = f.ring
     vectors = kernel_vectors(cert, r)
     values, x = POINTS[0]
-    point = {**dict(zip(X, x)), **values}
+    point = {**dict(zip(X, x, strict=True)), **values}
     with cert.step("the null-vectors lie in K_Phi and are independent", "integrals satisfying the rows i = 0 (and "
                    "so every row i); exact rank at a rational point", r) as s:
         rank = rank_q([[v.evaluate(point) for v in vec] for vec in vectors.values()])

@@ -2,28 +2,40 @@
 from __future__ import annotations
 
 import itertools
+import random
 import re
 from typing import Mapping, Sequence
 
 import flint
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.linalg import cramer, rank_over_fraction_field
+from hkproof.algebra.ring import Rational
+from hkproof.algebra.linalg import cramer, nullspace_q, rank_over_fraction_field
 from hkproof.dynamics.catalogue import get_system, kahan_map
+from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
+from hkproof.errors import SingularPointError
+from hkproof.experiments.relations import find_relations
 from hkproof.experiments.scan import scan
 from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.integrals import check_integral, lie_derivative
 from hkproof.hk.linear_relations import parse_relation, relation_rank
+from hkproof.hk.row_check import check_solution_by_rows
 from hkproof.hk.recipe_g import WHAT_IT_PROVES, recipe_g
-from hkproof.hk.reduced import Relation, prove_by_evenness
-from hkproof.hk.translation import ParameterTranslation, prove_on_slice
+from hkproof.hk.reduced import (Relation, det_at_point, hk_row, linear_combination_equals, orbit_points,
+                                verify_by_evenness)
+from hkproof.hk.translation import ParameterTranslation
+from hkproof.hk.transport import Substitution, map_mismatches
 from hkproof.proof.certificate import Certificate, ProofStopped, StepRecorder
 from hkproof.orchestration.registry import REGISTRY, claim, require_proven
 from hkproof.proof.status import Status
-from hkproof.theorems._clebsch import H, named
+from hkproof.theorems._clebsch import H, named, recall, record, shift_frac
 from hkproof.theorems._common import parse_matrix, require_matrix_form
-from hkproof.theorems._flows import (B_OF_YZ, C_OF_YZ, CYCLIC, GENERAL, PHI0, e_names, map_components_under,
+from hkproof.theorems.s6b_clebsch_bases_345 import REL18, relation_rows
+from hkproof.theorems.s6b_clebsch_bases_345 import UNKNOWNS as ABC_NAMES
+from hkproof.theorems.s6b_clebsch_bases_345 import bases as phi_bases
+from hkproof.theorems._flows import (B_OF_YZ, C_OF_YZ, CYCLIC, GENERAL, PHI0, REDUCTION, REDUCTION_Z0, e_names,
+                                     map_components_under, substitution, yz_map_at_z0,
                                      yz_map)
 
 GROUP = "clebsch-flows"
@@ -31,7 +43,7 @@ FLOW2 = "clebsch-flow2"
 E_PAPER = {"E1": "w3*w1 + w1*w2 - w2*w3", "E2": "w1*w2 + w2*w3 - w3*w1", "E3": "w2*w3 + w3*w1 - w1*w2"}
 C_THRU_B = {"c1": "(b2 - b3)/(w2 - w3)", "c2": "(b3 - b1)/(w3 - w1)", "c3": "(b1 - b2)/(w1 - w2)"}
 TILDE = {f"{v}": f"{v}_t" for v in ("m1", "m2", "m3", "p1", "p2", "p3")}
-RANK_POINT = {"m1": 3, "m2": -2, "m3": 5, "p1": 1, "p2": 4, "p3": -3, "eps": flint.fmpq(1, 7), "w1": 2, "w2": -3,
+RANK_POINT: dict[str, Rational] = {"m1": 3, "m2": -2, "m3": 5, "p1": 1, "p2": 4, "p3": -3, "eps": flint.fmpq(1, 7), "w1": 2, "w2": -3,
               "w3": 5, "y": 3, "z": -2}
 
 
@@ -74,7 +86,7 @@ def prove_general_map(cert: Certificate, claimed: Mapping[str, str]) -> None:
         parts = [p.strip() for p in claimed["dC2"].split(";")]
         s.require(len(parts) == 6, f"eq. \"dC2\" needs six components, got {len(parts)}")
         order = [0, 3, 1, 4, 2, 5]      # dC2 text lists (m1, p1, m2, p2, m3, p3); equations are (m1, m2, m3, p1, ...)
-        for k, text in zip(order, parts):
+        for k, text in zip(order, parts, strict=True):
             e = f.equations[k]
             lead = e.derivative(t.index(f.field.tilde_variables[k]))
             s.require_equal(Frac(t, e, lead), Frac.parse(t, _with_c(text)), f"component {f.variables[k]}")
@@ -87,19 +99,21 @@ def prove_general_map(cert: Certificate, claimed: Mapping[str, str]) -> None:
                        target.ring) as s:
             bs = parse_matrix(target, f"[{claimed[flow + '_b']}]")[0]
             cs = parse_matrix(target, f"[{claimed[flow + '_c']}]")[0]
+            s.require(len(bs) == 3 and len(cs) == 3, f"b and c of {flow} need three entries each, got "
+                      f"{len(bs)} and {len(cs)}")
             values = {f"b{k + 1}": bs[k] for k in range(3)}
             for k in range(3):
                 c_k = named(target, C_THRU_B[f"c{k + 1}"], values)
                 s.require_equal(c_k, cs[k], f"c{k + 1} at the {flow} values of b")
             images = {f"b{k + 1}": str(bs[k]) for k in range(3)}
-            for got, want_c, v in zip(map_components_under(f, images, target.ring), target.components(), f.variables):
+            for got, want_c, v in zip(map_components_under(f, images, target.ring), target.components(), f.variables, strict=True):
                 s.require_equal(got, want_c, f"{v}~ of the general map at the {flow} b")
     g = yz_map()
     with cert.step("b = s + y w + z (-w_j w_k): the polynomial family c_k = y + z w_k, independent of s",
                    "explicit components composed; Vandermonde det of (1, w_k, -w_i w_j) non-zero",
                    g.ring.extend(["s"])) as s:
         ts = g.ring.extend(["s"])
-        for got, want_c, v in zip(map_components_under(f, B_OF_YZ, ts), g.components(), f.variables):
+        for got, want_c, v in zip(map_components_under(f, B_OF_YZ, ts), g.components(), f.variables, strict=True):
             s.require_equal(got, want_c.to_ring(ts), f"{v}~ under b = s + y w - z w_i w_j")
         vdm = Frac.parse(g.ring, "(w1 - w2)*(w2 - w3)*(w3 - w1)")
         rows = [[Frac(g.ring, 1), Frac.parse(g.ring, f"w{i + 1}"), Frac.parse(g.ring, f"-w{j + 1}*w{k + 1}")]
@@ -107,6 +121,71 @@ def prove_general_map(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.require(rank_over_fraction_field(rows) == 3 and not vdm.is_zero(), "(s, y, z) -> b is not invertible")
         s.note("(s, y, z) -> b is a linear bijection over Q(w) (w distinct), so identities proven with y, z, w "
                "symbolic hold with b symbolic; s (a multiple of the Casimir H3 in H) does not enter the map")
+
+
+# ---------------------------------------------------------------- the flow reduction -----------------------------
+FIRST = "clebsch"
+REDUCTION_CLAIM = {**{f"{k}_prime": v for k, v in REDUCTION.items()},
+                   **{f"{k}_prime_z0": v for k, v in REDUCTION_Z0.items()}}
+
+
+def reduction_substitutions(claimed: Mapping[str, str]) -> tuple[Substitution, Substitution]:
+    """(sigma, sigma0): the second flow's map -> the (y, z) family (z != 0) and the first flow's map -> its
+    hyperplane z = 0, read from the claimed images."""
+    images = {k: claimed[f"{k}_prime"] for k in REDUCTION}
+    images0 = {k: claimed[f"{k}_prime_z0"] for k in REDUCTION_Z0}
+    return (substitution(kahan_map(FLOW2), yz_map(), images),
+            substitution(kahan_map(FIRST), yz_map_at_z0(), images0))
+
+
+def _field_identity(s: StepRecorder, sigma: Substitution, source: KahanMap, target: KahanMap, factor: str) -> None:
+    """target's field = factor * sigma(source's field), component by component (eps does not occur in a field)."""
+    lam = Frac.parse(target.ring, factor)
+    for v, a, b in zip(source.variables, source.field.rhs, target.field.rhs, strict=True):
+        s.require_equal(b, lam * sigma.apply(a), f"{v}' of the field")
+
+
+@claim("flow-reduction", GROUP, "Every flow's Kahan map is the second flow's (z != 0) or the first flow's (z = 0)",
+       "sec. 6, eqs. \"gcl\", \"dC2\", \"dC2 map\", \"Clebsch 2 b\"; the conjecture after eq. \"dC2 map\"",
+       "With b_k = s + y w_k - z w_i w_j (c_k = y + z w_k; every flow): for z != 0 the Kahan map of the (y, z) flow "
+       "with step eps equals the Kahan map of the second flow with w' = w + (y/z)(1, 1, 1) and eps' = z eps, as an "
+       "identity in Q(x, eps, w, y, z) (denominators powers of z); for z = 0 it is the first flow's map with "
+       "eps' = y eps (for y = z = 0 the field is 0 and the map the identity). Both substitutions are injective "
+       "homomorphisms of fields, so every rational identity about the second (first) flow's map carries over.",
+       claimed=REDUCTION_CLAIM)
+def prove_reduction(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    sigma, sigma0 = reduction_substitutions(claimed)
+    for k in REDUCTION_CLAIM:
+        cert.formula(k, claimed[k])
+    flow2, first, g, g0 = kahan_map(FLOW2), kahan_map(FIRST), yz_map(), yz_map_at_z0()
+    with cert.step("the fields: F_(y,z)(x; w) = z F_2(x; w'), F_(y,0)(x; w) = y F_1(x; w)",
+                   f"exact, componentwise; sigma: {sigma}", g.ring) as s:
+        _field_identity(s, sigma, flow2, g, "z")
+        _field_identity(s, sigma0, first, g0, "y")
+        s.note("Kahan's scheme of lambda F with step eps is that of F with step lambda eps (the equations are linear "
+               "in eps F): the next steps check this for the maps themselves")
+    with cert.step("z != 0: the second flow's map at (w', eps') is the (y, z) map", "Kahan matrices M, b (rows "
+                   "divided by their diagonal) and explicit components N_j / Delta, exact in Q(x, eps, w, y, z)",
+                   g.ring) as s:
+        bad = map_mismatches(sigma, flow2, g)
+        s.require(not bad, f"sigma(second flow) != (y, z) flow at {bad}")
+    with cert.step("z = 0: the first flow's map at eps' is the (y, 0) map", "Kahan matrices and explicit "
+                   "components, exact in Q(x, eps, w, y); the (y, z) components restrict to z = 0", g0.ring) as s:
+        bad = map_mismatches(sigma0, first, g0)
+        s.require(not bad, f"sigma0(first flow) != (y, 0) flow at {bad}")
+        for v, a, b in zip(g.variables, g.components(), g0.components(), strict=True):
+            s.require_equal(a.specialize({"z": 0}, g0.ring), b, f"{v}~ of the (y, z) map at z = 0")
+        s.note("the lowest-terms components of the (y, z) map have denominators not divisible by z: the family's "
+               "map at z = 0 is the map of the field at z = 0")
+    with cert.step("both substitutions are injective", "Jacobian of the images at a rational point (full rank: "
+                   "the images are algebraically independent)", g.ring) as s:
+        point = {k: v for k, v in RANK_POINT.items() if k in g.ring.names}
+        s.require(sigma.is_injective_at(("eps", "w1", "w2", "w3"), point), "sigma is not injective")
+        s.require(sigma0.is_injective_at(("eps",), point), "sigma0 is not injective")
+        s.note("so sigma (sigma0) embeds Q(x, eps', w') into Q(x, eps, w, y, z)[1/z] (Q(x, eps, w, y)[1/y]): a "
+               "rational identity h o f_2 = h, a parity in eps' (eps' -> -eps' is eps -> -eps) or a non-zero "
+               "determinant about the second (first) flow holds for the image under sigma (sigma0) and the (y, z) "
+               "map; the exceptional parameters are z = 0 (then sigma0) and y = z = 0 (the zero field)")
 
 
 # ---------------------------------------------------------------- the second flow --------------------------------
@@ -141,7 +220,7 @@ def _e_as_functions_of_l(cert: Certificate, s: StepRecorder, f: KahanMap, rels: 
                          claimed: Mapping[str, str], known: Mapping[str, Frac]) -> list[Frac]:
     """e_1..e_6 by Cramer from sum e_k phi_k = 1 and relations 1-5, each checked against its claimed form in L."""
     e = _solve_phi0(f, rels[:5])
-    for n, a in zip(names, e):
+    for n, a in zip(names, e, strict=True):
         cert.formula(n, a)
         s.require_equal(a, named(f, claimed[n], known), f"{n} as a function of L")
     return e
@@ -177,7 +256,7 @@ def _kernel_lower_bound(cert: Certificate, kmap: KahanMap, e: Sequence[Frac], in
     r = kmap.ring
     with cert.step("(e, -1) lies in K_Phi0(x)", f"e_k are functions of the integral {integral}; row i = 0 holds",
                    r) as s:
-        total = sum((a * Frac.parse(r, phi) for a, phi in zip(e, PHI0)), Frac(r, 0))
+        total = sum((a * Frac.parse(r, phi) for a, phi in zip(e, PHI0, strict=True)), Frac(r, 0))
         s.require(total == 1, f"sum e_k phi_k = {total}, not 1")
         s.note(f"e o f = e (functions of {integral}), so (sum e_k phi_k) o f^i = 1 for every i: a non-zero kernel "
                "vector of X_(-inf, inf). The six equations involve no iterate, so this, and not Prop. \"prop: even\", "
@@ -246,7 +325,7 @@ def _continuous_limit(cert: Certificate, f: KahanMap, claimed: Mapping[str, str]
         s.require_equal(big_l.specialize({"eps": 0}, r.drop(["eps"])).to_ring(r), l0, "L(x, 0)")
         hs = [Frac.parse(r, H[k]) for k in ("H1", "H2", "H3")]
         coeffs = parse_matrix(f, "[[-2*w1*w2*w3, w1*w2 + w2*w3 + w3*w1, 2*w1*w2*w3*(w1 + w2 + w3)]]")[0]
-        combo = sum((a * h for a, h in zip(coeffs, hs)), Frac(r, 0))
+        combo = sum((a * h for a, h in zip(coeffs, hs, strict=True)), Frac(r, 0))
         s.require_equal(l0, combo, "L(x, 0) = -2 w1 w2 w3 H1 + (w1 w2 + w2 w3 + w3 w1) H2 "
                                    "+ 2 w1 w2 w3 (w1 + w2 + w3) H3")
         s.require(lie_derivative(get_system(FLOW2), l0).is_zero(), "L(x, 0) is not an integral of the second flow")
@@ -309,7 +388,7 @@ GENERAL_NAMES = {"c1": C_OF_YZ[0], "c2": C_OF_YZ[1], "c3": C_OF_YZ[2],
        "printed functions of L = A/D, an integral of the map with A = sum E_i (c_j c_k p_i^2 + z c_i m_i^2), "
        "E_i = c_i c_j + c_i c_k - c_j c_k, D = z + eps^2 (c1 c2 c3 H3 + z sum c_i^2 m_i^2); dim K_Phi0 = 1. "
        "At (y, z) = (0, 1) this is the second-flow theorem; at z = 0 the e_k are those of Th. \"dC basis 1\" (J).",
-       claimed=GENERAL_CLAIM, slow=True)
+       claimed=GENERAL_CLAIM, uses=["flow-reduction", "flow-second-theorem"])
 def prove_general_phi0(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = yz_map()
     r = f.ring
@@ -330,8 +409,13 @@ def prove_general_phi0(cert: Certificate, claimed: Mapping[str, str]) -> None:
                    r) as s:
         e = _e_as_functions_of_l(cert, s, f, rels, names, claimed, {**known, "L": big_l})
         cert.formula("L", big_l)
-    with cert.step("L is an integral (substitution)", "L(N/Delta) - L = 0 in Q(x, eps, w, y, z)", r) as s:
-        s.require(check_integral(f, big_l).status is Status.VERIFIED, "L o f != L")
+    with cert.step("L is an integral (transport of the second flow's L)", "L = z^3 sigma(L_2), exact in "
+                   "Q(x, eps, w, y, z); sigma(f_2) = f (flow-reduction), L_2 o f_2 = L_2 (flow-second-theorem)", r) as s:
+        sigma, _ = reduction_substitutions(require_proven(cert, "flow-reduction").formulas)
+        l2 = _cite_l(cert, kahan_map(FLOW2), "flow-second-theorem")
+        s.require_equal(big_l, Frac(r, r.gen("z") ** 3) * sigma.apply(l2), "L = z^3 sigma(L_2)")
+        s.note("sigma is an injective homomorphism of fields fixing x with sigma(f_2) = f, so L o f = L follows from "
+               "L_2 o f_2 = L_2 (z^3 is a constant of the map); the substitution L(N/Delta) - L took 32 s")
     _kernel_lower_bound(cert, f, e, "L")
     _kernel_rank_bound(cert, f, e)
     with cert.step("L(x, 0) = A / z is an integral of the continuous flow", "Lie derivative along eq. \"gcl\"; "
@@ -359,6 +443,137 @@ def _substitute_c(text: str) -> str:
     return re.sub(r"\bc([123])\b", lambda m: C_OF_YZ[int(m.group(1)) - 1], text)
 
 
+# ---------------------------------------------------------------- the second flow's Phi1, Phi2, Phi3: discovery ---
+# Found by hkproof (recipe (E), `find_relations`, 17 exact samples, degree 2 in w, eps-free); printed as found.
+SECOND_REL18 = {
+    "rel2_1": "b2*w2 - b5*w1*w3 - c3*w3 + c6*w1*w2 = 0",
+    "rel2_2": "a1*w1 - a4*w2*w3 - b2*w2 + b5*w1*w3 = 0",
+    "rel2_3": "a2*w2*(w1 - w3) - a3*w3*(w1 - w2) - a5*w1*w3*(w1 - w3) + a6*w1*w2*(w1 - w2) = 0",
+    "rel2_4": "b1*w1*(w2 - w3) + b3*w3*(w1 - w2) - b4*w2*w3*(w2 - w3) - b6*w1*w2*(w1 - w2) = 0",
+    "rel2_5": "c1*w1*(w2 - w3) - c2*w2*(w1 - w3) - c4*w2*w3*(w2 - w3) + c5*w1*w3*(w1 - w3) = 0",
+    "rel2_6": "a2 - a3 - (w2 - w3)*a4 + b2 - b3 - (w2 - w3)*b4 + c2 - c3 - (w2 - w3)*c4 = 0",
+    "rel2_7": "a1 - a3 - (w1 - w3)*a5 + b1 - b3 - (w1 - w3)*b5 + c1 - c3 - (w1 - w3)*c5 = 0",
+    "rel2_8": "(w1 - w3)*(a2 - a3 - (w2 - w3)*a4) + (w2 - w3)*(b2 - b3 - (w2 - w3)*b4) = 0",
+    "rel2_9": "a1*w3 + a3*(w1 - w3) - a4*w2*w3 + a5*(w1 - w3)**2 + b1*(w3 - w2) - b2*w2 + b3*(w2 - w3) "
+              "+ b5*(w1*w2 - w2*w3 + w3**2) = 0",
+}
+SECOND_REL18_RANKS = {"rows01": "15", "rows01_theta": "16", "symmetric": "18", "L_relations": "5",
+                      "rows0_L": "17", "rows01_L": "18"}
+L_SAMPLE: dict[str, Rational] = {"eps": flint.fmpq(1, 3), "w1": 2, "w2": -3, "w3": 5}
+
+
+@claim("flow-second-relations-found", GROUP, "Second flow: nine linear relations among the kernel coordinates of "
+       "Phi1, Phi2, Phi3, found by recipe (E)", "sec. 6, conjecture after eq. \"dC2 map\"; analog of eqs. "
+       "\"rel18_1\" ... \"rel18_8\" (not in the paper)",
+       "For the second flow, exact relation finding (kernels of Phi_k = (p^2, m^2, m_k p_k) at rational points, "
+       "interpolation in eps and w) finds a nine-dimensional space of linear relations among alpha_j, beta_j, "
+       "gamma_j, spanned by the claimed relations (eps-free, coefficients in Z[w]). At a rational point the rows "
+       "i = 0, 1 and the relations have rank `rows01`, with the Theta relations alpha_j + beta_j + gamma_j = g_j "
+       "`rows01_theta` (two short of 18: the analogs of 'dC Psi add lin rel' are missing), and the symmetric rows "
+       "i = -1, 0, 1 with the relations `symmetric`. The first flow's chains rel18_6 and rel18_8 lie in this space "
+       "(so they hold for the second flow too); rel18_1 ... rel18_4 (the structure of eq. \"M2\") do not. At fixed "
+       "rational eps, w there are `L_relations` more relations with coefficients linear in the integral L; with them "
+       "the rows i = 0 have rank `rows0_L` and the rows i = 0, 1 rank `rows01_L`: one row with an iterate would "
+       "suffice. Evidence, not proof.",
+       claimed={**SECOND_REL18, **SECOND_REL18_RANKS, "rel18_6": REL18["rel18_6"], "rel18_8": REL18["rel18_8"]},
+       expected=Status.EVIDENCE_EXACT, uses=["flow-second-theorem"])
+def prove_second_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    f = kahan_map(FLOW2)
+    r = f.ring
+    phis = phi_bases(f)
+    with cert.step("the claimed relations are nine independent relations", "rank over Q(eps, w) of the augmented "
+                   "rows", r) as s:
+        claimed_rels = [parse_relation(r, claimed[k], ABC_NAMES) for k in SECOND_REL18]
+        s.require(relation_rank(claimed_rels) == 9, "the claimed relations are not nine independent ones")
+    with cert.step("recipe (E): the relation space of (Phi1, Phi2, Phi3) is spanned by the claimed relations",
+                   "exact kernels at rational points, interpolation in eps and w, fresh checks", r) as s:
+        search = find_relations(f, phis, names=list(ABC_NAMES))
+        found = [Relation(rel.coefficients, rel.rhs) for rel in search.relations]
+        s.require(search.dimension == 9 and len(found) == 9,
+                  f"relation space of dimension {search.dimension}, {len(found)} relations reconstructed")
+        s.require(relation_rank(found + claimed_rels) == 9, "a claimed relation is not in the space found")
+        for k, rel in enumerate(search.relations, start=1):
+            cert.formula(f"found_{k}", rel.text())
+        s.evidence(Status.EVIDENCE_EXACT, points=search.samples)
+        s.note(f"{search.samples} exact samples; every relation checked at fresh samples")
+    with cert.step("the first flow's relations: rel18_6, rel18_8 shared, rel18_1 ... rel18_4 not",
+                   "ranks over Q(eps, w) with the claimed relations", r) as s:
+        for key in ("rel18_6", "rel18_8"):
+            s.require(relation_rank(claimed_rels + relation_rows(f, claimed[key])) == 9,
+                      f"{key} is not in the second flow's relation space")
+        for key in ("rel18_1", "rel18_2", "rel18_3", "rel18_4"):
+            s.require(relation_rank(claimed_rels + relation_rows(f, REL18[key])) > 9,
+                      f"{key} unexpectedly holds for the second flow")
+    with cert.step("how far the relations go: exact ranks at a rational point", "fmpq_mat ranks of the rows "
+                   "(values of Phi_k o f^i) and the relations at the point", "Q at one rational point") as s:
+        point = {k: v for k, v in RANK_POINT.items() if k in r.names}
+        orbit = orbit_points(f, point, (-1, 0, 1))
+        rel_rows = [[c.evaluate(point) for c in rel.coefficients] for rel in claimed_rels]
+        theta_rows = [[flint.fmpq(int(k % 6 == j)) for k in range(18)] for j in range(6)]
+
+        def rank(iterates: Sequence[int], extra: Sequence[Sequence[flint.fmpq]]) -> int:
+            rows = [[phis[b][j].evaluate(orbit[i]) if k // 6 == b else flint.fmpq(0)
+                     for k, j in ((k, k % 6) for k in range(18))] for b in range(3) for i in iterates]
+            return flint.fmpq_mat(rows + rel_rows + list(extra)).rank()
+
+        for key, got in (("rows01", rank((0, 1), [])), ("rows01_theta", rank((0, 1), theta_rows)),
+                         ("symmetric", rank((-1, 0, 1), []))):
+            s.require(str(got) == claimed[key].strip(), f"rank {key} = {got}, claimed {claimed[key]}")
+        s.evidence(Status.EVIDENCE_EXACT, points=1)
+        s.note("rows i = 0, 1 and the nine relations leave a 2-dimensional family, the Theta relations (right-hand "
+               "sides the proven integrals g_j of flow-second-theta) one more condition: two relations with "
+               "integral right-hand sides are still to be found before Prop. \"prop: even\" applies; the symmetric "
+               "system determines alpha, beta, gamma (the paper's Step 2 route, which proves nothing by itself)")
+    _l_relations(cert, f, phis, claimed)
+
+
+def kernel_coordinates(f: KahanMap, phis: Sequence[Sequence[Frac]], point: Mapping[str, Rational]
+                        ) -> list[flint.fmpq] | None:
+    """alpha, beta, gamma at one exact point (kernels of X_[0,6], last coordinate -1), None if a kernel is not 1-dim."""
+    orbit = f.orbit_exact(point, 6)
+    out: list[flint.fmpq] = []
+    for basis in phis:
+        kernel = nullspace_q([[phi.evaluate({**point, **y}) for phi in basis] for y in orbit])
+        if len(kernel) != 1 or kernel[0][-1] == 0:
+            return None
+        out += [c / -kernel[0][-1] for c in kernel[0][:-1]]
+    return out
+
+
+def _l_relations(cert: Certificate, f: KahanMap, phis: Sequence[Sequence[Frac]], claimed: Mapping[str, str]) -> None:
+    """Relations sum (c_k + d_k L) a_k + c_0 + d_0 L = 0 at fixed eps, w: null space of samples (a, L a, 1, L)."""
+    with cert.step("relations with coefficients linear in L (fixed eps, w)", "null space of exact samples of "
+                   "(alpha, beta, gamma, 1) and L times them; ranks with the rows at a fresh point",
+                   f"Q at eps, w = {L_SAMPLE}") as s:
+        big_l = _cite_l(cert, f, "flow-second-theorem")
+        rng = random.Random(1)
+        samples: list[list[flint.fmpq]] = []
+        while len(samples) < 60:
+            point = {**L_SAMPLE, **{v: flint.fmpq(rng.randint(-9, 9), rng.randint(1, 5)) for v in f.variables}}
+            try:
+                a = kernel_coordinates(f, phis, point)
+            except SingularPointError:
+                continue
+            if a is not None:
+                samples.append([c * big_l.evaluate(point) ** d for d in (0, 1) for c in (*a, flint.fmpq(1))])
+        space = nullspace_q(samples)
+        s.require(str(len(space) - 18) == claimed["L_relations"].strip(),
+                  f"{len(space)} relations linear in L, i.e. {len(space) - 18} beyond the nine and their L-multiples")
+        point = {**L_SAMPLE, **{v: flint.fmpq(rng.randint(-9, 9), rng.randint(1, 5)) for v in f.variables}}
+        l0 = big_l.evaluate(point)
+        rel_rows = [[v[k] + v[19 + k] * l0 for k in range(18)] for v in space]
+        orbit = f.orbit_exact(point, 1)
+        hk = {i: [[phis[b][j].evaluate({**point, **orbit[i]}) if k // 6 == b else flint.fmpq(0)
+                   for k, j in ((k, k % 6) for k in range(18))] for b in range(3)] for i in (0, 1)}
+        for key, rows in (("rows0_L", hk[0]), ("rows01_L", hk[0] + hk[1])):
+            got = flint.fmpq_mat(rows + rel_rows).rank()
+            s.require(str(got) == claimed[key].strip(), f"rank {key} = {got}, claimed {claimed[key]}")
+        s.evidence(Status.EVIDENCE_EXACT, points=len(samples))
+        s.note("the relations in L are known only at this (eps, w): their symbolic reconstruction (interpolation in "
+               "eps and w, as recipe (E) does for constant relations) is the missing step; then the 18 unknowns "
+               "follow from rows i = 0, 1 and relations with even integral coefficients (L), Prop. \"prop: even\"")
+
+
 # ---------------------------------------------------------------- the conjecture: exact evidence ----------------
 PHI_MAX_TEXT = "p1**2, p2**2, p3**2, m1**2, m2**2, m3**2, m1*p1, m2*p2, m3*p3, 1"
 SUB_BASES = {"Phi0": (0, 1, 2, 3, 4, 5, 9), "Phi1": (0, 1, 2, 3, 4, 5, 6), "Phi2": (0, 1, 2, 3, 4, 5, 7),
@@ -368,7 +583,7 @@ SUB_BASES = {"Phi0": (0, 1, 2, 3, 4, 5, 9), "Phi1": (0, 1, 2, 3, 4, 5, 6), "Phi2
 def _embedded(kernel: Sequence[Sequence[str]], slots: Sequence[int]) -> list[flint.fmpq]:
     """The 1-dimensional kernel of a sub-basis as a vector of R^10 (zeros outside its slots)."""
     v = [flint.fmpq(0)] * 10
-    for slot, c in zip(slots, kernel[0]):
+    for slot, c in zip(slots, kernel[0], strict=True):
         v[slot] = flint.fmpq(*map(int, c.split("/"))) if "/" in c else flint.fmpq(int(c))
     return v
 
@@ -416,7 +631,7 @@ def _profile_evidence(cert: Certificate, sets: int, per: int) -> None:
                 if prof.kernel is None or any(subs[k].profiles[i].kernel is None for k in subs):
                     continue
                 k_max = [_embedded([vec], range(10)) for vec in prof.kernel]
-                parts = [_embedded(subs[k].profiles[i].kernel, SUB_BASES[k]) for k in SUB_BASES]
+                parts = [_embedded(subs[k].profiles[i].kernel or [], SUB_BASES[k]) for k in SUB_BASES]
                 s.require(flint.fmpq_mat(parts).rank() == 4, f"the four null-spaces are dependent at {prof.point}")
                 s.require(flint.fmpq_mat(k_max + parts).rank() == 4, f"K_Phi0 + ... + K_Phi3 != K_Phi at {prof.point}")
                 total += 1
@@ -428,22 +643,9 @@ def _profile_evidence(cert: Certificate, sets: int, per: int) -> None:
 # ---------------------------------------------------------------- towards the conjecture: Theta for every flow ---
 THETA_RELATION = ("(w2 - w3)*c1*(eps**2*L - c1)*g1 + (w3 - w1)*c2*(eps**2*L - c2)*g2 "
                   "+ (w1 - w2)*c3*(eps**2*L - c3)*g3 = 0")
-# c_k = y + z w_k and b_k - b_j = y (w_k - w_j) - z (w_i w_j - w_j w_k) ... are unchanged by w -> w + c,
-# y -> y - z c: the flow of the family does not move (checked in each proof that uses it)
+# c_k = y + z w_k and b_k - b_j are unchanged by w -> w + c, y -> y - z c: the flow of the family does not move
 YZ_SHIFT = ParameterTranslation(("w1", "w2", "w3"), "w3", (("y", "-z"),))
-
-
-@claim("flow-theta-all", GROUP, "Theta = (p^2, m^2, H4) is an HK-basis of every flow; three integrals",
-       "sec. 6, Th. \"dC Theta\" and the conjecture after eq. \"dC2 map\"",
-       "With w, y, z, eps symbolic (b_k = s + y w_k - z w_i w_j, c_k = y + z w_k: every flow): (g1, g2, g3) from "
-       "(sum g_k I_k) o f^i = H4 o f^i, i = 0, 1, and the claimed relation in L = L_b of flow-general-phi0 are "
-       "even in eps, hence integrals; with g4..g6 by eq. \"Theta rels\" they span K_Theta (dim 1); L_b, g1, g2 "
-       "are functionally independent. The proof runs on the slice w3 = 0 of the shift (w, y) -> (w + c, y - z c), "
-       "which leaves every flow of the family unchanged.",
-       claimed={"relation": THETA_RELATION}, slow=True, uses=["flow-general-phi0"])
-def prove_theta_all_flows(cert: Certificate, claimed: Mapping[str, str]) -> None:
-    g = yz_map()
-    _theta(cert, g, C_OF_YZ, _cite_l(cert, g, "flow-general-phi0"), claimed["relation"], YZ_SHIFT)
+THETA_NAMES = ("g1", "g2", "g3")
 
 
 @claim("flow-second-theta", GROUP, "Second flow: Theta = (p^2, m^2, H4) is an HK-basis; L, g1, g2 independent",
@@ -454,7 +656,66 @@ def prove_theta_all_flows(cert: Certificate, claimed: Mapping[str, str]) -> None
        claimed={"relation": THETA_RELATION}, slow=True, uses=["flow-second-theorem"])
 def prove_second_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(FLOW2)
-    _theta(cert, f, ("w1", "w2", "w3"), _cite_l(cert, f, "flow-second-theorem"), claimed["relation"])
+    big_l = _cite_l(cert, f, "flow-second-theorem")
+    rel = _theta_relation(cert, f, ("w1", "w2", "w3"), big_l, claimed["relation"])
+    basis, h4 = _theta_basis(f)
+    with cert.step("candidate: g1 by Cramer's rule, g2, g3 by the cyclic symmetry", "one Cramer component over "
+                   "Q(m, p, eps, w); index shift 1 -> 2 -> 3 (the system is cyclically symmetric)", f.ring) as s:
+        rows, rhs = zip(*(hk_row(f, basis, h4, i) for i in (0, 1)), strict=True)
+        (g1,), _ = cramer([*rows, rel.coefficients], [*rhs, rel.rhs], columns=[0])
+        candidate = [g1, shift_frac(g1), shift_frac(shift_frac(g1))]
+        s.note("only a candidate: the next steps prove it is the unique solution (substitution into every row)")
+    point = {k: v for k, v in RANK_POINT.items() if k in f.ring.names}
+    sol = verify_by_evenness(cert, f, basis, h4, THETA_NAMES, candidate, point, (0, 1), [rel],
+                             check=check_solution_by_rows)
+    for k, v in zip(THETA_NAMES, sol, strict=True):
+        record(cert, k, v)
+    _theta_kernel(cert, f, basis, h4)
+    _independent(cert, f, [big_l, *sol], "L, g1, g2")
+
+
+@claim("flow-theta-all", GROUP, "Theta = (p^2, m^2, H4) is an HK-basis of every flow; three integrals",
+       "sec. 6, Th. \"dC Theta\" and the conjecture after eq. \"dC2 map\"",
+       "With w, y, z, eps symbolic (b_k = s + y w_k - z w_i w_j, c_k = y + z w_k: every flow), z != 0: the second "
+       "flow's Theta kernel (flow-second-theta) carried by the substitution of flow-reduction is the unique solution "
+       "(g1, g2, g3) of (sum g_k I_k) o f^i = H4 o f^i, i = 0, 1, and the claimed relation in L = L_b (the integral "
+       "of flow-general-phi0, = z^3 sigma(L) for the second flow's L); the g_k are even in eps and integrals; with "
+       "g4..g6 by eq. \"Theta rels\" they span K_Theta (dim 1); L_b, g1, g2 are functionally independent. z = 0: "
+       "the first flow's Theta kernel (dc-theta) at eps' = y eps.",
+       claimed={"relation": THETA_RELATION}, slow=True, uses=["flow-reduction", "flow-second-theta", "flow-second-theorem", "dc-theta"])
+def prove_theta_all_flows(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    sigma, sigma0 = reduction_substitutions(require_proven(cert, "flow-reduction").formulas)
+    g, g0 = yz_map(), yz_map_at_z0()
+    second, flow2 = require_proven(cert, "flow-second-theta"), kahan_map(FLOW2)
+    l2 = _cite_l(cert, flow2, "flow-second-theorem")
+    with cert.step("z != 0: L_b = z^3 sigma(L) and the Theta kernel carried by sigma", "the substitution of "
+                   "flow-reduction applied exactly (one homogenized compose each); L_b = A/D as in flow-general-phi0",
+                   g.ring) as s:
+        big_l = Frac(g.ring, g.ring.gen("z") ** 3) * sigma.apply(l2)
+        known = {k: named(g, v, {}) for k, v in GENERAL_NAMES.items() if k.startswith("c")}
+        known.update({k: named(g, v, known) for k, v in GENERAL_NAMES.items() if k.startswith("E")})
+        a_poly, d_poly = named(g, GENERAL_CLAIM["A"], known), named(g, GENERAL_CLAIM["D"], known)
+        s.require_equal(big_l, a_poly / d_poly, "z^3 sigma(L) = A/D")
+        sol = [sigma.apply(recall(second, k, flow2.ring)) for k in THETA_NAMES]
+        s.note("sigma(f_2) = f_(y,z) (flow-reduction) and sigma is an injective homomorphism of fields fixing x: "
+               "the identities proven for the second flow -- rows i = 0, 1, L o f = L, g_k o f = g_k -- hold for "
+               "their images; the checks below apply the substitution to every transported statement")
+        for k, v in zip(THETA_NAMES, sol, strict=True):
+            record(cert, k, v)
+    rel = _theta_relation(cert, g, C_OF_YZ, big_l, claimed["relation"])
+    basis, h4 = _theta_basis(g)
+    _transported_solution(cert, g, basis, h4, sol, [rel], "z != 0")
+    _theta_kernel(cert, g, basis, h4)
+    _independent(cert, g, [big_l, *sol], "L_b, g1, g2")
+    first = kahan_map(FIRST)
+    theta1 = require_proven(cert, "dc-theta")
+    with cert.step("z = 0: the first flow's Theta kernel at eps' = y eps", "sigma0 of flow-reduction applied "
+                   "exactly", g0.ring) as s:
+        sol0 = [sigma0.apply(recall(theta1, k, first.ring)) for k in THETA_NAMES]
+        s.note("sigma0(f_1) = f_(y,0) (flow-reduction): dc-theta's identities carry over")
+    basis0, h40 = _theta_basis(g0)
+    _transported_solution(cert, g0, basis0, h40, sol0, [], "z = 0")
+    _theta_kernel(cert, g0, basis0, h40)
 
 
 def _cite_l(cert: Certificate, kmap: KahanMap, claim_id: str) -> Frac:
@@ -462,47 +723,75 @@ def _cite_l(cert: Certificate, kmap: KahanMap, claim_id: str) -> Frac:
     return Frac.parse(kmap.ring, require_proven(cert, claim_id).formulas["L"])
 
 
-def _theta(cert: Certificate, f: KahanMap, c_of: Sequence[str], big_l: Frac, relation: str,
-           shift: ParameterTranslation | None = None) -> None:
-    """Th. "dC Theta" for a flow: rows i = 0, 1 of eq. "clebsch_ansatz_3a" plus a relation in L, Prop. "prop: even"
-    (on the slice of `shift` if given)."""
+def _theta_basis(f: KahanMap) -> tuple[list[Frac], Frac]:
+    """Eq. "clebsch_ansatz_3a": the reduced basis (I1, I2, I3) and the target H4."""
+    return [named(f, i) for i in ("I1", "I2", "I3")], named(f, "H4")
+
+
+def _theta_relation(cert: Certificate, f: KahanMap, c_of: Sequence[str], big_l: Frac, relation: str) -> Relation:
+    """The claimed relation among g1, g2, g3 with coefficients polynomials in the even integral L."""
     r = f.ring
     with cert.step("the relation in L", "coefficients polynomials in L (an even integral); parameters symbolic",
                    r) as s:
         s.require(big_l.is_even_in("eps"), "L is not even in eps")
         lhs = re.sub(r"\bc([123])\b", lambda m: c_of[int(m.group(1)) - 1], relation.split("=")[0])
-        unit = {n: Frac(r, 0) for n in ("g1", "g2", "g3")}
-        coefficients = [named(f, lhs, {"L": big_l, **unit, k: Frac(r, 1)}) for k in ("g1", "g2", "g3")]
+        unit = {n: Frac(r, 0) for n in THETA_NAMES}
+        coefficients = [named(f, lhs, {"L": big_l, **unit, k: Frac(r, 1)}) for k in THETA_NAMES]
         s.require(named(f, relation.split("=")[1], {"L": big_l}).is_zero(), "the relation is not homogeneous")
-    rel = Relation(coefficients, Frac(r, 0), source="L is an even integral (flow-general-phi0 / flow-second-theorem)")
-    basis = [named(f, i) for i in ("I1", "I2", "I3")]
-    h4 = named(f, "H4")
-    if shift is None:
-        sol = prove_by_evenness(cert, f, basis, h4, ("g1", "g2", "g3"), (0, 1), [rel])
-    else:
-        sol = prove_on_slice(cert, f, shift, basis, h4, ("g1", "g2", "g3"), (0, 1), [rel])
+    return Relation(coefficients, Frac(r, 0), source="L is an even integral (flow-second-theorem)")
+
+
+def _transported_solution(cert: Certificate, f: KahanMap, basis: Sequence[Frac], target: Frac,
+                          sol: Sequence[Frac], relations: Sequence[Relation], case: str) -> None:
+    """What a transported solution of rows i = 0, 1 (+ relations) must satisfy, checked on the new map."""
+    r = f.ring
+    with cert.step(f"{case}: the transported (g1, g2, g3) is the unique solution, even in eps",
+                   "exact parity; row i = 0 and the relations by substitution; row i = 1 by transport; det of the "
+                   "system at a rational point", r) as s:
+        for k, v in zip(THETA_NAMES, sol, strict=True):
+            s.require(v.is_even_in(EPS), f"the transported {k} is not even in eps")
+        s.require(linear_combination_equals(basis, sol, target), "row i = 0 fails for the transported solution")
+        for rel in relations:
+            s.require(linear_combination_equals(rel.coefficients, sol, rel.rhs), "the relation fails")
+        point = {k: v for k, v in RANK_POINT.items() if k in r.names}
+        iterates = (0, 1) if relations else (0, 1, 2)
+        det = det_at_point(f, basis, iterates, relations, point)
+        s.require(det != 0, "the transported system is singular at the sample point")
+        s.note(f"det = {det} at a rational point: the solution is unique; it is even in eps and satisfies rows "
+               "i = 0, 1 (row 1: the image of the base claim's identity), so Prop. \"prop: even\" makes g1, g2, g3 "
+               "integrals -- as does the transport of g_k o f = g_k itself")
+
+
+def _theta_kernel(cert: Certificate, f: KahanMap, basis: Sequence[Frac], h4: Frac) -> None:
+    """K_Theta = [g1 : ... : g6 : -1] with eq. "Theta rels", dim 1 (exact rank of X_[0,6] at a rational point)."""
+    r = f.ring
     with cert.step("K_Theta = [g1 : ... : g6 : -1], dim 1", "eq. \"Theta rels\" expands sum g_k I_k in monomials "
                    "(identity for symbolic g_k); exact rank of X_[0,6] at a rational point", r) as s:
-        sym = r.extend(["g1", "g2", "g3"])
-        gk = [Frac.parse(sym, n) for n in ("g1", "g2", "g3")]
+        sym = r.extend(THETA_NAMES)
+        gk = [Frac.parse(sym, n) for n in THETA_NAMES]
         wk = [named(f, n).to_ring(sym) for n in ("w1", "w2", "w3")]
         full = gk + [(gk[1] - gk[2]) / (wk[1] - wk[2]), (gk[2] - gk[0]) / (wk[2] - wk[0]),
                      (gk[0] - gk[1]) / (wk[0] - wk[1])]
         mono = [Frac.parse(sym, phi) for phi in PHI0]
-        s.require_equal(sum((a * m for a, m in zip(full, mono)), Frac(sym, 0)),
-                        sum((a * b.to_ring(sym) for a, b in zip(gk, basis)), Frac(sym, 0)), "sum g_k phi_k")
+        s.require_equal(sum((a * m for a, m in zip(full, mono, strict=True)), Frac(sym, 0)),
+                        sum((a * b.to_ring(sym) for a, b in zip(gk, basis, strict=True)), Frac(sym, 0)), "sum g_k phi_k")
         point = {k: v for k, v in RANK_POINT.items() if k in r.names}
         rows = [[Frac.parse(r, phi).evaluate({**point, **x}) for phi in PHI0] + [h4.evaluate({**point, **x})]
                 for x in f.orbit_exact(point, 6)]
         s.require(flint.fmpq_mat(rows).rank() == 6, "rank X_[0,6] != 6 for Theta at the sample point")
-    with cert.step("L, g1, g2 functionally independent", "exact Jacobian rank at a rational point (parameters and "
+
+
+def _independent(cert: Certificate, f: KahanMap, funcs: Sequence[Frac], names: str) -> None:
+    """The first three of `funcs` are functionally independent: exact Jacobian rank 3 at a rational point."""
+    r = f.ring
+    with cert.step(f"{names} functionally independent", "exact Jacobian rank at a rational point (parameters and "
                    "eps set first, then derivatives in x)", r) as s:
         point = {k: v for k, v in RANK_POINT.items() if k in r.names}
         params = {k: v for k, v in point.items() if k not in f.variables}
         small = r.drop(params)
-        funcs = [h.specialize(params, small) for h in [big_l, *sol]]
+        small_funcs = [h.specialize(params, small) for h in funcs]
         xs = {k: point[k] for k in f.variables}
-        rank = jacobian_rank_at(funcs[:3], f.variables, xs)
-        s.require(rank == 3, f"L, g1, g2 have Jacobian rank {rank} at the point")
-        s.note(f"rank of the Jacobian of (L, g1, g2, g3): {jacobian_rank_at(funcs, f.variables, xs)}; full rank at one "
-               "point proves independence over the field of the symbolic parameters")
+        rank = jacobian_rank_at(small_funcs[:3], f.variables, xs)
+        s.require(rank == 3, f"{names} have Jacobian rank {rank} at the point")
+        s.note(f"rank of the Jacobian of all {len(funcs)}: {jacobian_rank_at(small_funcs, f.variables, xs)}; full "
+               "rank at one point proves independence over the field of the symbolic parameters")

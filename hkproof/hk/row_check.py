@@ -1,0 +1,76 @@
+"""Substituting a solution back into a row with an iterate, (sum a_k phi_k) o f^i = phi_l o f^i, by a Horner
+scheme in the numerators of f^i: the big solution is multiplied only by the small numerators N_j, one at a time,
+never by the big rows phi_k o f^i (Prop. "prop: even", check 4, for polynomial basis functions)."""
+from __future__ import annotations
+
+from typing import Sequence
+
+import flint
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.linalg import lcm
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.hk.reduced import Relation, linear_combination_equals
+
+Monomial = tuple[int, ...]
+
+
+def row_holds(kmap: KahanMap, basis: Sequence[Frac], target: Frac, i: int, solution: Sequence[Frac]) -> bool:
+    """sum a_k(x) phi_k(f^i(x)) == phi_l(f^i(x)) exactly, for basis functions and target polynomial in x.
+
+    With f^i = N / Delta and D the largest degree, the row times Delta^D is sum_mu C_mu(x) N^mu Delta^(D - |mu|),
+    C_mu(x) = sum_k a_k(x) [x^mu] phi_k - [x^mu] phi_l (the a_k stay at x, only phi moves); it is evaluated by
+    Horner's scheme in (N, Delta) over the common denominator of the C_mu, and compared with 0. Row i = 0 is the
+    plain substitution.
+    """
+    if i == 0:
+        return linear_combination_equals(basis, solution, target)
+    ring = kmap.ring
+    coefficients: dict[Monomial, Frac] = {}
+    for a, phi in [*zip(solution, basis, strict=True), (Frac(ring, -1), target)]:
+        for mu, c in _x_coefficients(kmap, phi).items():
+            coefficients[mu] = coefficients.get(mu, Frac(ring, 0)) + a * c
+    coefficients = {mu: c for mu, c in coefficients.items() if not c.is_zero()}
+    if not coefficients:
+        return True
+    nums, delta = kmap.iterate(i) if abs(i) > 1 else (kmap.explicit if i > 0 else kmap.inverse_explicit)
+    top = max(sum(mu) for mu in coefficients)
+    common = lcm([c.den for c in coefficients.values()])
+    terms = {(*mu, top - sum(mu)): c.num * (common / c.den) for mu, c in coefficients.items()}
+    return _horner(terms, [*nums, delta]).is_zero()
+
+
+def check_solution_by_rows(kmap: KahanMap, basis: Sequence[Frac], target: Frac, iterates: Sequence[int],
+                           relations: Sequence[Relation], solution: Sequence[Frac]) -> bool:
+    """`hk.reduced.check_solution` with the rows checked by `row_holds` (the relations by substitution)."""
+    if not all(row_holds(kmap, basis, target, i, solution) for i in iterates):
+        return False
+    return all(linear_combination_equals(rel.coefficients, solution, rel.rhs) for rel in relations)
+
+
+def _x_coefficients(kmap: KahanMap, phi: Frac) -> dict[Monomial, Frac]:
+    """phi = sum_mu c_mu x^mu with c_mu free of x (phi must be polynomial in x)."""
+    ring, idx = kmap.ring, [kmap.ring.index(v) for v in kmap.variables]
+    if phi.den_variables_in(kmap.variables):
+        raise ValueError(f"{phi} is not polynomial in {kmap.variables}: no row check by monomials")
+    parts: dict[Monomial, dict] = {}
+    for m, c in phi.num.to_dict().items():
+        mu = tuple(m[k] for k in idx)
+        rest = list(m)
+        for k in idx:
+            rest[k] = 0
+        parts.setdefault(mu, {})[tuple(rest)] = c
+    return {mu: Frac(ring, ring.ctx.from_dict(d), phi.den) for mu, d in parts.items()}
+
+
+def _horner(terms: dict[Monomial, flint.fmpz_mpoly], factors: Sequence[flint.fmpz_mpoly]) -> flint.fmpz_mpoly:
+    """sum_mu terms[mu] prod_j factors[j]^mu_j: factor out the first variable that occurs, recursively."""
+    constant = terms.get(tuple(0 for _ in factors))
+    rest = {mu: p for mu, p in terms.items() if any(mu)}
+    out = constant if constant is not None else factors[0] - factors[0]
+    while rest:
+        j = min(k for mu in rest for k, e in enumerate(mu) if e)
+        inner = {mu[:j] + (mu[j] - 1,) + mu[j + 1:]: p for mu, p in rest.items() if mu[j]}
+        rest = {mu: p for mu, p in rest.items() if not mu[j]}
+        out = out + factors[j] * _horner(inner, factors)
+    return out

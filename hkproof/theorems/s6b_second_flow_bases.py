@@ -1,0 +1,328 @@
+"""Section 6, the conjecture after eq. "dC2 map": the second flow's bases Phi1, Phi2, Phi3 (p^2, m^2, m_k p_k).
+
+hkproof's own discovery (recipe (E) with the integral L as an extra column): the kernel coordinates alpha, beta,
+gamma of the second flow satisfy 23 linear relations with coefficients in Z[eps^2, w] + L Z[eps^2, w] (nine with
+constant coefficients, their L-multiples, and five new ones). Recorded as evidence with the exact facts that make
+them a proof route: with the rows i = 0 they leave one unknown, with the rows i = 0, 1 none.
+"""
+from __future__ import annotations
+
+from typing import Mapping, Sequence
+
+import flint
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.linalg import cramer, lcm
+from hkproof.algebra.ring import Rational, Ring
+from hkproof.dynamics.catalogue import get_system, kahan_map
+from hkproof.dynamics.field import EPS
+from hkproof.experiments.relations import find_relations
+from hkproof.hk.linear_relations import parse_relation, relation_rank
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.errors import HKProofError
+from hkproof.hk.independence import jacobian_rank_at
+from hkproof.hk.reduced import Relation, linear_combination_equals, orbit_points
+from hkproof.hk.row_check import check_solution_by_rows
+from hkproof.proof.certificate import Certificate, Refuted
+from hkproof.orchestration.registry import claim, require_proven
+from hkproof.proof.status import Status
+from hkproof.theorems.s6b_clebsch_bases_345 import UNKNOWNS, bases
+from hkproof.theorems._clebsch import record, substitute_named
+from hkproof.theorems.s6c_clebsch_flows import (FLOW2, GROUP, PHI_MAX_TEXT, RANK_POINT, SUB_BASES,
+                                                 kernel_coordinates)
+
+L_NAMES = tuple(f"L{u}" for u in UNKNOWNS)     # L a_j, L b_j, L c_j: kernel coordinates of (p^2, m^2, L m_k p_k)
+# As found by hkproof (benchmarks/clebsch_flows.py reruns the search; the claim below checks the span again).
+SECOND_PHI_RELATIONS = {
+    "phirel_1": "b2*w2 - b5*w1*w3 - c3*w3 + c6*w1*w2 = 0",
+    "phirel_2": "Lb2*w2 - Lb5*w1*w3 - Lc3*w3 + Lc6*w1*w2 = 0",
+    "phirel_3": "a1*w1 - a4*w2*w3 - b2*w2 + b5*w1*w3 = 0",
+    "phirel_4": "a2*w2*(w1 - w3) - a3*w3*(w1 - w2) - a5*w1*w3*(w1 - w3) + a6*w1*w2*(w1 - w2) = 0",
+    "phirel_5": "La1*w1 - La4*w2*w3 - Lb2*w2 + Lb5*w1*w3 = 0",
+    "phirel_6": "La2*w2*(w1 - w3) - La3*w3*(w1 - w2) - La5*w1*w3*(w1 - w3) + La6*w1*w2*(w1 - w2) = 0",
+    "phirel_7": "b1*w1*(w2 - w3) + b3*w3*(w1 - w2) - b4*w2*w3*(w2 - w3) - b6*w1*w2*(w1 - w2) = 0",
+    "phirel_8": "c1*w1*(w2 - w3) - c2*w2*(w1 - w3) - c4*w2*w3*(w2 - w3) + c5*w1*w3*(w1 - w3) = 0",
+    "phirel_9": "Lb1*w1*(w2 - w3) + Lb3*w3*(w1 - w2) - Lb4*w2*w3*(w2 - w3) - Lb6*w1*w2*(w1 - w2) = 0",
+    "phirel_10": "Lc1*w1*(w2 - w3) - Lc2*w2*(w1 - w3) - Lc4*w2*w3*(w2 - w3) + Lc5*w1*w3*(w1 - w3) = 0",
+    "phirel_11": "-La2*eps**2 + La3*eps**2 + a2*w1 - a3*w1 - a5*w1*(w1 - w3) + a6*w1*(w1 - w2) = 0",
+    "phirel_12": "a2 - a3 + a4*(-w2 + w3) + b2 - b3 + b4*(-w2 + w3) + c2 - c3 + c4*(-w2 + w3) = 0",
+    "phirel_13": "a1 - a3 + a5*(-w1 + w3) + b1 - b3 + b5*(-w1 + w3) + c1 - c3 + c5*(-w1 + w3) = 0",
+    "phirel_14": "La4*eps**2*(w1 - w3) - Lb2*eps**2 + Lb3*eps**2 + Lb4*eps**2*(w2 - w3) + b2*w1 - b3*w1 - "
+                  "b5*w1*(w1 - w3) + b6*w1*(w1 - w2) = 0",
+    "phirel_15": "-La1*eps**2*w1 + 2*La2*eps**2*w1 - 2*La6*eps**2*w1*w2 + Lb2*eps**2*w2 - 2*Lb6*eps**2*w1*w2 - "
+                  "Lc3*eps**2*w3 + 2*a1*w1**2 - 2*a2*w1**2 - 2*a3*w1*w3 - 2*a6*w1**2*(w1 - 2*w2) - 2*b3*w1*w3 + "
+                  "2*b6*w1**2*w2 = 0",
+    "phirel_16": "-La4*eps**2*w3 + La6*eps**2*w1 - Lb3*eps**2 + Lb6*eps**2*w1 + a1*w1 + a3*(-w1 + w3) - a4*w1*(w2 "
+                  "- w3) - a6*w1**2 - b2*w2 + b3*w3 + b5*w1*w3 - b6*w1*w2 = 0",
+    "phirel_17": "-La4*eps**2*w2 + La5*eps**2*w1 - Lc2*eps**2 + Lc5*eps**2*w1 + 2*a1*w1 + a2*(-w1 + w2) - a3*w1 + "
+                  "a4*w1*(w2 - w3) - a5*w1*(2*w1 - w3) + b1*w1 - b2*w2 - b3*w1 - b5*w1*(w1 - 2*w3) + c1*w1 + c2*w2 "
+                  "- c3*w1 - c5*w1**2 = 0",
+    "phirel_18": "La2*eps**2 - La4*eps**2*w3 - La6*eps**2*w2 + Lb1*eps**2 - Lb2*eps**2 - Lb3*eps**2 + "
+                  "Lb5*eps**2*w3 - Lb6*eps**2*w2 + Lc1*eps**2 - Lc2*eps**2 - Lc6*eps**2*w1 + 3*a1*w1 - 2*a2*w1 + "
+                  "a3*(-w1 - w3) - a4*w1*(w2 - w3) - a6*w1*(3*w1 - 4*w2) - b2*w2 - b3*w3 + b5*w1*w3 + b6*w1*w2 = 0",
+    "phirel_19": "-La1*eps**2 + 2*La2*eps**2 - La5*eps**2*w3 - La6*eps**2*w2 - Lb6*eps**2*w2 - Lc5*eps**2*w3 + "
+                  "a1*w1 + a2*(-2*w1 - w2) + a3*(w1 - w3) + a5*w1**2 - a6*w1*(2*w1 - 3*w2) - b1*w1 + b3*(w1 - w3) + "
+                  "b5*w1*(w1 - w3) + b6*w1*w2 - c1*w1 - c2*w2 + c3*w1 + c5*w1**2 = 0",
+    "phirel_20": "La2*eps**2 - La4*eps**2*w2 - La6*eps**2*w2 + Lb1*eps**2 - Lb3*eps**2 - Lb5*eps**2*(w1 - w3) - "
+                  "Lb6*eps**2*w2 + Lc1*eps**2 - Lc2*eps**2 - Lc3*eps**2 + 3*a1*w1 - 2*a2*w1 + a3*(-w1 - w3) + "
+                  "a4*w1*(w2 - w3) - 2*a5*w1*(w1 - w3) - a6*w1*(w1 - 2*w2) - b2*w2 - b3*w3 + b5*w1*w3 + b6*w1*w2 = "
+                  "0",
+    "phirel_21": "-Lb1*eps**2 + Lb3*eps**2 + b1*w2 - b3*w2 - b4*w2*(w2 - w3) - b6*w2*(w1 - w2) = 0",
+    "phirel_22": "La4*eps**2*w2 + Lb5*eps**2*w1 + Lc3*eps**2 + 2*a3*w1 - 2*a4*w2*w3 + 2*a5*w1*(w1 - w3) - 2*b2*w2 "
+                  "+ 2*b3*w2 + 2*b4*w2*(w2 - w3) = 0",
+    "phirel_23": "La4*eps**2*w2*w3 + Lb2*eps**2*w2 + Lc6*eps**2*w1*w2 + 2*a3*w1**2 - 2*a4*w1*w2*w3 + "
+                  "2*a5*w1**2*(w1 - w3) - 2*b2*w1*w2 + 2*b3*w1*w2 + 2*b5*w1*w2*(w1 - w3) - 2*b6*w1*w2*(w1 - w2) = 0",
+}
+RANKS = {"relations": "14", "rows0": "17", "rows01": "18"}
+
+
+def _combined(rel: Relation, big_l: Frac) -> Relation:
+    """A relation among (a, L a) as one among a with coefficients c_k + d_k L."""
+    n = len(UNKNOWNS)
+    return Relation([rel.coefficients[k] + big_l * rel.coefficients[n + k] for k in range(n)], rel.rhs,
+                    "L is an even integral (flow-second-theorem)")
+
+
+SAMPLES: tuple[dict[str, Rational], ...] = ({"eps": flint.fmpq(1, 3), "w1": 2, "w2": -3, "w3": 5, "m1": 1, "m2": 2, "m3": -1, "p1": 3, "p2": -2,
+             "p3": 1}, {"eps": flint.fmpq(2, 5), "w1": -1, "w2": 4, "w3": 7, "m1": 2, "m2": -3, "m3": 1, "p1": 1,
+                        "p2": 5, "p3": -4})
+
+
+def _hold_at_samples(cert: Certificate, f: KahanMap, claimed: Mapping[str, str], big_l: Frac) -> None:
+    """Each claimed relation holds for the exact kernel coordinates at two rational points (exact identities at
+    fixed values, checked before any symbolic work so that a false relation is refuted at once)."""
+    general = f.ring.extend([*UNKNOWNS, *L_NAMES])
+    for point in SAMPLES:
+        with cert.step("the claimed relations at a rational point", "exact kernels of X_[0,6] (fmpq_mat)",
+                       general, fixed=point) as s:
+            coords = kernel_coordinates(f, bases(f), point)
+            if coords is None:
+                raise Refuted(f"a kernel is not one-dimensional at {point}")
+            l0 = big_l.evaluate(point)
+            values = {**point, **dict(zip(UNKNOWNS, coords, strict=True)), **dict(zip(L_NAMES, (l0 * c for c in coords), strict=True))}
+            for key in SECOND_PHI_RELATIONS:
+                s.require(claimed[key].count("=") == 1, f"{key} is not an equation")
+                lhs, rhs = claimed[key].split("=")
+                value = Frac.parse(general, f"({lhs}) - ({rhs})").evaluate(values)
+                s.require(value == 0, f"{key} fails at a rational point ({value})")
+
+
+@claim("flow-second-l-relations-found", GROUP, "Second flow: 23 relations among alpha, beta, gamma with "
+       "coefficients linear in the integral L, found by recipe (E)",
+       "sec. 6, conjecture after eq. \"dC2 map\" (not in the paper)",
+       "Recipe (E) on the bases Phi_k = (p^2, m^2, m_k p_k) and Phi_k' = (p^2, m^2, L m_k p_k) of the second flow "
+       "(whose kernel coordinates are alpha, ... and L alpha, ..., L being an integral) finds a 23-dimensional "
+       "space of relations, spanned by the claimed ones; their coefficients are even in eps. Read as relations "
+       "among alpha, beta, gamma with coefficients in Q(eps, w)[L] they have rank `relations`; at a rational point "
+       "the rows i = 0 add up to rank `rows0` and the rows i = 0, 1 to `rows01` (so alpha, beta, gamma would follow "
+       "from one row with an iterate, by Prop. \"prop: even\"). Evidence, not proof.",
+       claimed={**SECOND_PHI_RELATIONS, **RANKS}, slow=True, expected=Status.EVIDENCE_EXACT, uses=["flow-second-theorem"])
+def prove_l_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    f = kahan_map(FLOW2)
+    r = f.ring
+    big_l = Frac.parse(r, require_proven(cert, "flow-second-theorem").formulas["L"])
+    names = [*UNKNOWNS, *L_NAMES]
+    phis = bases(f)
+    with cert.step("the claimed relations: coefficients even in eps", "exact parity, Q(eps, w)", r) as s:
+        rels = [parse_relation(r, claimed[k], names) for k in SECOND_PHI_RELATIONS]
+        for k, rel in zip(SECOND_PHI_RELATIONS, rels, strict=True):
+            s.require(all(c.is_even_in(EPS) for c in (*rel.coefficients, rel.rhs)), f"{k} is not even in eps")
+        s.require(relation_rank(rels) == len(rels), "the claimed relations are not independent")
+    _hold_at_samples(cert, kahan_map(FLOW2), claimed, big_l)
+    with cert.step("recipe (E) with the columns L alpha, L beta, L gamma: the space is spanned by the claimed "
+                   "relations", "exact kernels at rational points, interpolation in eps and w, fresh checks", r) as s:
+        search = find_relations(f, [*phis, *[b[:6] + [big_l * b[6]] for b in phis]], names=names)
+        found = [Relation(rel.coefficients, rel.rhs) for rel in search.relations]
+        s.require(search.dimension == len(rels) == len(found),
+                  f"relation space of dimension {search.dimension}, {len(found)} reconstructed, {len(rels)} claimed")
+        s.require(relation_rank(found + rels) == len(rels), "a claimed relation is not in the space found")
+        s.evidence(Status.EVIDENCE_EXACT, points=search.samples)
+    combined = [_combined(rel, big_l) for rel in rels]
+    with cert.step("ranks: the relations, with rows i = 0, with rows i = 0, 1", "exact ranks at a rational point "
+                   "(values of Phi_k o f^i and of the relations' coefficients)", "Q at one rational point") as s:
+        point = {k: v for k, v in RANK_POINT.items() if k in r.names}
+        orbit = orbit_points(f, point, (0, 1))
+        rel_rows = [[c.evaluate(point) for c in rel.coefficients] for rel in combined]
+
+        def hk_rows(i: int) -> list[list[flint.fmpq]]:
+            return [[phis[b][k % 6].evaluate(orbit[i]) if k // 6 == b else flint.fmpq(0) for k in range(18)]
+                    for b in range(3)]
+
+        for key, rows in (("relations", rel_rows), ("rows0", hk_rows(0) + rel_rows),
+                          ("rows01", hk_rows(0) + hk_rows(1) + rel_rows)):
+            got = flint.fmpq_mat(rows).rank()
+            s.require(str(got) == claimed[key].strip(), f"rank {key} = {got}, claimed {claimed[key]}")
+        s.evidence(Status.EVIDENCE_EXACT, points=1)
+        s.note("rank 18 with rows i = 0, 1 only and relations whose coefficients are even integrals: the hypotheses of "
+               "Prop. \"prop: even\" hold; what remains for a proof is the symbolic solve (one row with an iterate "
+               "after eliminating 17 unknowns) and the substitution of the solution into the rows i = 1")
+
+
+# ---------------------------------------------------------------- Phi1, Phi2, Phi3 at fixed w: Prop. "prop: even" ---
+W_FIXED = {"w1": 2, "w2": -3, "w3": 5}
+
+
+def _relations_at(claimed: Mapping[str, str], ring: Ring, fixed: Mapping[str, int]) -> list[Relation]:
+    """The claimed relations over Q(eps, L) (w fixed): coefficient of a_k plus L times that of L a_k."""
+    general = kahan_map(FLOW2).ring.drop(kahan_map(FLOW2).variables).extend(["L"])
+    n, big_l = len(UNKNOWNS), Frac(ring, ring.gen("L"))
+    out = []
+    for key in SECOND_PHI_RELATIONS:
+        rel = parse_relation(general, claimed[key], [*UNKNOWNS, *L_NAMES])
+        c = [x.specialize(fixed, ring) for x in rel.coefficients]
+        out.append(Relation([c[k] + big_l * c[n + k] for k in range(n)], rel.rhs.specialize(fixed, ring)))
+    return out
+
+
+def _pivots(rows: Sequence[Sequence[Frac]], point: Mapping[str, Rational]) -> tuple[list[int], list[int]]:
+    """(independent rows, pivot columns) of the relations at a rational point (both valid generically)."""
+    values = [[c.evaluate(point) for c in row] for row in rows]
+    chosen: list[int] = []
+    for k in range(len(values)):
+        if flint.fmpq_mat([values[i] for i in chosen + [k]]).rank() == len(chosen) + 1:
+            chosen.append(k)
+    reduced, rank = flint.fmpq_mat([values[k] for k in chosen]).rref()
+    return chosen, [next(j for j in range(len(UNKNOWNS)) if reduced[i, j] != 0) for i in range(rank)]
+
+
+def solve_on_line(f: KahanMap, phis: Sequence[Sequence[Frac]], rel_rows: Sequence[Sequence[Frac]],
+                  big_l: Frac) -> list[Frac]:
+    """alpha, beta, gamma: the homogeneous relations (rows over Q(eps, L), small) leave 18 - 14 unknowns u, the rows
+    i = 0 a line u_p + t v, and the row i = 1 of Phi1 fixes t (its value by Horner in the numerators of f). A
+    candidate only: the caller substitutes it into every relation (with its right-hand side) and row."""
+    r = f.ring
+    chosen, pivots = _pivots(rel_rows, {"eps": flint.fmpq(1, 7), "L": flint.fmpq(3, 11)})
+    free = [j for j in range(len(UNKNOWNS)) if j not in pivots]
+    if len(free) != 4:
+        raise HKProofError(f"the relations have rank {len(pivots)}, not 14: they leave {len(free)} unknowns, and the "
+                           "rows i = 0 (three) and one row i = 1 cannot fix them")
+    a = [[rel_rows[k][j] for j in pivots] for k in chosen]
+    columns = {fj: dict(zip(pivots, cramer(a, [-rel_rows[k][fj] for k in chosen])[0], strict=True)) for fj in free}
+    lifted = r.extend(["L"])
+
+    def entry(j: int, fj: int) -> Frac:
+        if j in free:
+            return Frac(r, int(j == fj))
+        v = columns[fj][j]
+        return Frac(r, 0) if v.is_zero() else substitute_named(v.to_ring(lifted), {"L": big_l}, r)
+
+    p = [[entry(j, fj) for fj in free] for j in range(len(UNKNOWNS))]
+    rows0 = [[sum((phis[b][j] * p[6 * b + j][c] for j in range(6)), Frac(r, 0)) for c in range(len(free))]
+             for b in range(3)]
+    lead = [row[:3] for row in rows0]
+    u_p = cramer(lead, [phis[b][6] for b in range(3)])[0] + [Frac(r, 0)]
+    v = cramer(lead, [-row[3] for row in rows0])[0] + [Frac(r, 1)]
+    q_p, q_v = ([sum((p[j][c] * w[c] for c in range(len(free))), Frac(r, 0)) for j in range(6)] for w in (u_p, v))
+    nums, _ = f.explicit
+    at = {x: nums[k] for k, x in enumerate(f.variables)}
+    squares = [at[x] ** 2 for x in ("p1", "p2", "p3", "m1", "m2", "m3")]
+
+    def along(q: Sequence[Frac]) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
+        common = lcm([x.den for x in q])
+        return sum((x.num * (common / x.den) * sq for x, sq in zip(q, squares, strict=True)), r.constant(0)), common
+
+    (s_p, d_p), (s_v, d_v) = along(q_p), along(q_v)
+    t = Frac(r, (at["m1"] * at["p1"] * d_p - s_p) * d_v, s_v * d_p)
+    u = [x + t * y for x, y in zip(u_p, v, strict=True)]
+    return [sum((p[j][c] * u[c] for c in range(len(free))), Frac(r, 0)) for j in range(len(UNKNOWNS))]
+
+
+@claim("flow-second-bases-345", GROUP, "Second flow, w = (2, -3, 5): Phi1, Phi2, Phi3 are HK-bases with 1-dim "
+       "null-spaces, alpha, beta, gamma integrals; dim K_Phi = 4 (the conjecture at this w)",
+       "sec. 6, conjecture after eq. \"dC2 map\" for the second flow; analog of Th. \"dC bases 345\"",
+       "For the second flow with w = (2, -3, 5) and eps symbolic: the rows i = 0, 1 of eqs. \"Psi1 iterates\" ... "
+       "\"Psi3 iterates\" and the claimed relations (coefficients even in eps, polynomials in the integral L) have a "
+       "unique solution a1..a6, b1..b6, c1..c6 (coefficient of m_k p_k normalized to -1), even in eps, hence "
+       "integrals (Prop. \"prop: even\"); K_Phi_k = [block k : -1], dim 1; with e (flow-second-theorem) the four "
+       "vectors span K_Phi, dim 4; L, a1, b1, c1 are functionally independent. Specialized: w fixed.",
+       claimed=dict(SECOND_PHI_RELATIONS), slow=True, expected=Status.VERIFIED_SPECIALIZED, uses=["flow-second-theorem"])
+def prove_second_bases(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    f = kahan_map(get_system(FLOW2).specialize(W_FIXED))
+    r = f.ring
+    second = require_proven(cert, "flow-second-theorem")
+    general = kahan_map(FLOW2).ring
+    big_l = Frac.parse(general, second.formulas["L"]).specialize(W_FIXED, r)
+    phis = bases(f)
+    small = r.drop(f.variables).extend(["L"])
+    _hold_at_samples(cert, kahan_map(FLOW2), claimed, Frac.parse(general, second.formulas["L"]))
+    with cert.step("the relations at w = (2, -3, 5): coefficients even in eps, polynomials in L",
+                   "exact parity", small, fixed=W_FIXED) as s:
+        small_rels = _relations_at(claimed, small, W_FIXED)
+        s.require(all(c.is_even_in(EPS) for rel in small_rels for c in (*rel.coefficients, rel.rhs)),
+                  "a coefficient is not even in eps")
+        s.note("their coefficients are in Q(eps^2)[L], L an even integral (flow-second-theorem)")
+    rel_rows = [list(rel.coefficients) for rel in small_rels]
+
+    def at_l(h: Frac) -> Frac:
+        return substitute_named(h.to_ring(r.extend(["L"])), {"L": big_l}, r)
+
+    relations = [Relation([at_l(c) for c in rel.coefficients], at_l(rel.rhs), "L (flow-second-theorem)")
+                 for rel in small_rels]
+    with cert.step("candidate: eliminate with the relations and the rows i = 0, one row i = 1 fixes the rest",
+                   "Cramer over Q(eps, L), then the line of the rows i = 0, then row i = 1 of Phi1 by Horner in the "
+                   "numerators of f", r, fixed=W_FIXED) as s:
+        sol = solve_on_line(f, phis, rel_rows, big_l)
+        s.note(f"numerators up to {max(len(h.num) for h in sol)} terms, denominators {max(len(h.den) for h in sol)}")
+    with cert.step("unique solution: rows i = 0, 1 and the relations have rank 18", "exact rank at a rational point",
+                   r, fixed=W_FIXED) as s:
+        point = {k: v for k, v in RANK_POINT.items() if k in r.names}
+        orbit = orbit_points(f, point, (0, 1))
+        rows = [[phis[b][k % 6].evaluate(orbit[i]) if k // 6 == b else flint.fmpq(0) for k in range(18)]
+                for i in (0, 1) for b in range(3)]
+        rows += [[c.evaluate(point) for c in rel.coefficients] for rel in relations]
+        s.require(flint.fmpq_mat(rows).rank() == 18, "the system is not of rank 18 at the point")
+    with cert.step("hypotheses of Prop. \"prop: even\" and the solution even in eps", "iterates 0, 1 (non-symmetric); "
+                   "relation coefficients even integrals; exact parity of the 18 components", r, fixed=W_FIXED) as s:
+        for name, h in zip(UNKNOWNS, sol, strict=True):
+            s.require(h.is_even_in(EPS), f"{name} is not even in eps")
+    with cert.step("the solution satisfies the system", "substitution: relations and rows i = 0 exactly, rows i = 1 "
+                   "by Horner in the numerators of f (hk.row_check)", r, fixed=W_FIXED) as s:
+        for k, rel in enumerate(relations):
+            s.require(linear_combination_equals(rel.coefficients, sol, rel.rhs), f"relation {k + 1} fails")
+        for b in range(3):
+            block = sol[6 * b:6 * b + 6]
+            s.require(check_solution_by_rows(f, phis[b][:6], phis[b][6], (0, 1), [], block),
+                      f"a row of Phi{b + 1} fails")
+        for name, h in zip(UNKNOWNS, sol, strict=True):
+            record(cert, name, h)
+        s.note("a unique solution of rows i = 0, 1 and relations with even integral coefficients, even in eps: "
+               "its components are integrals (Prop. \"prop: even\"), and (block k, -1) lies in K_Phi_k")
+    _max_basis(cert, f, big_l, sol, second)
+
+
+def _max_basis(cert: Certificate, f: KahanMap, big_l: Frac, sol: Sequence[Frac], second: Certificate) -> None:
+    """dim K_Phi_k = 1, dim K_Phi = 4 = the span of e, alpha, beta, gamma; L, a1, b1, c1 independent."""
+    r = f.ring
+    general = kahan_map(FLOW2).ring
+    e = [Frac.parse(general, second.formulas[f"e{k}"]).specialize(W_FIXED, r) for k in range(1, 7)]
+    zero, minus = Frac(r, 0), Frac(r, -1)
+    vectors = [e + [zero] * 3 + [minus]]
+    for b in range(3):
+        vec = list(sol[6 * b:6 * b + 6]) + [zero] * 4
+        vec[6 + b] = minus
+        vectors.append(vec)
+    point = {k: v for k, v in RANK_POINT.items() if k in r.names}
+    monomials = [Frac.parse(r, m) for m in PHI_MAX_TEXT.split(", ")]
+    with cert.step("K_Phi_k = [block k : -1] (dim 1) and K_Phi = span of the four vectors (dim 4)",
+                   "exact kernels of X_[0,5] and X_[0,6] at a rational point; rank of the four vectors",
+                   r, fixed=W_FIXED) as s:
+        orbit = f.orbit_exact(point, 6)
+        values = [[m.evaluate({**point, **x}) for m in monomials] for x in orbit]
+        s.require(flint.fmpq_mat(values[:6]).rank() == 6, "dim ker X_[0,5] != 4 for the ten monomials")
+        for name, slots in SUB_BASES.items():
+            got = flint.fmpq_mat([[row[k] for k in slots] for row in values]).rank()
+            s.require(got == 6, f"rank X_[0,6] = {got} for {name}, not 6")
+        vals = [[h.evaluate(point) for h in vec] for vec in vectors]
+        s.require(flint.fmpq_mat(vals).rank() == 4, "the four kernel vectors are dependent at the point")
+        s.require(all(sum((a * b for a, b in zip(vec, values[0], strict=True)), flint.fmpq(0)) == 0 for vec in vals),
+                  "a vector misses the row i = 0 at the point")
+        s.note("the four vectors have integral components and satisfy the rows i = 0 (flow-second-theorem and the "
+               "previous steps), hence every row: they lie in K_Phi; independent at one point; a non-zero maximal "
+               "minor of X_[0,5] at one point bounds dim K_Phi by 4 and dim K_Phi_k by 1 off a proper subset")
+    with cert.step("L, a1, b1, c1 functionally independent", "exact Jacobian rank at a rational point", r,
+                   fixed=W_FIXED) as s:
+        params = {k: v for k, v in point.items() if k not in f.variables}
+        ring_x = r.drop(params)
+        funcs = [h.specialize(params, ring_x) for h in (big_l, sol[0], sol[6], sol[12])]
+        rank = jacobian_rank_at(funcs, f.variables, {k: point[k] for k in f.variables})
+        s.require(rank == 4, f"Jacobian rank {rank}, not 4")
