@@ -8,8 +8,7 @@ import flint
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import rank_q
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.experiments.profiles import HK_BASIS, ProfileProblem
-from hkproof.experiments.scene import make_scene
+from hkproof.experiments.profiles import HK_BASIS, exact_profiles
 from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.orchestration.registry import REGISTRY, claim, require_proven
@@ -28,14 +27,9 @@ PHI_SUB = {"Phi0": (0, 1, 2, 9), "Phi1": (0, 1, 2, 3, 4, 5, 6), "Phi2": (0, 1, 2
 
 
 def _profiles(basis_idx, points=POINTS):
-    """Exact kernel profiles (algorithm (N), Theorem "Lem: dim K") of the sub-basis of Phi at the sample points."""
+    """Exact kernel profiles of the sub-basis of Phi with these indices at the sample points."""
     f = kahan_map(SYSTEM)
-    basis = [named(f, PHI_MAX[i]) for i in basis_idx]
-    out = []
-    for values, x in points:
-        problem = ProfileProblem(make_scene(f, values), basis)
-        out.append(problem.profile([to_fmpq(str(v)) for v in x]))
-    return out
+    return exact_profiles(f, [named(f, PHI_MAX[i]) for i in basis_idx], points)
 
 
 @claim("dc-max-basis-bounds", GROUP, "Th. \"dClebsch max basis\", proven part: 3 <= dim K_Phi <= 4",
@@ -81,7 +75,7 @@ KERNEL_STATEMENT = ("Th. \"dClebsch max basis\" and Th. \"dClebsch 1dim bases\" 
        "sec. 6.3, Th. \"dClebsch max basis\", Th. \"dClebsch 1dim bases\"", KERNEL_STATEMENT,
        claimed={"profile": "9 8 7 6 5 4 4 4 4 4"}, expected=Status.EVIDENCE_EXACT)
 def prove_kernel_evidence(cert: Certificate, claimed: Mapping[str, str]) -> None:
-    _kernel_evidence(cert, POINTS, claimed["profile"])
+    check_kernel_profiles(cert, POINTS, claimed["profile"])
 
 
 def kernel_evidence(points=POINTS) -> Certificate:
@@ -89,13 +83,14 @@ def kernel_evidence(points=POINTS) -> Certificate:
     c = REGISTRY["dc-kernel-evidence"]
     cert = Certificate(c.id, c.title, c.paper_ref, c.statement)
     try:
-        _kernel_evidence(cert, points, c.claimed["profile"])
+        check_kernel_profiles(cert, points, c.claimed["profile"])
     except ProofStopped as exc:
         cert.error = str(exc)
     return cert
 
 
-def _kernel_evidence(cert: Certificate, points, profile: str) -> None:
+def check_kernel_profiles(cert: Certificate, points, profile: str) -> None:
+    """The steps of dc-kernel-evidence at `points`: exact profiles of Phi and Phi0..Phi3, and their direct sum."""
     r = kahan_map(SYSTEM).ring
     with cert.step("Phi: exact kernel profiles", "algorithm (N) in exact arithmetic over Q", r) as s:
         profile_max = [number(v) for v in profile.split()]
