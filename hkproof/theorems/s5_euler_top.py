@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from typing import Mapping
 
-from hkproof.algebra.formula import indexed, rename
+from hkproof.algebra.formula import cycled, indexed
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import rank_over_fraction_field
 from hkproof.dynamics.catalogue import kahan_map
@@ -22,13 +22,6 @@ X = ("x1", "x2", "x3")
 CYCLE = {"x1": "x2", "x2": "x3", "x3": "x1", "a1": "a2", "a2": "a3", "a3": "a1"}
 PRODUCT = "(x1 + eps*a1*x2*x3)*(x2 + eps*a2*x3*x1)*(x3 + eps*a3*x1*x2)"
 DELTA = "1 - eps**2*(a2*a3*x1**2 + a3*a1*x2**2 + a1*a2*x3**2) - 2*eps**3*a1*a2*a3*x1*x2*x3"
-
-
-def _cycled(text: str, times: int) -> str:
-    """The formula with indices shifted cyclically (1 -> 2 -> 3 -> 1) `times` times."""
-    for _ in range(times):
-        text = rename(text, CYCLE)
-    return text
 
 
 @claim("et-continuous-integrals", GROUP, "Quadratic integrals of the Euler top",
@@ -185,7 +178,7 @@ def prove_et_symmetric(cert: Certificate, claimed: Mapping[str, str]) -> None:
         sol = prove_by_evenness(cert, f, parse_basis(f.ring, [f"{v}**2" for v in pair]), Frac(f.ring, 1), names)
         with cert.step(f"{label}: solution is the cyclic image of (d1, d2)", "exact comparison", f.ring) as s:
             for got, key in zip(sol, ("d1", "d2"), strict=True):
-                s.require_equal(got, parse(f, _cycled(claimed[key], shift)), f"{label} coefficient")
+                s.require_equal(got, parse(f, cycled(claimed[key], CYCLE, shift)), f"{label} coefficient")
 
 
 @claim("et-full-basis", GROUP, "Th. \"dET full basis\": Phi = (x1^2, x2^2, x3^2, 1) has dim K = 2",
