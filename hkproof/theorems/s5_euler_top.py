@@ -8,11 +8,11 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import rank_over_fraction_field
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
+from hkproof.experiments.profiles import parse_basis
 from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.integrals import lie_derivative
 from hkproof.hk.matrix_form import require_matrix_form
 from hkproof.hk.reduced import prove_by_evenness
-from hkproof.experiments.profiles import parse_basis
 from hkproof.proof.certificate import Certificate
 from hkproof.orchestration.registry import claim, proven, require_proven
 from hkproof.theorems._common import parse, parse_matrix
