@@ -22,10 +22,11 @@ from hkproof.algebra.linalg import cleared_system, cramer, solve_cleared
 from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.reduced import Relation, hk_row
+from hkproof.hk.second_iterate import interpolated_gcd
 from hkproof.orchestration.registry import get_claim, proven, select
 from hkproof.theorems._clebsch import TRANSLATION, X, named, recall
 from hkproof.theorems.s6a_clebsch_bases import THETA_BASIS, THETA_TARGET, theta_relation
-from hkproof.theorems.s6a_clebsch_f2 import _interpolated_gcd
+from hkproof.theorems.s6a_clebsch_f2 import OMEGA_POINTS, w_form_degree
 
 GROUPS = ["clebsch-map", "clebsch-bases", "clebsch-kernels"]
 # the claims of items 1, 2, 4, 5, 6 of the issue (the continuous system, the map, Th. "dC basis 1", "dC basis 2",
@@ -97,7 +98,7 @@ def stages(with_f2: bool) -> tuple[list[tuple[str, float, str]], dict]:
             q, t = timed(lambda: homogenized_compose(r, p, X, nums, delta)[0])
             rows.append((f"f^2 plain compose: {key}", t, f"{len(q)} terms"))
             polys[key] = q
-        g, t = timed(lambda: _interpolated_gcd(r, nums, delta))
+        g, t = timed(lambda: interpolated_gcd(kmap, delta, nums[3], OMEGA_POINTS, w_form_degree))
         rows.append(("f^2 common factor g (gcds at 16 numeric w, interpolation)", t, f"{len(g)} terms"))
         (_, rem), t = timed(lambda: divmod(polys["Delta_h(N, Delta)"], g))
         rows.append(("f^2: exact division Delta_h / g", t, "remainder 0" if rem.is_zero() else "NOT exact"))

@@ -11,7 +11,7 @@ from hkproof.orchestration.registry import get_claim, proven
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import named
 from hkproof.theorems.s6a_clebsch_bases import G1_VIA_ABCD, J_VIA_ABCD
-from hkproof.theorems.s6a_clebsch_kernels import POINTS, _kernel_evidence, kernel_evidence
+from hkproof.theorems.s6a_clebsch_kernels import POINTS, check_kernel_profiles, kernel_evidence
 from tests.conftest import THEOREM_RESULTS
 
 FAST = ["dc-continuous-integrals", "dc-map-equations", "dc-explicit-map", "dc-map-symmetries", "dc-reversibility",
@@ -98,7 +98,7 @@ def test_kernels_are_evidence_only():
 def test_kernel_profile_perturbed_refuted():
     cert = Certificate("x", "x", "x", "x")
     with pytest.raises(ProofStopped):
-        _kernel_evidence(cert, POINTS[:1], "9 8 7 6 5 4 3 3 3 3")
+        check_kernel_profiles(cert, POINTS[:1], "9 8 7 6 5 4 3 3 3 3")
     assert cert.status is Status.REFUTED
 
 

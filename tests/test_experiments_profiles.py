@@ -125,3 +125,15 @@ def test_cli_scan_json(capsys):
 def test_cli_scan_text_says_no_basis(capsys):
     main(["scan", "clebsch", "--basis", "p1**2, m2**2, 1", "--points", "2", "--arithmetic", "modular"])
     assert "dimension 0 (Phi is no HK-basis)" in capsys.readouterr().out
+
+
+def test_exact_profiles_at_points_of_several_scenes():
+    """exact_profiles: Th. "dET full basis" (d = 2) at two scenes; Phi0 of the Euler top has d = 1."""
+    from hkproof.experiments.profiles import exact_profiles
+    f = kahan_map("euler-top")
+    full = [Frac.parse(f.ring, t) for t in ("x1**2", "x2**2", "x3**2", "1")]
+    points = [({"eps": "1/7", "a1": 1, "a2": 2, "a3": -3}, (1, 2, 3)),
+              ({"eps": "1/3", "a1": "1/2", "a2": 5, "a3": -1}, (2, -1, "1/2"))]
+    profiles = exact_profiles(f, full, points)
+    assert [p.dimension for p in profiles] == [2, 2]
+    assert [p.dimension for p in exact_profiles(f, full[:3], points)] == [1, 1]

@@ -106,3 +106,20 @@ def test_cli_relations_json(capsys):
     out = json.loads(capsys.readouterr().out)
     assert code == 0 and out["dimension"] == 2 and len(out["relations"]) == 2
     assert "c1 - c2 = eps**2*(w1 - w2)" in [r["relation"] for r in out["relations"]]
+
+
+def test_a_found_relation_is_a_row_of_the_reduced_systems():
+    """One Relation type: a relation found by recipe (E) is, as found, a row of Prop. "prop: even" (Th. "dC basis 1",
+    second route: (c1 p1^2 + c2 p2^2 + c3 p3^2) o f^i = 1, i = 0, 1, and one relation)."""
+    from hkproof.algebra.fraction import Frac
+    from hkproof.hk.reduced import Relation, prove_by_evenness
+    from hkproof.proof.certificate import Certificate
+    from hkproof.proof.status import Status
+    f = kahan_map("clebsch")
+    rel = find_relations(f, ["p1**2, p2**2, p3**2, 1"]).relations[0]
+    assert isinstance(rel, Relation) and len(rel.names) == 3
+    basis = [Frac.parse(f.ring, t) for t in ("p1**2", "p2**2", "p3**2")]
+    cert = Certificate("t", "t", "-", "-")
+    c = prove_by_evenness(cert, f, basis, Frac(f.ring, 1), ("c1", "c2", "c3"), (0, 1), [rel])
+    assert all(step.status is Status.VERIFIED for step in cert.steps)
+    assert c[0] == Frac.parse(f.ring, "(1 + eps**2*(w1 - w2)*p2**2 + eps**2*(w1 - w3)*p3**2)/(p1**2 + p2**2 + p3**2)")

@@ -358,6 +358,18 @@ def rename(text: str, names: Mapping[str, str]) -> str:
     return "".join(out) + text[last:]
 
 
+def cycled(text: str, names: Mapping[str, str], times: int = 1) -> str:
+    """The formula with the renaming `names` (a cyclic shift of indices such as x1 -> x2 -> x3 -> x1, the paper's
+    cyclic symmetry) applied `times` times.
+
+    >>> cycled("a1*x2", {"a1": "a2", "a2": "a3", "a3": "a1", "x1": "x2", "x2": "x3", "x3": "x1"}, 2)
+    'a3*x1'
+    """
+    for _ in range(times):
+        text = rename(text, names)
+    return text
+
+
 def indexed(text: str, **indices: int) -> str:
     """A formula template with its index placeholders filled: with i=1, j=2 the names a_i, x_j, E_i become a1, x2, E1.
 

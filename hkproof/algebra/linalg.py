@@ -257,3 +257,17 @@ def rank_mod_p(rows: Sequence[Sequence[int]], p: int) -> int:
     if not rows:
         return 0
     return flint.nmod_mat([[int(v) % p for v in r] for r in rows], p).rank()
+
+
+def solve_overdetermined(system: flint.fmpq_mat, values: Sequence[Rational]) -> list[flint.fmpq]:
+    """The exact solution of a consistent overdetermined system A y = v by the normal equations A^T A y = A^T v
+    (A of full column rank; the solution is only a candidate until the caller checks it)."""
+    if system.nrows() != len(values):
+        raise ShapeError(f"the system has {system.nrows()} rows and {len(values)} values")
+    t = system.transpose()
+    try:
+        sol = (t * system).solve(t * flint.fmpq_mat([[to_fmpq(v)] for v in values]))
+    except ZeroDivisionError:
+        raise SingularSystemError(f"the {system.nrows()} x {system.ncols()} system has rank below "
+                                  f"{system.ncols()}: too few or special points") from None
+    return [sol[i, 0] for i in range(sol.nrows())]

@@ -4,18 +4,18 @@ from __future__ import annotations
 import random
 import time
 from dataclasses import dataclass, field
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import flint
 
 from hkproof.algebra.formula import split_list
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.ring import Rational, Ring
+from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.algebra.linalg import rank_q
 from hkproof.errors import DependentBasisError, ParseError, SingularPointError
 from hkproof.experiments.arithmetics import Arithmetic, ExactQ
-from hkproof.experiments.scene import Scene, point_values
+from hkproof.experiments.scene import Scene, make_scene, point_values
 
 HK_BASIS = "hk-basis"          # condition "fundamental finite" holds with d >= 1
 NO_BASIS = "no-hk-basis"       # X_[0,l-1](x) has full rank: K_Phi(x) = 0
@@ -130,3 +130,13 @@ def kernel_vector(problem: ProfileProblem, point: Sequence[Rational]) -> list[fl
     if verdict != HK_BASIS or d != 1:
         return None
     return arithmetic.kernel(raw, 1)[0]
+
+
+def exact_profiles(kmap: KahanMap, basis: Sequence[Frac],
+                   points: Sequence[tuple[Mapping[str, Rational], Sequence[Rational]]]) -> list[KernelProfile]:
+    """Algorithm (N) over Q (Theorem "Lem: dim K") for `basis` at points given as (eps and parameters, x)."""
+    out = []
+    for values, x in points:
+        problem = ProfileProblem(make_scene(kmap, dict(values)), basis)
+        out.append(problem.profile([to_fmpq(str(v)) for v in x]))
+    return out

@@ -16,7 +16,7 @@ from hkproof.algebra.linalg import rank_q
 from hkproof.algebra.ring import Rational
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.experiments.profiles import ProfileProblem, kernel_vector, parse_basis
-from hkproof.experiments.relations import Relation
+from hkproof.experiments.relations import FoundRelation
 from hkproof.experiments.scene import make_scene
 
 
@@ -116,7 +116,7 @@ def _primitive(v: Sequence[int]) -> list[int]:
     return [-a for a in v] if first < 0 else v
 
 
-def agreement(pslq: PSLQSearch, exact: Sequence[Relation], values: Mapping[str, Rational]) -> tuple[int, int]:
+def agreement(pslq: PSLQSearch, exact: Sequence[FoundRelation], values: Mapping[str, Rational]) -> tuple[int, int]:
     """(PSLQ relations lying in the exact relation space at these values, exact relations PSLQ recovers)."""
     rows = [r.row_at(values) for r in exact]
     base = rank_q(rows) if rows else 0

@@ -20,6 +20,7 @@ from hkproof.experiments.points import random_point, random_rational
 from hkproof.experiments.profiles import ProfileProblem, kernel_vector, parse_basis
 from hkproof.experiments.scene import make_scene
 from hkproof.experiments.weights import Weights, scaling_weights
+from hkproof.hk.reduced import Relation
 
 
 class RelationSearchError(HKProofError):
@@ -27,12 +28,12 @@ class RelationSearchError(HKProofError):
 
 
 @dataclass
-class Relation:
-    """sum_k coefficients[k] * names[k] = rhs, coefficients in Q(eps, parameters) (recipe (E))."""
+class FoundRelation(Relation):
+    """A relation found by recipe (E): the row sum_k coefficients[k] * names[k] = rhs of the reduced systems
+    (hk.reduced.Relation, coefficients and rhs in Q(eps, parameters)) with the names of its unknowns and how
+    often it was checked at fresh samples."""
 
-    names: list[str]
-    coefficients: list[Frac]
-    rhs: Frac
+    names: list[str] = field(default_factory=list)
     checked: int = 0
     normalized_name: str | None = None   # the coordinate set to -1, when named: shown projectively
 
@@ -60,7 +61,7 @@ class RelationSearch:
     """The columns searched, the relations found and how they were found."""
 
     names: list[str]
-    relations: list[Relation] = field(default_factory=list)
+    relations: list[FoundRelation] = field(default_factory=list)
     dimension: int = 0
     normalized: list[str] = field(default_factory=list)
     samples: int = 0
@@ -323,9 +324,11 @@ def _restore(kmap: KahanMap, weights: Weights, free: Sequence[str], rel, bases, 
     return [p / ring.ctx.constant(int(content)) if content > 1 else p for p in columns]
 
 
-def _as_relation(ring: Ring, names: Sequence[str], columns, checked: int, normalized_name: str | None) -> Relation:
+def _as_relation(ring: Ring, names: Sequence[str], columns, checked: int,
+                 normalized_name: str | None) -> FoundRelation:
     """sum a_k c_k + a_0 = 0 shown as sum a_k c_k = -a_0, the first coefficient with a positive leading term."""
     first = next(p for p in columns if not p.is_zero())
     sign = -1 if first.coefficient(0) < 0 else 1
     coefficients = [Frac(ring, sign * p) for p in columns[:-1]]
-    return Relation(list(names), coefficients, Frac(ring, -sign * columns[-1]), checked, normalized_name)
+    return FoundRelation(coefficients, Frac(ring, -sign * columns[-1]), names=list(names), checked=checked,
+                         normalized_name=normalized_name)

@@ -54,3 +54,12 @@ def support_stats(ring: Ring, p: flint.fmpz_mpoly, names: Sequence[str]) -> dict
     return {"degree": max((sum(m) for m in monomials), default=0),
             "degrees": {n: max((m[k] for m in monomials), default=0) for k, n in enumerate(names)},
             "monomials": len(monomials), "terms": len(p)}
+
+
+def even_pieces(ring: Ring, p: flint.fmpz_mpoly, name: str, max_degree: int) -> list[flint.fmpz_mpoly] | None:
+    """[p_0, p_2, ..., p_max] with p = sum p_2k name^2k (Prop. "prop: even"), or None if p has an odd power of
+    `name` or a power above `max_degree`."""
+    coeffs = coefficients_in(ring, p, name)
+    if len(coeffs) > max_degree + 1 or any(not c.is_zero() for c in coeffs[1::2]):
+        return None
+    return [coeffs[k] if k < len(coeffs) else ring.ctx.from_dict({}) for k in range(0, max_degree + 1, 2)]

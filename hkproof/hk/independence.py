@@ -16,6 +16,19 @@ def jacobian_rank_at(functions: Sequence[Frac], variables: Sequence[str], point:
     return flint.fmpq_mat(rows).rank()
 
 
+def max_jacobian_rank(functions: Sequence[Frac], variables: Sequence[str],
+                      points: Sequence[Mapping[str, Rational]]) -> int:
+    """The largest exact Jacobian rank at the points, a proven lower bound of the generic rank (sec. 6.5,
+    independence by a non-zero minor); points on a pole of some function are skipped, no functions give 0."""
+    best = 0
+    for point in points:
+        try:
+            best = max(best, jacobian_rank_at(functions, variables, point)) if functions else 0
+        except SingularPointError:
+            continue
+    return best
+
+
 def derivative_at(h: Frac, name: str, point: Mapping[str, Rational]) -> flint.fmpq:
     """d h / d name at a point, by the quotient rule on values (no symbolic gcd; fast for big fractions)."""
     i = h.ring.index(name)

@@ -2,10 +2,13 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Mapping
 
 from hkproof.algebra.fraction import Frac
+from hkproof.algebra.ring import Rational
 from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
+from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 
 
@@ -44,3 +47,37 @@ def lie_derivative(field: QuadraticField, h: Frac) -> Frac:
     for v, f in zip(field.variables, field.rhs, strict=True):
         total = total + h.derivative(v) * f
     return total
+
+
+def point_text(point: Mapping[str, Rational]) -> str:
+    """'x1 = 1, x2 = 2/3, ...' for step methods and notes."""
+    return ", ".join(f"{k} = {v}" for k, v in point.items())
+
+
+def shared_integrals(cert: Certificate, integrals: Mapping[str, Frac], other: KahanMap, label: str,
+                     witness: Mapping[str, Rational], witness_ring: str, symbolic_limit: int = 2000) -> list[str]:
+    """The names of those `integrals` that are also integrals of `other` (sec. 7, Conclusions): refuted by one
+    exact point where h(f(x)) != h(x), else proven by substitution; above `symbolic_limit` terms a function equal at
+    the point is kept as exact evidence only."""
+    moved = {**witness, **other.step_exact(witness)}
+    shared = []
+    with cert.step(f"{label}: values at x and at the other map's image of x",
+                   f"exact evaluation over Q at {point_text(witness)}", witness_ring) as s:
+        kept = [n for n, h in integrals.items() if h.evaluate(witness) == h.evaluate(moved)]
+        refuted = [n for n in integrals if n not in kept]
+        s.note(f"not integrals of the Kahan map of {other.field.name} (I(f(x)) != I(x) at the witness): "
+               f"{', '.join(refuted) or 'none'}")
+    for n in kept:
+        h = integrals[n]
+        with cert.step(f"{n} o f = {n} for the Kahan map of {other.field.name}", "substitution h(N/Delta) - h",
+                       other.ring) as s:
+            if len(h.num) + len(h.den) > symbolic_limit:
+                s.evidence(Status.EVIDENCE_EXACT, 1)
+                s.note(f"{n} has {len(h.num) + len(h.den)} terms: equal at the witness only")
+                shared.append(n)
+                continue
+            if check_integral(other, h).status is Status.VERIFIED:
+                shared.append(n)
+            else:
+                s.note(f"{n} o f != {n}")
+    return shared

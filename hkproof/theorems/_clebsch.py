@@ -6,6 +6,7 @@ from typing import Mapping
 
 import flint
 
+from hkproof.algebra.formula import cycled as formula_cycled
 from hkproof.algebra.formula import parse_rational, rename
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import lcm
@@ -39,9 +40,7 @@ _CYCLE = {"m1": "m2", "m2": "m3", "m3": "m1", "p1": "p2", "p2": "p3", "p3": "p1"
 
 def cycled(text: str, times: int = 1) -> str:
     """The formula with every index shifted cyclically 1 -> 2 -> 3 -> 1, `times` times."""
-    for _ in range(times % 3):
-        text = rename(text, _CYCLE)
-    return text
+    return formula_cycled(text, _CYCLE, times % 3)
 
 
 def shift(ring: Ring, p: flint.fmpz_mpoly) -> flint.fmpz_mpoly:

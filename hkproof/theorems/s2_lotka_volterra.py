@@ -5,9 +5,10 @@ from typing import Mapping
 
 from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.proof.certificate import Certificate
+from hkproof.hk.matrix_form import require_matrix_form
 from hkproof.orchestration.registry import claim
-from hkproof.theorems._common import parse, parse_matrix, require_matrix_form
+from hkproof.proof.certificate import Certificate
+from hkproof.theorems._common import parse, parse_matrix
 
 GROUP = "lotka-volterra"
 

@@ -3,30 +3,25 @@ from __future__ import annotations
 
 from typing import Mapping
 
-from hkproof.algebra.formula import indexed, rename
+from hkproof.algebra.formula import cycled, indexed
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import rank_over_fraction_field
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
+from hkproof.experiments.profiles import parse_basis
 from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.integrals import lie_derivative
+from hkproof.hk.matrix_form import require_matrix_form
 from hkproof.hk.reduced import prove_by_evenness
-from hkproof.proof.certificate import Certificate
 from hkproof.orchestration.registry import claim, proven, require_proven
-from hkproof.theorems._common import monomial_squares, parse, parse_matrix, require_matrix_form
+from hkproof.proof.certificate import Certificate
+from hkproof.theorems._common import parse, parse_matrix
 
 GROUP = "euler-top"
 X = ("x1", "x2", "x3")
 CYCLE = {"x1": "x2", "x2": "x3", "x3": "x1", "a1": "a2", "a2": "a3", "a3": "a1"}
 PRODUCT = "(x1 + eps*a1*x2*x3)*(x2 + eps*a2*x3*x1)*(x3 + eps*a3*x1*x2)"
 DELTA = "1 - eps**2*(a2*a3*x1**2 + a3*a1*x2**2 + a1*a2*x3**2) - 2*eps**3*a1*a2*a3*x1*x2*x3"
-
-
-def _cycled(text: str, times: int) -> str:
-    """The formula with indices shifted cyclically (1 -> 2 -> 3 -> 1) `times` times."""
-    for _ in range(times):
-        text = rename(text, CYCLE)
-    return text
 
 
 @claim("et-continuous-integrals", GROUP, "Quadratic integrals of the Euler top",
@@ -109,7 +104,7 @@ def prove_et_reversibility(cert: Certificate, claimed: Mapping[str, str]) -> Non
 def prove_et_first(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(GROUP)
     r = f.ring
-    basis = monomial_squares(f, ("x1", "x2"))
+    basis = parse_basis(r, "x1**2, x2**2")
     c1, c2 = prove_by_evenness(cert, f, basis, parse(f, "x3**2"), ("c1", "c2"))
     with cert.step("solution is eps-free and equals the printed c1, c2", "exact comparison", r) as s:
         s.require(EPS not in c1.variables() | c2.variables(), "the solution depends on eps")
@@ -148,7 +143,7 @@ def prove_et_first(cert: Certificate, claimed: Mapping[str, str]) -> None:
 def prove_et_second(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(GROUP)
     r = f.ring
-    d1, d2 = prove_by_evenness(cert, f, monomial_squares(f, ("x1", "x2")), Frac(r, 1), ("d1", "d2"))
+    d1, d2 = prove_by_evenness(cert, f, parse_basis(r, "x1**2, x2**2"), Frac(r, 1), ("d1", "d2"))
     with cert.step("solution equals the printed d1, d2", "exact comparison", r) as s:
         s.require_equal(d1, parse(f, claimed["d1"]), "d1")
         s.require_equal(d2, parse(f, claimed["d2"]), "d2")
@@ -180,10 +175,10 @@ def prove_et_symmetric(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(GROUP)
     for shift, pair, label in ((1, ("x2", "x3"), "Phi2"), (2, ("x3", "x1"), "Phi3")):
         names = (f"{label}_{pair[0]}", f"{label}_{pair[1]}")
-        sol = prove_by_evenness(cert, f, monomial_squares(f, pair), Frac(f.ring, 1), names)
+        sol = prove_by_evenness(cert, f, parse_basis(f.ring, [f"{v}**2" for v in pair]), Frac(f.ring, 1), names)
         with cert.step(f"{label}: solution is the cyclic image of (d1, d2)", "exact comparison", f.ring) as s:
             for got, key in zip(sol, ("d1", "d2"), strict=True):
-                s.require_equal(got, parse(f, _cycled(claimed[key], shift)), f"{label} coefficient")
+                s.require_equal(got, parse(f, cycled(claimed[key], CYCLE, shift)), f"{label} coefficient")
 
 
 @claim("et-full-basis", GROUP, "Th. \"dET full basis\": Phi = (x1^2, x2^2, x3^2, 1) has dim K = 2",
@@ -205,7 +200,7 @@ def prove_et_full(cert: Certificate, claimed: Mapping[str, str]) -> None:
     k2 = [zero, g["Phi2_x2"], g["Phi2_x3"], minus]
     k3 = [g["Phi3_x1"], zero, g["Phi3_x3"], minus]
     with cert.step("upper bound: rank X_[0,1] = 2", "exact 2x2 minor of X_[0,1] is non-zero", r) as s:
-        phis = monomial_squares(f, ("x1", "x2", "x3", "1"))
+        phis = parse_basis(r, "x1**2, x2**2, x3**2, 1")
         rows = [phis, [f.pullback(p) for p in phis]]
         s.require(rank_over_fraction_field(rows) == 2, "X_[0,1] does not have rank 2")
         s.note("K_Phi(x) lies in ker X_[0,1](x), of dimension 4 - 2 = 2")

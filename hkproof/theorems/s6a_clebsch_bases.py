@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import time
 import tracemalloc
-
 from typing import Mapping
 
 from hkproof.algebra.formula import indexed
@@ -12,20 +11,37 @@ from hkproof.algebra.linalg import clear_row_denominators, cramer, det
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS, TILDE
 from hkproof.errors import ParseError
-from hkproof.hk.expansion import coefficients_in, taylor
 from hkproof.hk.balance import orbit_matrix
-from hkproof.proof.resources import peak_rss_mb
+from hkproof.hk.expansion import coefficients_in, even_pieces, taylor, weighted_degrees
 from hkproof.hk.independence import jacobian_rank_at, sample_point
-from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals, prove_by_evenness
+from hkproof.hk.linear_relations import parse_relation
+from hkproof.hk.reduced import (
+    Relation,
+    hk_row,
+    linear_combination_equals,
+    prove_by_evenness,
+)
 from hkproof.hk.translation import prove_on_slice, slice_decides, verify_on_slice
-from hkproof.proof.certificate import Certificate
 from hkproof.orchestration.registry import claim, require_proven
-from hkproof.theorems._clebsch import (SYSTEM, TRANSLATION, X, cycled, named, number, recall, record, shift_frac,
-                                       substituted)
+from hkproof.proof.certificate import Certificate
+from hkproof.proof.resources import peak_rss_mb
+from hkproof.theorems._clebsch import (
+    SYSTEM,
+    TRANSLATION,
+    X,
+    cycled,
+    named,
+    number,
+    recall,
+    record,
+    shift_frac,
+    substituted,
+)
 
 GROUP = "clebsch-bases"
 P2 = ("p1**2", "p2**2", "p3**2")
 MP = ("m1*p1", "m2*p2", "m3*p3")
+ONES = {v: 1 for v in X}  # the total degree in (m, p)
 C_PRINTED = "(1 + eps**2*(w1 - w2)*p2**2 + eps**2*(w1 - w3)*p3**2)/(p1**2 + p2**2 + p3**2)"
 J_PRINTED = "(p1**2 + p2**2 + p3**2)/(1 - eps**2*(w1*p1**2 + w2*p2**2 + w3*p3**2))"
 
@@ -63,7 +79,7 @@ def prove_basis1_relations(cert: Certificate, claimed: Mapping[str, str]) -> Non
     r, t = f.ring, f.field.tilde_ring
     p2 = _functions(f, P2)
     with cert.step("solve sum c_k p_k^2 = 1 with the two relations", "Cramer's rule (no iterate of f)", r) as s:
-        rel = [_relation(f, claimed[k], ("c1", "c2", "c3")) for k in ("relation_12", "relation_23")]
+        rel = [parse_relation(r, claimed[k], ("c1", "c2", "c3")) for k in ("relation_12", "relation_23")]
         c, _ = cramer([p2] + [rl.coefficients for rl in rel], [Frac(r, 1)] + [rl.rhs for rl in rel])
         J = named(f, claimed["J"])
         for k in range(3):
@@ -119,7 +135,7 @@ def prove_basis1_even(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
     with cert.step("the relation found by PSLQ", "read as a row sum A_k c_k = B", r) as s:
-        rel = _relation(f, claimed["relation_12"], ("c1", "c2", "c3"))
+        rel = parse_relation(r, claimed["relation_12"], ("c1", "c2", "c3"))
         s.note("proven below as a row of a system whose solution is proven to consist of integrals")
     tracemalloc.start()
     rss0, start = peak_rss_mb(), time.perf_counter()
@@ -155,7 +171,7 @@ def prove_basis2(cert: Certificate, claimed: Mapping[str, str]) -> None:
     r = f.ring
     names = ("d7", "d8", "d9")
     with cert.step("the relation eq. \"dC basis 2 lin rel\" (found by PSLQ)", "read as a row", r) as s:
-        rel = _relation(f, claimed["relation"], names)
+        rel = parse_relation(r, claimed["relation"], names)
         s.note("proven below as a row of the system of Prop. \"prop: even\"")
     basis, target = _functions(f, MP), named(f, "H3")
     d = prove_on_slice(cert, f, TRANSLATION, basis, target, names, (0, 1), [rel])
@@ -172,7 +188,7 @@ def prove_basis2(cert: Certificate, claimed: Mapping[str, str]) -> None:
             + (f"^{e}" if e > 1 else "")
             for q, e in factors) + " (up to a constant): the non-even factors cancel ('miraculous cancellation')")
     with cert.step("the printed relation row of eq. \"dC ansatz_2_final\"", "exact evaluation at the solution", r) as s:
-        printed = _relation(f, PRINTED_ROW, names)
+        printed = parse_relation(r, PRINTED_ROW, names)
         value = sum((c * x for c, x in zip(printed.coefficients, d, strict=True)), Frac(r, 0))
         if value != printed.rhs:
             cert.correction("eq. \"dC ansatz_2_final\" prints the relation row (w2 - w3) d7 + (w3 - w1) d8 + "
@@ -190,21 +206,22 @@ def prove_basis2(cert: Certificate, claimed: Mapping[str, str]) -> None:
         for k, dk in zip(names, d, strict=True):
             bracket = dk * delta / h3
             s.require(bracket.is_polynomial(), f"{k} Delta / H3 is not a polynomial")
-            coeffs = coefficients_in(r, bracket.num, EPS)
+            coeffs = even_pieces(r, bracket.num, EPS, 6)
+            s.require(coeffs is not None, f"{k} Delta / H3 is not 1 + eps^2 (..) + eps^4 (..) + eps^6 (..)")
+            assert coeffs is not None
             s.require(coeffs[0] == bracket.den, f"{k} Delta / H3 does not start with 1")
-            s.require(all(c.is_zero() for c in coeffs[1::2]) and len(coeffs) <= 7,
-                      f"{k} Delta / H3 is not 1 + eps^2 (..) + eps^4 (..) + eps^6 (..)")
             for q in (1, 2, 3):
-                piece = Frac(r, coeffs[2 * q], bracket.den)
-                s.require(_homogeneous_degree(r, piece.num) in (None, 2 * q), f"{k}^({2 * q}) is not of degree {2 * q}")
+                piece = Frac(r, coeffs[q], bracket.den)
+                s.require(weighted_degrees(r, piece.num, ONES) <= {2 * q}, f"{k}^({2 * q}) is not of degree {2 * q}")
                 pieces[f"{k}_{2 * q}"] = piece
                 record(cert, f"{k}^({2 * q})", piece)
             s.require_equal(pieces[f"{k}_2"], named(f, claimed[f"{k}_2"]), f"{k}^(2)")
-        dcoef = coefficients_in(r, delta.num, EPS)
-        s.require(all(c.is_zero() for c in dcoef[1::2]) and len(dcoef) <= 7, "Delta is not even of eps-degree <= 6")
+        dcoef = even_pieces(r, delta.num, EPS, 6)
+        s.require(dcoef is not None, "Delta is not even of eps-degree <= 6")
+        assert dcoef is not None
         for q in (1, 2, 3):
-            piece = Frac(r, dcoef[2 * q], delta.den)
-            s.require(_homogeneous_degree(r, piece.num) in (None, 2 * q + 2), f"Delta^({2 * q + 2}) has a wrong degree")
+            piece = Frac(r, dcoef[q], delta.den)
+            s.require(weighted_degrees(r, piece.num, ONES) <= {2 * q + 2}, f"Delta^({2 * q + 2}) has a wrong degree")
             record(cert, f"Delta^({2 * q + 2})", piece)
             if q == 1:
                 s.require_equal(piece, named(f, claimed["Delta_4"], {f"{k}_2": pieces[f"{k}_2"] for k in names}),
@@ -314,11 +331,12 @@ def prove_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
         for index, gk in enumerate(g, start=1):
             top = gk * 2 * h3 * delta
             s.require(top.is_polynomial(), f"g{index} 2 H3 Delta is not a polynomial")
-            coeffs = coefficients_in(r, top.num, EPS)
-            s.require(all(c.is_zero() for c in coeffs[1::2]) and len(coeffs) <= 7, f"g{index}: not of the stated form")
+            coeffs = even_pieces(r, top.num, EPS, 6)
+            s.require(coeffs is not None, f"g{index}: not of the stated form")
+            assert coeffs is not None
             for q in range(4):
-                piece = Frac(r, coeffs[2 * q], top.den) if 2 * q < len(coeffs) else Frac(r, 0)
-                s.require(_homogeneous_degree(r, piece.num) in (None, 2 * q + 4), f"g{index}^({2 * q + 4}) degree")
+                piece = Frac(r, coeffs[q], top.den)
+                s.require(weighted_degrees(r, piece.num, ONES) <= {2 * q + 4}, f"g{index}^({2 * q + 4}) degree")
             s.require_equal(Frac(r, coeffs[0], top.den), named(f, indexed(claimed["g_4"], k=index)),
                             f"g{index}^(4)")
     with cert.step("g4, g5, g6 and the expansion in monomials", "exact identity in Q(m, p, eps, w)", r) as s:
@@ -336,27 +354,11 @@ def prove_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
 
 def theta_relation(f, additional: str, d: Mapping[str, Frac]) -> Relation:
     """Eq. "dC Theta additional" as a row in (g1, g2, g3), its right-hand side through the d_k of dc-basis2."""
+    if additional.count("=") != 1:
+        raise ParseError(f"{additional!r} is not a relation 'lhs = rhs'")
     lhs, rhs = additional.split("=")
-    rel = _relation(f, f"{lhs} = 0", ("g1", "g2", "g3"))
-    return Relation(rel.coefficients, named(f, rhs, dict(d)), source="dc-basis2 (d7, d8 are integrals)")
-
-
-def _relation(f, text: str, names) -> Relation:
-    """A printed linear relation 'sum A_k a_k = B' among the unknowns `names` (A_k, B free of the unknowns)."""
-    if text.count("=") != 1:
-        raise ParseError(f"{text!r} is not a relation 'lhs = rhs'")
-    lhs, rhs = text.split("=")
-    zero = {n: "0" for n in names}
-    coefficients = [named(f, lhs, {**zero, n: "1"}) - named(f, lhs, zero) for n in names]
-    constant = named(f, lhs, zero)
-    return Relation(coefficients, named(f, rhs) - constant)
-
-
-def _homogeneous_degree(r, p) -> int | None:
-    """The common total degree in (m, p) of the terms of p (None for 0); -1 if p is not homogeneous."""
-    idx = [r.index(n) for n in X]
-    degs = {sum(m[i] for i in idx) for m in p.monoms()}
-    return None if not degs else degs.pop() if len(degs) == 1 else -1
+    rel = parse_relation(f.ring, f"{lhs} = 0", ("g1", "g2", "g3"))
+    return Relation(rel.coefficients, rel.rhs + named(f, rhs, dict(d)), source="dc-basis2 (d7, d8 are integrals)")
 
 
 J_VIA_ABCD = "((A - B)/(w1 - w2) - D)/(eps**2*(w3*D - (w1*A - w2*B)/(w1 - w2)))"

@@ -1,20 +1,15 @@
 """Section 6.2, Table "f2": the second iterate of the discrete Clebsch map, plain and in lowest terms (slow)."""
 from __future__ import annotations
 
-import time
 from functools import lru_cache
 from typing import Any, Mapping
 
-import flint
-
-from hkproof.algebra.fraction import homogenized_compose
-from hkproof.algebra.ring import get_ring
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
-from hkproof.errors import HKProofError
 from hkproof.hk.expansion import support_stats
-from hkproof.proof.certificate import Certificate
+from hkproof.hk.second_iterate import interpolated_gcd, plain_composition
 from hkproof.orchestration.registry import claim, require_proven
+from hkproof.proof.certificate import Certificate
 from hkproof.theorems._clebsch import SYSTEM, X, number
 
 GROUP = "clebsch-f2"
@@ -34,14 +29,14 @@ def plain_second_iterate() -> dict[str, Any]:
     p~~1 = P1_h / Delta_h and m~~1 = M1_h / (Delta Delta_h); the other components follow by the cyclic symmetry.
     """
     f = kahan_map(SYSTEM)
-    r = f.ring
     nums, delta = f.explicit
-    out: dict[str, Any] = {"seconds": {}}
-    for key, p in (("denominator", delta), ("p1", nums[3]), ("m1", nums[0])):
-        start = time.perf_counter()
-        out[key] = homogenized_compose(r, p, X, nums, delta)[0]
-        out["seconds"][key] = time.perf_counter() - start
-    return out
+    out, seconds = plain_composition(f, {"denominator": delta, "p1": nums[3], "m1": nums[0]})
+    return {**out, "seconds": seconds}
+
+
+def w_form_degree(exponents: tuple[int, ...]) -> int:
+    """Weighted homogeneity: the coefficient of m^a p^b in g is a form of degree |b|/2 in w."""
+    return sum(exponents[3:]) // 2
 
 
 def table_row(stats: dict) -> str:
@@ -122,7 +117,7 @@ def prove_f2_reduced(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.require(rem.is_zero(), "Delta does not divide M1(N, Delta)")
     with cert.step("candidate g: gcds at numeric w, interpolated in w", "gcd over Z[m, p, eps] at 16 points w; "
                    "weighted homogeneity fixes the w-degree of each coefficient", r) as s:
-        g = _interpolated_gcd(r, nums, delta)
+        g = interpolated_gcd(f, delta, nums[3], OMEGA_POINTS, w_form_degree)
         s.note(f"candidate with {len(g)} terms; only a candidate until the next step")
     with cert.step("g is the gcd", "exact divisions in Z[m, p, eps, w]; coprimality of the quotients", r) as s:
         den, rem1 = divmod(plain["denominator"], g)
@@ -142,51 +137,3 @@ def prove_f2_reduced(cert: Certificate, claimed: Mapping[str, str]) -> None:
         for row, want in zip(ROWS, claimed["table"].split(";"), strict=True):
             s.require(found[row] == want.strip(), f"reduced row {row}: computed {found[row]}, claimed {want.strip()}")
         s.note("; ".join(f"{k}: {v['monomials']} monomials in (m, p), {v['terms']} terms" for k, v in stats.items()))
-
-
-def _interpolated_gcd(r, nums, delta) -> flint.fmpz_mpoly:
-    """gcd(Delta_h(N, Delta), P1_h(N, Delta)) from its values at numeric w (a candidate, checked by the caller).
-
-    Each term of the gcd is m^a p^b eps^(|a|+|b|) w^d with |d| = |b|/2 (weighted homogeneity), so the
-    coefficient of m^a p^b is a form of degree |b|/2 <= 4 in w, fixed by its values at 15 generic points.
-    """
-    small = get_ring(X)
-    samples = []
-    for w in OMEGA_POINTS:
-        values = {EPS: 1, "w1": w[0], "w2": w[1], "w3": w[2]}
-        n = [r.specialize_poly(p, values, small)[0] for p in nums]
-        d = r.specialize_poly(delta, values, small)[0]
-        g = homogenized_compose(small, d, X, n, d)[0].gcd(homogenized_compose(small, n[3], X, n, d)[0])
-        samples.append(g * int(g.coefficient(len(g) - 1)))  # normalize: constant term 1 (it is +-1)
-    coefficients: dict[tuple, list] = {}
-    for g in samples:
-        for m, c in g.to_dict().items():
-            coefficients.setdefault(m, [])
-    data: dict[tuple, int] = {}
-    for m in coefficients:
-        at_points = [int(g.to_dict().get(m, 0)) for g in samples]
-        k = sum(m[3:]) // 2
-        forms = [(a, b, k - a - b) for a in range(k + 1) for b in range(k + 1 - a)]
-        system = flint.fmpq_mat([[w[0] ** e[0] * w[1] ** e[1] * w[2] ** e[2] for e in forms] for w in OMEGA_POINTS])
-        sol = _solve_overdetermined(system, at_points)
-        for e, coefficient in zip(forms, sol, strict=True):
-            if coefficient.q != 1:
-                raise HKProofError(f"interpolation of the gcd failed at the monomial {m} (unlucky points w)")
-            if coefficient != 0:
-                data[m + (sum(m),) + e] = int(coefficient.p)
-    return r.ctx.from_dict({_to_ring_exponent(r, key): c for key, c in data.items()})
-
-
-def _solve_overdetermined(system: flint.fmpq_mat, values: list[int]) -> list[flint.fmpq]:
-    """The exact solution of a consistent overdetermined system (normal equations; the caller verifies)."""
-    t = system.transpose()
-    rhs = flint.fmpq_mat([[v] for v in values])
-    sol = (t * system).solve(t * rhs)
-    return [sol[i, 0] for i in range(sol.nrows())]
-
-
-def _to_ring_exponent(r, key: tuple) -> tuple:
-    """(m1, m2, m3, p1, p2, p3, eps, w1, w2, w3) exponents in the order of the map's ring."""
-    names = X + (EPS, "w1", "w2", "w3")
-    exps = dict(zip(names, key, strict=True))
-    return tuple(exps.get(n, 0) for n in r.names)

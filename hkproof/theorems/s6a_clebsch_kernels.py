@@ -7,12 +7,11 @@ import flint
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import rank_q
-from hkproof.dynamics.catalogue import kahan_map
-from hkproof.experiments.profiles import HK_BASIS, ProfileProblem
-from hkproof.experiments.scene import make_scene
 from hkproof.algebra.ring import Rational, to_fmpq
-from hkproof.proof.certificate import Certificate, ProofStopped
+from hkproof.dynamics.catalogue import kahan_map
+from hkproof.experiments.profiles import HK_BASIS, exact_profiles
 from hkproof.orchestration.registry import REGISTRY, claim, require_proven
+from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import PHI_MAX, SYSTEM, X, named, number, recall
 
@@ -27,15 +26,10 @@ PHI_SUB = {"Phi0": (0, 1, 2, 9), "Phi1": (0, 1, 2, 3, 4, 5, 6), "Phi2": (0, 1, 2
            "Phi3": (0, 1, 2, 3, 4, 5, 8)}
 
 
-def _profiles(basis_idx, points=POINTS):
-    """Exact kernel profiles (algorithm (N), Theorem "Lem: dim K") of the sub-basis of Phi at the sample points."""
+def phi_max_profiles(basis_idx, points=POINTS):
+    """Exact kernel profiles of the sub-basis of Phi with these indices at the sample points."""
     f = kahan_map(SYSTEM)
-    basis = [named(f, PHI_MAX[i]) for i in basis_idx]
-    out = []
-    for values, x in points:
-        problem = ProfileProblem(make_scene(f, values), basis)
-        out.append(problem.profile([to_fmpq(str(v)) for v in x]))
-    return out
+    return exact_profiles(f, [named(f, PHI_MAX[i]) for i in basis_idx], points)
 
 
 @claim("dc-max-basis-bounds", GROUP, "Th. \"dClebsch max basis\", proven part: 3 <= dim K_Phi <= 4",
@@ -65,7 +59,7 @@ def prove_max_basis_bounds(cert: Certificate, claimed: Mapping[str, str]) -> Non
         s.note("each vector annihilates Phi along every orbit (proven integrals); rank 3 at one point, so the "
                "three are independent over Q(m, p, eps, w)")
     with cert.step("upper bound: rank X_[0,5] = 6", "exact rank at a rational point (orbit in Q)", r) as s:
-        dim = _profiles(range(10), POINTS[:1])[0].dims[5]
+        dim = phi_max_profiles(range(10), POINTS[:1])[0].dims[5]
         s.require(dim == number(claimed["upper"]), f"dim ker X_[0,5] = {dim} at the sample point")
         s.note("a non-zero 6x6 minor at one point is a non-zero rational function: dim K_Phi <= 4 off a proper "
                "algebraic subset")
@@ -81,7 +75,7 @@ KERNEL_STATEMENT = ("Th. \"dClebsch max basis\" and Th. \"dClebsch 1dim bases\" 
        "sec. 6.3, Th. \"dClebsch max basis\", Th. \"dClebsch 1dim bases\"", KERNEL_STATEMENT,
        claimed={"profile": "9 8 7 6 5 4 4 4 4 4"}, expected=Status.EVIDENCE_EXACT)
 def prove_kernel_evidence(cert: Certificate, claimed: Mapping[str, str]) -> None:
-    _kernel_evidence(cert, POINTS, claimed["profile"])
+    check_kernel_profiles(cert, POINTS, claimed["profile"])
 
 
 def kernel_evidence(points=POINTS) -> Certificate:
@@ -89,23 +83,24 @@ def kernel_evidence(points=POINTS) -> Certificate:
     c = REGISTRY["dc-kernel-evidence"]
     cert = Certificate(c.id, c.title, c.paper_ref, c.statement)
     try:
-        _kernel_evidence(cert, points, c.claimed["profile"])
+        check_kernel_profiles(cert, points, c.claimed["profile"])
     except ProofStopped as exc:
         cert.error = str(exc)
     return cert
 
 
-def _kernel_evidence(cert: Certificate, points, profile: str) -> None:
+def check_kernel_profiles(cert: Certificate, points, profile: str) -> None:
+    """The steps of dc-kernel-evidence at `points`: exact profiles of Phi and Phi0..Phi3, and their direct sum."""
     r = kahan_map(SYSTEM).ring
     with cert.step("Phi: exact kernel profiles", "algorithm (N) in exact arithmetic over Q", r) as s:
         profile_max = [number(v) for v in profile.split()]
-        full = _profiles(range(10), points)
+        full = phi_max_profiles(range(10), points)
         for p in full:
             s.require(p.dims == profile_max and p.verdict == HK_BASIS, f"profile {p.dims} at {p.point}")
         s.evidence(Status.EVIDENCE_EXACT, points=len(points))
         s.note("condition \"fundamental finite\" holds with d = 4 at each point")
     with cert.step("Phi0..Phi3: exact kernel profiles; the direct sum", "algorithm (N) over Q; exact ranks", r) as s:
-        subs = {name: _profiles(idx, points) for name, idx in PHI_SUB.items()}
+        subs = {name: phi_max_profiles(idx, points) for name, idx in PHI_SUB.items()}
         for name, profiles in subs.items():
             for p in profiles:
                 s.require(p.verdict == HK_BASIS and p.dimension == 1, f"{name}: profile {p.dims} at {p.point}")

@@ -10,10 +10,11 @@ from hkproof.dynamics.field import EPS
 from hkproof.hk.expansion import support_stats, weighted_degrees
 from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.integrals import lie_derivative
-from hkproof.proof.certificate import Certificate
+from hkproof.hk.matrix_form import require_matrix_form
 from hkproof.orchestration.registry import claim
-from hkproof.theorems._clebsch import H, SYSTEM, X, cycled, named, number, shift
-from hkproof.theorems._common import parse, parse_matrix, require_matrix_form
+from hkproof.proof.certificate import Certificate
+from hkproof.theorems._clebsch import SYSTEM, H, X, cycled, named, number, shift
+from hkproof.theorems._common import parse, parse_matrix
 
 GROUP = "clebsch-map"
 TILDE_EQUATIONS = {

@@ -10,12 +10,18 @@ from hkproof.dynamics.field import EPS
 from hkproof.hk.independence import sample_point
 from hkproof.hk.reduced import Relation, det_at_point, linear_combination_equals
 from hkproof.hk.translation import check_solution_on_slice, prove_on_slice
-from hkproof.proof.certificate import Certificate
 from hkproof.orchestration.registry import claim, require_proven
+from hkproof.proof.certificate import Certificate
 from hkproof.theorems._clebsch import SYSTEM, TRANSLATION, X, named, recall, record
-from hkproof.theorems.s6a_clebsch_kernels import POINTS, _profiles
-from hkproof.theorems.s6b_clebsch_bases_345 import (F_TEXT, GROUP, REL18, _eps_pieces,
-                                                    bases, relation_rows)
+from hkproof.theorems.s6a_clebsch_kernels import POINTS, phi_max_profiles
+from hkproof.theorems.s6b_clebsch_bases_345 import (
+    F_TEXT,
+    GROUP,
+    REL18,
+    _eps_pieces,
+    bases,
+    relation_rows,
+)
 
 ALPHA123 = {"a1": "H3 - I1", "a2": "-I1", "a3": "-I1", "b1": "-I2", "b2": "H3 - I2", "b3": "-I2",
             "c1": "-I3", "c2": "-I3", "c3": "H3 - I3"}
@@ -178,11 +184,11 @@ def prove_max_basis(cert: Certificate, claimed: Mapping[str, str]) -> None:
                "(the normalization (d7, d8, d9) M1 = (1, 1, 1) and (d7, d8, d9) M2 = 0 of the paper)")
     with cert.step("upper bounds: dim K_Phi <= 4, dim K_Phi_j <= 1", "exact kernel of the rows i = 0 ... 5 at a "
                    "rational point (a non-zero maximal minor)", r) as s:
-        (full,) = _profiles(range(10), POINTS[:1])
+        (full,) = phi_max_profiles(range(10), POINTS[:1])
         s.require(str(full.dims[5]) == claimed["dim"].strip(), f"dim ker X_[0,5] = {full.dims[5]} for Phi")
         for name, idx in (("Phi1", (0, 1, 2, 3, 4, 5, 6)), ("Phi2", (0, 1, 2, 3, 4, 5, 7)),
                           ("Phi3", (0, 1, 2, 3, 4, 5, 8))):
-            (p,) = _profiles(idx, POINTS[:1])
+            (p,) = phi_max_profiles(idx, POINTS[:1])
             s.require(p.dims[5] == 1, f"dim ker X_[0,5] = {p.dims[5]} for {name}")
         s.note("a non-zero maximal minor at one point is a non-zero rational function: the bounds hold off a "
                "proper algebraic subset; with the lower bound, dim K_Phi = 4 = 1 + 1 + 1 + 1 and K_Phi is the sum "

@@ -16,20 +16,26 @@ from hkproof.algebra.linalg import cramer, lcm
 from hkproof.algebra.ring import Rational, Ring
 from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.field import EPS
-from hkproof.experiments.relations import find_relations
-from hkproof.hk.linear_relations import parse_relation, relation_rank
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
+from hkproof.experiments.relations import find_relations
 from hkproof.hk.independence import jacobian_rank_at
+from hkproof.hk.linear_relations import parse_relation, relation_rank
 from hkproof.hk.reduced import Relation, linear_combination_equals, orbit_points
 from hkproof.hk.row_check import check_solution_by_rows
-from hkproof.proof.certificate import Certificate, Refuted
 from hkproof.orchestration.registry import claim, require_proven
+from hkproof.proof.certificate import Certificate, Refuted
 from hkproof.proof.status import Status
-from hkproof.theorems.s6b_clebsch_bases_345 import UNKNOWNS, bases
 from hkproof.theorems._clebsch import record, substitute_named
-from hkproof.theorems.s6c_clebsch_flows import (FLOW2, GROUP, PHI_MAX_TEXT, RANK_POINT, SUB_BASES,
-                                                 kernel_coordinates)
+from hkproof.theorems.s6b_clebsch_bases_345 import UNKNOWNS, bases
+from hkproof.theorems.s6c_clebsch_flows import (
+    FLOW2,
+    GROUP,
+    PHI_MAX_TEXT,
+    RANK_POINT,
+    SUB_BASES,
+    kernel_coordinates,
+)
 
 L_NAMES = tuple(f"L{u}" for u in UNKNOWNS)     # L a_j, L b_j, L c_j: kernel coordinates of (p^2, m^2, L m_k p_k)
 # As found by hkproof (benchmarks/clebsch_flows.py reruns the search; the claim below checks the span again).

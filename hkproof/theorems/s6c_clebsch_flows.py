@@ -9,8 +9,8 @@ from typing import Mapping, Sequence
 import flint
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.ring import Rational
 from hkproof.algebra.linalg import cramer, nullspace_q, rank_over_fraction_field
+from hkproof.algebra.ring import Rational
 from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
@@ -20,23 +20,41 @@ from hkproof.experiments.scan import scan
 from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.integrals import check_integral, lie_derivative
 from hkproof.hk.linear_relations import parse_relation, relation_rank
-from hkproof.hk.row_check import check_solution_by_rows
+from hkproof.hk.matrix_form import require_matrix_form
 from hkproof.hk.recipe_g import WHAT_IT_PROVES, recipe_g
-from hkproof.hk.reduced import (Relation, det_at_point, hk_row, linear_combination_equals, orbit_points,
-                                verify_by_evenness)
+from hkproof.hk.reduced import (
+    Relation,
+    det_at_point,
+    hk_row,
+    linear_combination_equals,
+    orbit_points,
+    verify_by_evenness,
+)
+from hkproof.hk.row_check import check_solution_by_rows
 from hkproof.hk.translation import ParameterTranslation
 from hkproof.hk.transport import Substitution, map_mismatches
-from hkproof.proof.certificate import Certificate, ProofStopped, StepRecorder
 from hkproof.orchestration.registry import REGISTRY, claim, require_proven
+from hkproof.proof.certificate import Certificate, ProofStopped, StepRecorder
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import H, named, recall, record, shift_frac
-from hkproof.theorems._common import parse_matrix, require_matrix_form
+from hkproof.theorems._common import parse_matrix
+from hkproof.theorems._flows import (
+    B_OF_YZ,
+    C_OF_YZ,
+    CYCLIC,
+    GENERAL,
+    PHI0,
+    REDUCTION,
+    REDUCTION_Z0,
+    e_names,
+    map_components_under,
+    substitution,
+    yz_map,
+    yz_map_at_z0,
+)
 from hkproof.theorems.s6b_clebsch_bases_345 import REL18, relation_rows
 from hkproof.theorems.s6b_clebsch_bases_345 import UNKNOWNS as ABC_NAMES
 from hkproof.theorems.s6b_clebsch_bases_345 import bases as phi_bases
-from hkproof.theorems._flows import (B_OF_YZ, C_OF_YZ, CYCLIC, GENERAL, PHI0, REDUCTION, REDUCTION_Z0, e_names,
-                                     map_components_under, substitution, yz_map_at_z0,
-                                     yz_map)
 
 GROUP = "clebsch-flows"
 FLOW2 = "clebsch-flow2"

@@ -7,14 +7,15 @@ from typing import Mapping
 
 import flint
 
-from hkproof.algebra.ring import Rational
+from hkproof.algebra.formula import split_list
 from hkproof.algebra.fraction import Frac
+from hkproof.algebra.ring import Rational
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.kahan import KahanMap, commutator_at
 from hkproof.errors import ParseError
-from hkproof.hk.integrals import check_integral
-from hkproof.proof.certificate import Certificate
+from hkproof.hk.integrals import point_text, shared_integrals
 from hkproof.orchestration.registry import claim, require_proven
+from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import recall
 
@@ -27,10 +28,6 @@ SECOND_FLOW_INTEGRALS = {"flow-second-theorem": ("L",)}
 # a non-identity of rational functions is refuted in the full ring by one point: the step is not a specialization
 WITNESS_RING = "Q(m, p, eps, w) (identity refuted at one rational point)"
 SYMBOLIC_LIMIT = 2000     # terms of an integral above which a point check that passes is not followed by substitution
-
-
-def _point_text(point: Mapping[str, Rational]) -> str:
-    return ", ".join(f"{k} = {v}" for k, v in point.items())
 
 
 @claim("flows-commutation", GROUP, "The Kahan maps of the first and second Clebsch flows do not commute",
@@ -47,13 +44,13 @@ def prove_commutation(cert: Certificate, claimed: Mapping[str, str]) -> None:
     if answer not in ("yes", "no"):
         raise ParseError(f"'commute' must be yes or no, got {answer!r}")
     with cert.step("commutator at a rational point", f"f1(f2(x)) - f2(f1(x)) by exact solves over Q at "
-                   f"{_point_text(WITNESS)}", WITNESS_RING) as s:
+                   f"{point_text(WITNESS)}", WITNESS_RING) as s:
         diff = commutator_at(f1, f2, WITNESS)
         differs = any(d != 0 for d in diff.values())
         if answer == "no":
             s.require(differs, "the maps agree at the witness: commutativity is not refuted there")
         else:
-            s.require(not differs, f"the maps differ at {_point_text(WITNESS)}: they do not commute")
+            s.require(not differs, f"the maps differ at {point_text(WITNESS)}: they do not commute")
             s.evidence(Status.EVIDENCE_EXACT, 1)
         want = Frac.parse(f1.ring, claimed["difference_m1"])
         s.require(want.is_polynomial() and want.num.is_constant() and diff["m1"] == want.evaluate(WITNESS),
@@ -61,7 +58,7 @@ def prove_commutation(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.note("differences: " + ", ".join(f"{v}: {d}" for v, d in diff.items()))
         s.note("one point where f1 o f2 and f2 o f1 differ refutes the identity f1 o f2 = f2 o f1 in "
                "Q(m, p, eps, w): a verified negative statement (and for generic eps, w, since it fails on an open set)")
-        cert.formula("witness", _point_text(WITNESS))
+        cert.formula("witness", point_text(WITNESS))
         for v, d in diff.items():
             cert.formula(f"difference_{v}", str(d))
 
@@ -75,34 +72,9 @@ def _integrals(cert: Certificate, sources: Mapping[str, tuple[str, ...]], kmap: 
     return out
 
 
-def _shared(cert: Certificate, integrals: Mapping[str, Frac], other: KahanMap, label: str) -> list[str]:
-    """Those integrals also preserved by `other`: refuted at the witness point, else by substitution (or evidence)."""
-    moved = {**WITNESS, **other.step_exact(WITNESS)}
-    shared = []
-    with cert.step(f"{label}: values at x and at the other map's image of x",
-                   f"exact evaluation over Q at {_point_text(WITNESS)}", WITNESS_RING) as s:
-        kept = [n for n, h in integrals.items() if h.evaluate(WITNESS) == h.evaluate(moved)]
-        refuted = [n for n in integrals if n not in kept]
-        s.note(f"not integrals of the Kahan map of {other.field.name} (I(f(x)) != I(x) at the witness): "
-               f"{', '.join(refuted) or 'none'}")
-    for n in kept:
-        h = integrals[n]
-        with cert.step(f"{n} o f = {n} for the Kahan map of {other.field.name}", "substitution h(N/Delta) - h",
-                       other.ring) as s:
-            if len(h.num) + len(h.den) > SYMBOLIC_LIMIT:
-                s.evidence(Status.EVIDENCE_EXACT, 1)
-                s.note(f"{n} has {len(h.num) + len(h.den)} terms: equal at the witness only")
-                shared.append(n)
-                continue
-            if check_integral(other, h).status is Status.VERIFIED:
-                shared.append(n)
-            else:
-                s.note(f"{n} o f != {n}")
-    return shared
-
-
 def _names(text: str, known: Mapping[str, Frac]) -> list[str]:
-    names = [] if text.strip() == "none" else [t.strip() for t in text.split(",")]
+    """The names in a claimed list 'c1, d7' (or 'none'), each one of the integrals compared."""
+    names = [] if text.strip() == "none" else split_list(text, "list of integrals")
     unknown = [n for n in names if n not in known]
     if unknown:
         raise ParseError(f"{unknown} are not among the integrals compared ({sorted(known)}); write 'none' or names")
@@ -123,8 +95,10 @@ def prove_shared_integrals(cert: Certificate, claimed: Mapping[str, str]) -> Non
     second = _integrals(cert, SECOND_FLOW_INTEGRALS, f2)
     claim_12 = _names(claimed["shared_by_second_flow"], first)
     claim_21 = _names(claimed["shared_by_first_flow"], second)
-    found_12 = sorted(_shared(cert, first, f2, "first-flow integrals under the second flow's map"))
-    found_21 = sorted(_shared(cert, second, f1, "second-flow integral L under the first flow's map"))
+    found_12 = sorted(shared_integrals(cert, first, f2, "first-flow integrals under the second flow's map", WITNESS,
+                                       WITNESS_RING, SYMBOLIC_LIMIT))
+    found_21 = sorted(shared_integrals(cert, second, f1, "second-flow integral L under the first flow's map", WITNESS,
+                                       WITNESS_RING, SYMBOLIC_LIMIT))
     with cert.step("the claimed lists", "comparison", "-") as s:
         s.require(found_12 == claim_12, f"first-flow integrals preserved by f2: {found_12 or 'none'}, claimed "
                   f"{claim_12 or 'none'}")

@@ -15,9 +15,9 @@ from typing import Mapping
 from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.experiments.discovery import discover
 from hkproof.hk.discover import DiscoveryReport, jacobian_points
-from hkproof.hk.independence import jacobian_rank_at
-from hkproof.proof.certificate import Certificate
+from hkproof.hk.independence import max_jacobian_rank
 from hkproof.orchestration.registry import claim
+from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 
 GROUP = "atlas"
@@ -62,8 +62,7 @@ def prove_integrals(cert: Certificate, claimed: Mapping[str, str], entry: Entry)
             s.note("the time budget ran out: " + "; ".join(report.covered))
     with cert.step("functional independence", "exact Jacobian rank at a rational point", kmap.ring, fixed or None) as s:
         funcs = [frac for i, frac in proven if i.independent]
-        rank = max((jacobian_rank_at(funcs, list(kmap.variables), pt) for pt in jacobian_points(kmap.ring.names)),
-                   default=0) if funcs else 0
+        rank = max_jacobian_rank(funcs, kmap.variables, jacobian_points(kmap.ring.names))
         s.require(str(rank) == claimed["independent"].strip(),
                   f"{rank} independent integrals proven, the claim says {claimed['independent']}")
         s.note(f"{rank} independent of the {entry.liouville} Liouville integrability needs in dimension "

@@ -1,0 +1,42 @@
+"""hk.second_iterate: the plain composition f o f and the gcd interpolated in the parameters (sec. 6.2)."""
+from __future__ import annotations
+
+import random
+
+import flint
+import pytest
+
+from hkproof.algebra.linalg import solve_overdetermined
+from hkproof.dynamics.catalogue import kahan_map
+from hkproof.errors import HKProofError, SingularSystemError
+from hkproof.hk.second_iterate import interpolated_gcd, plain_composition
+
+
+def _points(n: int, seed: int = 1) -> list[tuple[int, int, int]]:
+    rng = random.Random(seed)
+    return [(rng.randint(1, 50), rng.randint(1, 50), rng.randint(-60, -1)) for _ in range(n)]
+
+
+def test_interpolated_gcd_recovers_delta_of_f_for_the_euler_top():
+    """gcd(Delta_h(N, Delta), Delta_h(N, Delta)) is Delta_h(N, Delta) itself: every coefficient of x^e is a form of
+    degree |e| in a (a -> mu a, eps -> eps/mu), so 60 generic points fix it."""
+    f = kahan_map("euler-top")
+    nums, delta = f.explicit
+    exact = plain_composition(f, {"d": delta})[0]["d"]
+    assert interpolated_gcd(f, delta, delta, _points(60), sum) == exact
+
+
+def test_interpolated_gcd_refuses_unlucky_and_too_few_points():
+    f = kahan_map("euler-top")
+    _, delta = f.explicit
+    with pytest.raises(HKProofError, match="drops"):
+        interpolated_gcd(f, delta, delta, [(1, 0, 2)] + _points(59), sum)
+    with pytest.raises(SingularSystemError):
+        interpolated_gcd(f, delta, delta, _points(12), sum)
+
+
+def test_solve_overdetermined_is_exact_and_refuses_a_rank_deficient_system():
+    a = flint.fmpq_mat([[1, 0], [0, 1], [1, 1]])
+    assert solve_overdetermined(a, [2, 3, 5]) == [2, 3]
+    with pytest.raises(SingularSystemError):
+        solve_overdetermined(flint.fmpq_mat([[1, 1], [2, 2], [3, 3]]), [1, 2, 3])
