@@ -89,3 +89,26 @@ def test_mypy_is_clean():
     """mypy (a dependency of the test extra) finds no error in the package."""
     out = subprocess.run([sys.executable, "-m", "mypy"], cwd=ROOT, capture_output=True, text=True, timeout=900)
     assert out.returncode == 0, out.stdout[-5000:]
+
+
+def evaluating_calls(source: str) -> list[str]:
+    """Calls that evaluate text as code: eval, exec, compile, sympify, parse_expr (input is data, never code)."""
+    builtins, functions = {"eval", "exec", "compile"}, {"sympify", "parse_expr", "S", "eval"}
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Call):
+            func = node.func
+            if (isinstance(func, ast.Name) and func.id in builtins | functions - {"S"}) or \
+                    (isinstance(func, ast.Attribute) and func.attr in functions):
+                found.append(f"{func.id if isinstance(func, ast.Name) else func.attr} (line {node.lineno})")
+    return found
+
+
+def test_no_formula_is_evaluated_as_code():
+    found = [f"{path.relative_to(ROOT)}: {call}" for path in sorted(PACKAGE.rglob("*.py"))
+             for call in evaluating_calls(path.read_text())]
+    assert found == []
+
+
+def test_the_eval_check_can_fail():
+    assert evaluating_calls("import sympy\nx = sympy.sympify(text)\ny = eval(t)\n") == ["sympify (line 2)", "eval (line 3)"]

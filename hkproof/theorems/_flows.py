@@ -2,15 +2,13 @@
 from __future__ import annotations
 
 from functools import lru_cache
-from typing import Mapping
-
-import flint
-import sympy
+from typing import Mapping, Sequence
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.ring import Ring
+from hkproof.algebra.ring import Ring, get_ring
 from hkproof.dynamics.catalogue import CLEBSCH_VARS, get_system, kahan_map
-from hkproof.dynamics.field import QuadraticField
+from hkproof.dynamics.field import EPS, QuadraticField
+from hkproof.errors import HKProofError
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.transport import Substitution
 
@@ -23,33 +21,34 @@ CYCLIC = ((0, 1, 2), (1, 2, 0), (2, 0, 1))
 
 @lru_cache(maxsize=None)
 def yz_map() -> KahanMap:
-    """Kahan map of the general flow in the parameters (w, y, z): the catalogue field with b = B_OF_YZ, s = 0."""
+    """Kahan map of the general flow in the parameters (w, y, z): the catalogue field with b = B_OF_YZ at s = 0."""
     general = get_system(GENERAL)
-    subs = {sympy.Symbol(k): sympy.sympify(v.replace("s + ", "")) for k, v in B_OF_YZ.items()}
-    rhs = tuple(str(sympy.factor(sympy.sympify(t).subs(subs))) for t in general.rhs_text)
+    target = get_ring(CLEBSCH_VARS + (EPS, "w1", "w2", "w3", "y", "z"))
+    rhs = tuple(str(f) for f in _under(general.ring, general.rhs, {**B_OF_YZ, "s": "0"}, target))
     return kahan_map(QuadraticField("clebsch-general-yz", CLEBSCH_VARS, ("w1", "w2", "w3", "y", "z"), rhs,
                                     "general Clebsch flow with b_k = y w_k - z w_i w_j (c_k = y + z w_k)"))
 
 
-def compose_params(source: Ring, p: flint.fmpz_mpoly, images: Mapping[str, str], target: Ring) -> flint.fmpz_mpoly:
-    """p with parameters replaced by polynomials (given as text in `target`'s names), as an element of `target`."""
-    args = []
-    for n in source.names:
-        if n in images:
-            img = Frac.parse(target, images[n])
-            if not img.is_polynomial() or not img.den.is_one():
-                raise ValueError(f"{n} -> {images[n]} is not a polynomial with integer coefficients")
-            args.append(img.num)
-        else:
-            args.append(target.gen(n))
-    return p.compose(*args, ctx=target.ctx)
+def _under(source: Ring, functions: Sequence[Frac], images: Mapping[str, str], target: Ring) -> list[Frac]:
+    """The functions with parameters replaced by polynomials (text in `target`'s names and `s`), in lowest terms."""
+    work = target.extend(["s"])
+    polys = {}
+    for n, text in images.items():
+        img = Frac.parse(work, text)
+        if not img.is_polynomial() or not img.den.is_one():
+            raise HKProofError(f"{n} -> {text} is not a polynomial with integer coefficients")
+        polys[n] = img.num
+    zero_s = {n: p for n, p in polys.items() if n != "s"}
+    out = []
+    for f in functions:
+        g = Frac(work, source.substitute(f.num, zero_s, work), source.substitute(f.den, zero_s, work))
+        out.append(g.specialize({"s": 0}, target) if "s" in polys else g.to_ring(target))
+    return out
 
 
 def map_components_under(kmap: KahanMap, images: Mapping[str, str], target: Ring) -> list[Frac]:
     """The explicit components N_j / Delta of `kmap` with parameters replaced by polynomials, in lowest terms."""
-    nums, delta = kmap.explicit
-    den = compose_params(kmap.ring, delta, images, target)
-    return [Frac(target, compose_params(kmap.ring, n, images, target), den) for n in nums]
+    return _under(kmap.ring, kmap.components(), images, target)
 
 
 def e_names() -> tuple[str, ...]:
