@@ -8,12 +8,13 @@ periodic Volterra lattice N = 3. Screening by algorithm (N) on the union basis i
 from __future__ import annotations
 
 import argparse
-import multiprocessing as mp
 import random
 import time
 from pathlib import Path
 
 import flint
+
+from timebox import in_child
 
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import QuadraticField
@@ -70,15 +71,7 @@ def screening_ratio(system, degree: int, repeats: int = 3, limit: float = 60.0) 
     start = time.perf_counter()
     probes = [screen(scene, len(kmap.variables), degree, random.Random(k)) for k in range(repeats)]
     modular = (time.perf_counter() - start) / repeats
-    out: mp.Queue = mp.Queue()
-    worker = mp.Process(target=_exact_profiles, args=(system, degree, values, [pr.point for pr in probes], out))
-    worker.start()
-    worker.join(limit)
-    if worker.is_alive():
-        worker.terminate()
-        worker.join()
-        return modular, None
-    return modular, out.get()
+    return modular, in_child(_exact_profiles, (system, degree, values, [pr.point for pr in probes]), limit)
 
 
 def markdown(rows: list[dict], ratios: list[tuple[str, float, float]]) -> str:

@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 
 from docs_section import write_section
+from timebox import in_child
 from hkproof.dynamics.catalogue import SYSTEMS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.orchestration.registry import select
@@ -52,14 +53,7 @@ def _sympy_clebsch_map(queue: mp.Queue) -> None:
 
 def time_sympy_clebsch(limit: float = 600.0) -> float | None:
     """Seconds sympy needs for the same Cramer solution of the Clebsch system (None past the limit)."""
-    queue: mp.Queue = mp.Queue()
-    proc = mp.Process(target=_sympy_clebsch_map, args=(queue,))
-    proc.start()
-    proc.join(limit)
-    if proc.is_alive():
-        proc.terminate()
-        return None
-    return queue.get(timeout=5) if proc.exitcode == 0 else None
+    return in_child(_sympy_clebsch_map, (), limit)
 
 
 def time_suite() -> tuple[float, int]:

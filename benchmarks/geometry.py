@@ -12,6 +12,8 @@ from pathlib import Path
 
 import flint
 
+from timebox import in_child
+
 from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.degrees import degree_growth
@@ -41,15 +43,7 @@ def _symbolic_iterate(name: str, k: int, queue: mp.Queue) -> None:
 
 def symbolic_peer(name: str, k: int) -> tuple[float | None, int | None]:
     """KahanMap.iterate(k) with eps and the parameters symbolic (gcd cancelled), in a process stopped at PEER_LIMIT."""
-    queue: mp.Queue = mp.Queue()
-    proc = mp.Process(target=_symbolic_iterate, args=(name, k, queue))
-    proc.start()
-    proc.join(PEER_LIMIT)
-    if proc.is_alive():
-        proc.terminate()
-        proc.join()
-        return None, None
-    return queue.get()
+    return in_child(_symbolic_iterate, (name, k), PEER_LIMIT) or (None, None)
 
 
 def degrees_section() -> list[str]:

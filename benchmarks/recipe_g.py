@@ -7,13 +7,13 @@ Kahan ideal by FLINT's Buchberger plus a normal form (parameters fixed to number
 from __future__ import annotations
 
 import argparse
-import multiprocessing as mp
 import shutil
 import time
 from pathlib import Path
 
 import singular_peer
 from docs_section import write_section
+from timebox import in_child
 
 from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.catalogue import kahan_map
@@ -78,15 +78,7 @@ def _gb_worker(label, queue):
 
 def groebner_with_timeout(label: str, seconds: float):
     """Buchberger in a child process, killed after `seconds` (its own pid, nothing else)."""
-    queue: mp.Queue = mp.Queue()
-    proc = mp.Process(target=_gb_worker, args=(label, queue))
-    proc.start()
-    proc.join(seconds)
-    if proc.is_alive():
-        proc.terminate()
-        proc.join()
-        return None, seconds
-    return queue.get() if not queue.empty() else (None, seconds)
+    return in_child(_gb_worker, (label,), seconds) or (None, seconds)
 
 
 def singular_membership(kmap, h, power: int, seconds: int) -> tuple[float | None, float | None]:
