@@ -255,3 +255,25 @@ def test_certificate_travels_with_its_exact_values():
     assert all(copy.values[k] == v and copy.values[k].ring == v.ring for k, v in cert.values.items())
     again = pickle.loads(pickle.dumps(copy))  # passed on by the scheduler without packing again
     assert all(again.values[k] == v for k, v in cert.values.items())
+
+
+# -- heavy steps over the same executors: kernel profiles of `scan` ------------------------------------------------
+SCAN = ["scan", "euler-top", "--basis", "x1**2, x2**2, x3**2, 1", "--points", "16", "--eps", "1/3", "--json",
+        "--no-progress"]
+
+
+def _scan_profiles(capsys, *extra: str) -> list:
+    from hkproof.cli import main
+    assert main([*SCAN, *extra]) == 0
+    return json.loads(capsys.readouterr().out)["points"]
+
+
+def _without_times(profiles: list) -> list:
+    return [{k: v for k, v in p.items() if k != "seconds"} for p in profiles]
+
+
+def test_scan_profiles_identical_in_a_pool_and_on_dask(capsys):
+    pytest.importorskip("distributed")
+    alone = _without_times(_scan_profiles(capsys, "--jobs", "1"))
+    assert _without_times(_scan_profiles(capsys, "--jobs", "2")) == alone
+    assert _without_times(_scan_profiles(capsys, "--jobs", "2", "--executor", "dask")) == alone

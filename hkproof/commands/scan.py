@@ -3,10 +3,18 @@ from __future__ import annotations
 
 import argparse
 
-from hkproof.commands import Result, add_command, add_values_options, at_least, fixed_values
+from hkproof.commands import (
+    Result,
+    add_command,
+    add_values_options,
+    at_least,
+    fixed_values,
+)
 from hkproof.dynamics.catalogue import SYSTEMS
 from hkproof.experiments.profiles import HK_BASIS, SINGULAR, KernelProfile
 from hkproof.experiments.scan import ScanResult, scan
+from hkproof.orchestration.execution import map_executor
+from hkproof.orchestration.runner import add_run_options
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -18,6 +26,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="exact Q, mod large primes, float64 or mpmath (default exact)")
     p.add_argument("--digits", type=at_least(1), default=50, help="decimal digits for --arithmetic mpmath (default 50)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    add_run_options(p)
 
 
 def add_scene_options(p: argparse.ArgumentParser, several_bases: bool = False) -> None:
@@ -30,9 +39,10 @@ def add_scene_options(p: argparse.ArgumentParser, several_bases: bool = False) -
 
 
 def run_scan(args: argparse.Namespace) -> Result:
-    result = scan(args.system, args.basis, points=args.points, values=fixed_values(args) or None,
-                  arithmetic=args.arithmetic, digits=args.digits, seed=args.seed,
-                  progress=None if not args.no_progress and not args.json else False)
+    with map_executor(args.executor, args.jobs, args.scheduler) as executor:
+        result = scan(args.system, args.basis, points=args.points, values=fixed_values(args) or None,
+                      arithmetic=args.arithmetic, digits=args.digits, seed=args.seed, executor=executor,
+                      progress=None if not args.no_progress and not args.json else False)
     return Result(result.to_dict(), format_scan(result))
 
 

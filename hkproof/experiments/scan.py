@@ -1,9 +1,8 @@
 """Algorithm (N) over many random points, in parallel through any concurrent.futures.Executor."""
 from __future__ import annotations
 
-import os
 import random
-from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
+from concurrent.futures import Executor, as_completed
 from dataclasses import dataclass, field
 from fractions import Fraction
 from functools import lru_cache
@@ -21,7 +20,7 @@ from hkproof.experiments.progress import Progress
 from hkproof.experiments.scene import make_scene
 from hkproof.proof.status import Status
 
-PARALLEL_MIN = 16   # fewer points than this run in the calling process (a process pool costs ~0.3 s to start)
+PARALLEL_MIN = 16   # fewer points than this run in the calling process (a pool's workers cost ~0.3 s to start)
 
 
 @dataclass
@@ -82,7 +81,8 @@ def scan(system: str | KahanMap, basis: str | Sequence[str], *, points: int | Se
          executor: Executor | None = None, progress: bool | None = False, with_kernel: bool = True,
          chunk: int = 4) -> ScanResult:
     """Algorithm (N): the kernel profile of Phi at `points` random points (or the given ones), eps and parameters
-    fixed to `values` (missing ones drawn at random once), in the chosen arithmetic."""
+    fixed to `values` (missing ones drawn at random once), in the chosen arithmetic; chunks of points go to
+    `executor` (a process pool, Dask's executor) when it is given and there are enough of them."""
     kmap = system if isinstance(system, KahanMap) else kahan_map(system)
     rng = random.Random(seed)
     scene_values = random_values(kmap, rng, values)
@@ -94,8 +94,7 @@ def scan(system: str | KahanMap, basis: str | Sequence[str], *, points: int | Se
     chunks = [str_points[i:i + chunk] for i in range(0, len(str_points), chunk)]
     bar = Progress(len(str_points), enabled=progress)
     results: dict[int, list[dict]] = {}
-    own = executor is None and len(str_points) >= PARALLEL_MIN
-    pool = ProcessPoolExecutor(max_workers=os.cpu_count() or 1) if own else executor
+    pool = executor if len(str_points) >= PARALLEL_MIN else None
     try:
         if pool is None:
             for i, c in enumerate(chunks):
@@ -108,8 +107,6 @@ def scan(system: str | KahanMap, basis: str | Sequence[str], *, points: int | Se
                 bar.update(len(results[futures[fut]]))
     finally:
         bar.close()
-        if own and pool is not None:
-            pool.shutdown()
     profiles = [KernelProfile(**d) for i in range(len(chunks)) for d in results[i]]
     return ScanResult(kmap.field.name, list(basis_texts), get_arithmetic(arithmetic, digits=digits).name,
                       {k: str(v) for k, v in scene_values.items()}, profiles)

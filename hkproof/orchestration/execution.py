@@ -3,6 +3,7 @@ that walks the claim graph on it -- dependencies first, each claim proven once p
 certificates its claim cites. The certificates do not depend on the executor."""
 from __future__ import annotations
 
+import concurrent.futures
 import itertools
 import logging
 import multiprocessing
@@ -10,7 +11,8 @@ import multiprocessing.connection
 import signal
 import uuid
 from multiprocessing.connection import Connection
-from typing import Any, Callable, Hashable, Iterable, Mapping, Sequence, cast
+from contextlib import contextmanager
+from typing import Any, Callable, Hashable, Iterable, Iterator, Mapping, Sequence, cast
 
 from hkproof.errors import HKProofError
 from hkproof.orchestration.graph import in_dependency_order
@@ -184,23 +186,9 @@ class DaskExecutor(Executor):
     of `jobs` worker processes that this executor starts and stops."""
 
     def __init__(self, jobs: int, scheduler: str | None = None) -> None:
-        try:
-            import distributed
-        except ImportError:
-            raise HKProofError("--executor dask needs Dask distributed: pip install 'hkproof[dask]'") from None
+        import distributed
         self._distributed = distributed
-        self._cluster = None
-        try:
-            if scheduler:
-                self._client = distributed.Client(scheduler, timeout=10)
-            else:
-                self._cluster = distributed.LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
-                                                         dashboard_address=None, silence_logs=logging.ERROR)
-                self._client = distributed.Client(self._cluster)
-        except (OSError, TimeoutError) as exc:
-            if self._cluster is not None:
-                self._cluster.close()
-            raise HKProofError(f"cannot reach the Dask scheduler {scheduler or '(local cluster)'}: {exc}") from None
+        self._client, self._cluster = dask_client(jobs, scheduler)
         self.slots = max(1, sum(self._client.nthreads().values()))
         self._claims: dict[Hashable, str] = {}
 
@@ -219,6 +207,49 @@ class DaskExecutor(Executor):
         self._client.close()
         if self._cluster is not None:
             self._cluster.close()
+
+
+def dask_client(jobs: int, scheduler: str | None) -> tuple[Any, Any]:
+    """(client, cluster): a client of the Dask scheduler at `scheduler`, or of a LocalCluster of `jobs` worker
+    processes started here (cluster None when the scheduler was given)."""
+    try:
+        import distributed
+    except ImportError:
+        raise HKProofError("--executor dask needs Dask distributed: pip install 'hkproof[dask]'") from None
+    cluster = None
+    try:
+        if scheduler:
+            return distributed.Client(scheduler, timeout=10), None
+        cluster = distributed.LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
+                                           dashboard_address=None, silence_logs=logging.ERROR)
+        return distributed.Client(cluster), cluster
+    except (OSError, TimeoutError) as exc:
+        if cluster is not None:
+            cluster.close()
+        raise HKProofError(f"cannot reach the Dask scheduler {scheduler or '(local cluster)'}: {exc}") from None
+
+
+@contextmanager
+def map_executor(kind: str, jobs: int, scheduler: str | None) -> Iterator[concurrent.futures.Executor | None]:
+    """A concurrent.futures executor for the embarrassingly parallel steps of one command (kernel profiles over many
+    points): a local process pool, Dask's executor on a (local) cluster, or None for a plain loop (jobs 1)."""
+    if kind not in EXECUTORS:
+        raise HKProofError(f"unknown executor '{kind}'; executors are {', '.join(EXECUTORS)}")
+    if scheduler and kind != "dask":
+        raise HKProofError("--scheduler ADDRESS is the address of a Dask scheduler: use it with --executor dask")
+    if kind == "dask":
+        client, cluster = dask_client(jobs, scheduler)
+        try:
+            yield client.get_executor()
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+    elif jobs > 1:
+        with concurrent.futures.ProcessPoolExecutor(max_workers=jobs) as pool:
+            yield pool
+    else:
+        yield None
 
 
 def make_executor(kind: str, jobs: int, scheduler: str | None, tasks: int) -> Executor:
