@@ -1,7 +1,6 @@
 """Section 6.7: Th. "dC bases 345" (bases Phi1, Phi2, Phi3): relations rel18, M2 with A, B, C, D, Step 1."""
 from __future__ import annotations
 
-from itertools import pairwise
 from typing import Mapping, Sequence
 
 import flint
@@ -15,7 +14,7 @@ from hkproof.errors import ParseError
 from hkproof.experiments.relations import find_relations
 from hkproof.hk.expansion import coefficients_in
 from hkproof.hk.independence import jacobian_rank_at, sample_point
-from hkproof.hk.linear_relations import parse_relation
+from hkproof.hk.linear_relations import parse_relation_chain, relation_rank, same_relation
 from hkproof.hk.reduced import Relation, linear_combination_equals, orbit_points
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate
@@ -66,21 +65,8 @@ def bases(f) -> list[list[Frac]]:
 
 def relation_rows(f, text: str, unknowns: Sequence[str] = UNKNOWNS,
                   known: Mapping[str, Frac] | None = None) -> list[Relation]:
-    """A printed chain 'X = Y = Z' as relations X = Y, Y = Z among `unknowns`; `known` integrals (d7, g4, ...)
-    may appear linearly and are moved to the right-hand side."""
-    known = dict(known or {})
-    parts = text.split("=")
-    out = []
-    for lhs, rhs in pairwise(parts):
-        rel = parse_relation(f.ring, f"{lhs} = {rhs}", [*unknowns, *known])
-        k = len(unknowns)
-        moved = sum((c * v for c, v in zip(rel.coefficients[k:], known.values(), strict=True)), Frac(f.ring, 0))
-        out.append(Relation(rel.coefficients[:k], rel.rhs - moved))
-    return out
-
-
-def _augmented(rels: Sequence[Relation]) -> list[list[Frac]]:
-    return [list(r.coefficients) + [r.rhs] for r in rels]
+    """A printed chain of this section as relations among alpha_j, beta_j, gamma_j (the default unknowns)."""
+    return parse_relation_chain(f.ring, text, unknowns, known)
 
 
 # -- rel18: the nine relations, found again by recipe (E) ---------------------------------------------------------
@@ -98,9 +84,9 @@ def prove_relations(cert: Certificate, claimed: Mapping[str, str]) -> None:
                    "rank over Q(eps, w) of the augmented rows", r) as s:
         printed = [rel for k in REL18 for rel in relation_rows(f, claimed[k])]
         extra = relation_rows(f, claimed["rel18_extra"])
-        s.require(len(printed) == 9 and rank_over_fraction_field(_augmented(printed)) == 9,
+        s.require(len(printed) == 9 and relation_rank(printed) == 9,
                   "rel18_1 ... rel18_8 are not nine independent relations")
-        s.require(rank_over_fraction_field(_augmented(printed + extra)) == 9,
+        s.require(relation_rank(printed + extra) == 9,
                   "the two further relations do not follow from rel18_1 ... rel18_8")
     values = proven_coordinates(cert, r)
     with cert.step("the relations hold for the proven kernel coordinates", "exact identities in Q(m, p, eps, w)",
@@ -130,7 +116,7 @@ def prove_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> None
         found = [Relation(rel.coefficients, rel.rhs) for rel in search.relations]
         s.require(search.dimension == 9 and len(found) == 9,
                   f"relation space of dimension {search.dimension}, {len(found)} relations reconstructed")
-        s.require(rank_over_fraction_field(_augmented(found + printed)) == 9,
+        s.require(relation_rank(found + printed) == 9,
                   "a printed relation is not in the space found by recipe (E)")
         s.evidence(Status.EVIDENCE_EXACT, points=search.samples)
         s.note(f"{search.samples} exact samples; every relation checked at fresh samples (discovery; the proof is "
@@ -166,10 +152,6 @@ def _in_abcd(f, text: str, m2: str, known: Mapping[str, Frac]) -> Relation:
     return Relation(columns, rel.rhs)
 
 
-def _same_relation(a: Relation, b: Relation) -> bool:
-    return rank_over_fraction_field(_augmented([a, b])) == 1
-
-
 @claim("dc345-abcd", GROUP,
        "Eq. \"M2\": alpha_j, beta_j, gamma_j (j = 4, 5, 6) through A, B, C, D; eqs. \"ABCD dependence\", "
        "\"dC Psi add lin rel 1\" ... \"6\", \"dC A\" ... \"dC D\"",
@@ -194,9 +176,9 @@ def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
         for k in range(1, 7):
             via_m2 = _in_abcd(f, claimed[f"add_{k}"], claimed["M2"], known)
             (direct,) = relation_rows(f, claimed[f"add_{k}_abcd"], tuple("ABCD"), known)
-            s.require(_same_relation(via_m2, direct), f"the two sides of 'dC Psi add lin rel {k}' differ")
+            s.require(same_relation(via_m2, direct), f"the two sides of 'dC Psi add lin rel {k}' differ")
             rows.append(direct)
-        s.require(rank_over_fraction_field(_augmented(rows)) == 3 and
+        s.require(relation_rank(rows) == 3 and
                   rank_over_fraction_field([list(x.coefficients) for x in rows]) == 3,
                   "the six relations are not a consistent system of rank 3")
         one = [Frac(r, 1)] * 3 + [Frac(r, 0)]
