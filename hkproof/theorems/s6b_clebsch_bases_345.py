@@ -12,7 +12,7 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.errors import ParseError
 from hkproof.experiments.relations import find_relations
-from hkproof.hk.expansion import coefficients_in
+from hkproof.hk.expansion import homogeneous_eps_pieces
 from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.linear_relations import parse_relation_chain, relation_rank, same_relation
 from hkproof.hk.reduced import Relation, linear_combination_equals, orbit_points
@@ -228,10 +228,10 @@ def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
                    "coefficients in eps of 2 eps^2 Delta A and 2 Delta D; homogeneity in (m, p)", r) as s:
         e2 = Frac(r, r.gen(EPS) ** 2)
         for name in "ABC":
-            pieces = _eps_pieces(s, r, abcd[name] * 2 * e2 * delta, f"2 eps^2 Delta {name}", 5, 0)
+            pieces = homogeneous_eps_pieces(abcd[name] * 2 * e2 * delta, EPS, X, 5, 0, f"2 eps^2 Delta {name}")
             s.require_equal(pieces[0], named(f, claimed["A_leading"]), f"{name}^(0)")
             s.require_equal(pieces[1], named(f, claimed["A_2"]), f"{name}^(2)")
-        pieces = _eps_pieces(s, r, abcd["D"] * 2 * delta, "2 Delta D", 4, 2)
+        pieces = homogeneous_eps_pieces(abcd["D"] * 2 * delta, EPS, X, 4, 2, "2 Delta D")
         s.require_equal(pieces[0], named(f, claimed["D_leading"]), "D^(2)")
         s.require_equal(pieces[1], named(f, claimed["D_4"]), "D^(4)")
     with cert.step("eq. \"ABCD dependence\" for A, B, C, D, directly", "one homogenized compose of the quadric "
@@ -247,22 +247,6 @@ def _solve_constant(rows: list[list[Frac]], rhs: list[Frac]) -> list[Frac]:
     n = len(rows)
     columns = [cramer(rows, [Frac(r, int(i == k)) for i in range(n)])[0] for k in range(n)]
     return [sum((columns[k][j] * rhs[k] for k in range(n)), Frac(r, 0)) for j in range(n)]
-
-
-def _eps_pieces(s, r, h: Frac, what: str, count: int, first_degree: int) -> list[Frac]:
-    """h as sum_q eps^(2q) h_q with h_q homogeneous of degree first_degree + 2q in (m, p), eps-free (coefficients
-    in Q(w))."""
-    s.require(not Frac(r, h.den).variables() & {EPS, *X}, f"{what} is not a polynomial in (m, p, eps)")
-    coeffs = coefficients_in(r, h.num, EPS)
-    s.require(len(coeffs) <= 2 * count - 1 and all(c.is_zero() for c in coeffs[1::2]),
-              f"{what}: not a polynomial in eps^2 of degree {count - 1}")
-    pieces = [Frac(r, coeffs[2 * q], h.den) if 2 * q < len(coeffs) else Frac(r, 0) for q in range(count)]
-    idx = [r.index(n) for n in X]
-    for q, piece in enumerate(pieces):
-        degs = {sum(m[i] for i in idx) for m in piece.num.monoms()}
-        s.require(degs <= {first_degree + 2 * q}, f"{what}: the eps^{2 * q} piece is not homogeneous of degree "
-                                                  f"{first_degree + 2 * q}")
-    return pieces
 
 
 # -- Step 1: the 17 x 18 system ---------------------------------------------------------------------------------
