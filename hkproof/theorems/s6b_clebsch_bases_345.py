@@ -14,12 +14,17 @@ from hkproof.errors import ParseError
 from hkproof.experiments.relations import find_relations
 from hkproof.hk.expansion import homogeneous_eps_pieces
 from hkproof.hk.independence import jacobian_rank_at, sample_point
-from hkproof.hk.linear_relations import parse_relation_chain, relation_rank, same_relation
+from hkproof.hk.linear_relations import (
+    parse_relation_chain,
+    relation_rank,
+    same_relation,
+)
 from hkproof.hk.reduced import Relation, linear_combination_equals, orbit_points
+from hkproof.hk.transport import Substitution
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
-from hkproof.theorems._clebsch import SYSTEM, X, named, recall, record, substitute_named
+from hkproof.theorems._clebsch import SYSTEM, X, named, recall, record
 
 GROUP = "clebsch-bases-345"
 COMMON = ("p1**2", "p2**2", "p3**2", "m1**2", "m2**2", "m3**2")
@@ -191,14 +196,17 @@ def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
         pick = rows[:1] + rows[3:5] + [Relation([Frac(r, 0)] * 2 + [Frac(r, 1), Frac(r, 0)], Frac(r, 0))]
         base = _solve_constant([list(x.coefficients) for x in pick], [x.rhs for x in pick])
         lhs, rhs = claimed["abcd_dependence"].split("=")
-        q = Frac.parse(r.extend(["A", "B", "C", "D", "t"]), f"({lhs}) - ({rhs})")
-        along = q.pullback([q.ring.gen(k) + q.ring.gen("t") for k in "ABC"] + [q.ring.gen("D")],
-                           q.ring.constant(1), ["A", "B", "C", "D"])
+        r4 = r.extend(["A", "B", "C", "D"])
+        q = Frac.parse(r4, f"({lhs}) - ({rhs})")
+        rt = r4.extend(["t"])
+        along = q.to_ring(rt).pullback([rt.gen(k) + rt.gen("t") for k in "ABC"] + [rt.gen("D")], rt.constant(1),
+                                       ["A", "B", "C", "D"])
         s.require(along.derivative("t").derivative("t").is_zero(),
                   "eq. \"ABCD dependence\" is not linear along (1, 1, 1, 0)")
-        slope = substitute_named(along.derivative("t"), dict(zip("ABCD", base, strict=True)), r)
+        at_base = Substitution(r4, r, dict(zip("ABCD", base, strict=True)))
+        slope = at_base.apply(along.derivative("t").to_ring(r4))
         s.require(not slope.is_zero(), "eq. \"ABCD dependence\" does not fix A + B + C")
-        t = -substitute_named(q, dict(zip("ABCD", base, strict=True)), r) / slope
+        t = -at_base.apply(q) / slope
         abcd = dict(zip("ABCD", [base[0] + t, base[1] + t, base[2] + t, base[3]], strict=True))
         s.require(all(linear_combination_equals(x.coefficients, list(abcd.values()), x.rhs) for x in rows),
                   "A, B, C, D do not satisfy the six relations")
@@ -237,7 +245,7 @@ def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
     with cert.step("eq. \"ABCD dependence\" for A, B, C, D, directly", "one homogenized compose of the quadric "
                    "over the common denominator of A, B, C, D (a check of the construction; last, being the costliest "
                    "when a claim is false)", r) as s:
-        s.require(substitute_named(q, abcd, r).is_zero(), "eq. \"ABCD dependence\" fails")
+        s.require(Substitution(r4, r, abcd).apply(q).is_zero(), "eq. \"ABCD dependence\" fails")
 
 
 def _solve_constant(rows: list[list[Frac]], rhs: list[Frac]) -> list[Frac]:

@@ -23,10 +23,11 @@ from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.linear_relations import parse_relation, relation_rank
 from hkproof.hk.reduced import Relation, linear_combination_equals, orbit_points
 from hkproof.hk.row_check import check_solution_by_rows
+from hkproof.hk.transport import Substitution
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate, Refuted
 from hkproof.proof.status import Status
-from hkproof.theorems._clebsch import record, substitute_named
+from hkproof.theorems._clebsch import record
 from hkproof.theorems.s6b_clebsch_bases_345 import UNKNOWNS, bases
 from hkproof.theorems.s6c_clebsch_flows import (
     FLOW2,
@@ -205,12 +206,13 @@ def solve_on_line(f: KahanMap, phis: Sequence[Sequence[Frac]], rel_rows: Sequenc
     a = [[rel_rows[k][j] for j in pivots] for k in chosen]
     columns = {fj: dict(zip(pivots, cramer(a, [-rel_rows[k][fj] for k in chosen])[0], strict=True)) for fj in free}
     lifted = r.extend(["L"])
+    at_l = Substitution(lifted, r, {"L": big_l})
 
     def entry(j: int, fj: int) -> Frac:
         if j in free:
             return Frac(r, int(j == fj))
         v = columns[fj][j]
-        return Frac(r, 0) if v.is_zero() else substitute_named(v.to_ring(lifted), {"L": big_l}, r)
+        return Frac(r, 0) if v.is_zero() else at_l.apply(v.to_ring(lifted))
 
     p = [[entry(j, fj) for fj in free] for j in range(len(UNKNOWNS))]
     rows0 = [[sum((phis[b][j] * p[6 * b + j][c] for j in range(6)), Frac(r, 0)) for c in range(len(free))]
@@ -259,8 +261,11 @@ def prove_second_bases(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.note("their coefficients are in Q(eps^2)[L], L an even integral (flow-second-theorem)")
     rel_rows = [list(rel.coefficients) for rel in small_rels]
 
+    lifted = r.extend(["L"])
+    sigma = Substitution(lifted, r, {"L": big_l})
+
     def at_l(h: Frac) -> Frac:
-        return substitute_named(h.to_ring(r.extend(["L"])), {"L": big_l}, r)
+        return sigma.apply(h.to_ring(lifted))
 
     relations = [Relation([at_l(c) for c in rel.coefficients], at_l(rel.rhs), "L (flow-second-theorem)")
                  for rel in small_rels]
