@@ -6,7 +6,7 @@ from typing import Mapping, Sequence
 import flint
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.linalg import cramer, rank_over_fraction_field
+from hkproof.algebra.linalg import rank_over_fraction_field, solve_by_inverse
 from hkproof.algebra.ring import Ring
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
@@ -194,7 +194,7 @@ def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
     with cert.step("A, B, C, D from eq. \"ABCD dependence\"", "the dependence is linear along (1, 1, 1, 0): "
                    "sum of 1/((w_i - w_j)(w_i - w_k)) = 0", r) as s:
         pick = rows[:1] + rows[3:5] + [Relation([Frac(r, 0)] * 2 + [Frac(r, 1), Frac(r, 0)], Frac(r, 0))]
-        base = _solve_constant([list(x.coefficients) for x in pick], [x.rhs for x in pick])
+        base = solve_by_inverse([list(x.coefficients) for x in pick], [x.rhs for x in pick])
         lhs, rhs = claimed["abcd_dependence"].split("=")
         r4 = r.extend(["A", "B", "C", "D"])
         q = Frac.parse(r4, f"({lhs}) - ({rhs})")
@@ -246,15 +246,6 @@ def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
                    "over the common denominator of A, B, C, D (a check of the construction; last, being the costliest "
                    "when a claim is false)", r) as s:
         s.require(Substitution(r4, r, abcd).apply(q).is_zero(), "eq. \"ABCD dependence\" fails")
-
-
-def _solve_constant(rows: list[list[Frac]], rhs: list[Frac]) -> list[Frac]:
-    """x with rows x = rhs, rows free of phase variables: the inverse by Cramer (small), then one combination each
-    (no fraction-free elimination over the big right-hand sides)."""
-    r = rhs[0].ring
-    n = len(rows)
-    columns = [cramer(rows, [Frac(r, int(i == k)) for i in range(n)])[0] for k in range(n)]
-    return [sum((columns[k][j] * rhs[k] for k in range(n)), Frac(r, 0)) for j in range(n)]
 
 
 # -- Step 1: the 17 x 18 system ---------------------------------------------------------------------------------
