@@ -1,9 +1,11 @@
 """Prop. "prop: even" as implemented: each hypothesis, when broken, keeps the verdict from being 'verified'."""
 from __future__ import annotations
 
+import flint
+
 from hkproof.algebra import Frac
 from hkproof.dynamics import kahan_map
-from hkproof.hk.reduced import Relation, prove_by_evenness
+from hkproof.hk.reduced import Relation, kernel_coordinates, prove_by_evenness
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 
@@ -56,3 +58,13 @@ def test_a_single_iterate_is_not_a_range():
     rel = Relation([Frac(R, 1), Frac(R, -1)], Frac(R, 0))
     cert = run(["x1**2", "x2**2"], "1", iterates=(0,), relations=[rel])
     assert cert.status is Status.REFUTED and "non-symmetric" in cert.error
+
+
+def test_kernel_coordinates_are_integrals_at_an_exact_point():
+    point = {"x1": flint.fmpq(1, 2), "x2": 3, "x3": -2, "eps": flint.fmpq(1, 5), "a1": 2, "a2": -1, "a3": 3}
+    basis = [Frac.parse(R, t) for t in ("x1**2", "x2**2", "1")]
+    c = kernel_coordinates(F, [basis], point)
+    assert c is not None and len(c) == 2
+    assert kernel_coordinates(F, [basis], {**point, **F.orbit_exact(point, 1)[1]}) == c
+    assert sum((a * phi.evaluate(point) for a, phi in zip(c, basis)), flint.fmpq(0)) == 1
+    assert kernel_coordinates(F, [[Frac.parse(R, t) for t in ("x1**2", "x1*x2", "1")]], point) is None

@@ -21,7 +21,12 @@ from hkproof.errors import HKProofError
 from hkproof.experiments.relations import find_relations
 from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.linear_relations import parse_relation, relation_rank
-from hkproof.hk.reduced import Relation, linear_combination_equals, orbit_points
+from hkproof.hk.reduced import (
+    Relation,
+    kernel_coordinates,
+    linear_combination_equals,
+    orbit_points,
+)
 from hkproof.hk.row_check import check_solution_by_rows
 from hkproof.hk.transport import Substitution
 from hkproof.orchestration.registry import claim, require_proven
@@ -35,7 +40,6 @@ from hkproof.theorems.s6c_clebsch_flows import (
     PHI_MAX_TEXT,
     RANK_POINT,
     SUB_BASES,
-    kernel_coordinates,
 )
 
 L_NAMES = tuple(f"L{u}" for u in UNKNOWNS)     # L a_j, L b_j, L c_j: kernel coordinates of (p^2, m^2, L m_k p_k)

@@ -26,6 +26,7 @@ from hkproof.hk.reduced import (
     Relation,
     det_at_point,
     hk_row,
+    kernel_coordinates,
     linear_combination_equals,
     orbit_points,
     verify_by_evenness,
@@ -543,19 +544,6 @@ def prove_second_relations_found(cert: Certificate, claimed: Mapping[str, str]) 
                "integral right-hand sides are still to be found before Prop. \"prop: even\" applies; the symmetric "
                "system determines alpha, beta, gamma (the paper's Step 2 route, which proves nothing by itself)")
     _l_relations(cert, f, phis, claimed)
-
-
-def kernel_coordinates(f: KahanMap, phis: Sequence[Sequence[Frac]], point: Mapping[str, Rational]
-                        ) -> list[flint.fmpq] | None:
-    """alpha, beta, gamma at one exact point (kernels of X_[0,6], last coordinate -1), None if a kernel is not 1-dim."""
-    orbit = f.orbit_exact(point, 6)
-    out: list[flint.fmpq] = []
-    for basis in phis:
-        kernel = nullspace_q([[phi.evaluate({**point, **y}) for phi in basis] for y in orbit])
-        if len(kernel) != 1 or kernel[0][-1] == 0:
-            return None
-        out += [c / -kernel[0][-1] for c in kernel[0][:-1]]
-    return out
 
 
 def _l_relations(cert: Certificate, f: KahanMap, phis: Sequence[Sequence[Frac]], claimed: Mapping[str, str]) -> None:
