@@ -14,7 +14,6 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
 from hkproof.proof.certificate import Certificate
 
-
 SolutionCheck = Callable[..., bool]
 
 
@@ -150,6 +149,24 @@ def kernel_coordinates(kmap: KahanMap, bases: Sequence[Sequence[Frac]], point: M
             return None
         out += [c / -kernel[0][-1] for c in kernel[0][:-1]]
     return out
+
+
+def block_rows_at(bases: Sequence[Sequence[Frac]], points: Sequence[Mapping[str, Rational]]
+                  ) -> tuple[list[list[flint.fmpq]], list[flint.fmpq]]:
+    """The rows sum_k a_k phi_k(y) = phi_last(y) of several bases at exact points y, each basis with its own block
+    of unknowns (sec. 6.7, eqs. "Psi1 iterates" ... "Psi3 iterates"): (rows, right-hand sides), basis by basis."""
+    width = sum(len(basis) - 1 for basis in bases)
+    rows, rhs = [], []
+    start = 0
+    for basis in bases:
+        for y in points:
+            row = [flint.fmpq(0)] * width
+            for k, phi in enumerate(basis[:-1]):
+                row[start + k] = phi.evaluate(y)
+            rows.append(row)
+            rhs.append(basis[-1].evaluate(y))
+        start += len(basis) - 1
+    return rows, rhs
 
 
 def orbit_points(kmap: KahanMap, point: Mapping[str, Rational], iterates: Sequence[int]) -> dict[int, dict]:

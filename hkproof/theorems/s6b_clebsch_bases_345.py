@@ -19,7 +19,12 @@ from hkproof.hk.linear_relations import (
     relation_rank,
     same_relation,
 )
-from hkproof.hk.reduced import Relation, linear_combination_equals, orbit_points
+from hkproof.hk.reduced import (
+    Relation,
+    block_rows_at,
+    linear_combination_equals,
+    orbit_points,
+)
 from hkproof.hk.transport import Substitution
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate
@@ -254,19 +259,6 @@ BLOCK = {c: [UNKNOWNS.index(f"{c}{j}") for j in range(1, 7)] for c in "abc"}
 J456 = [BLOCK[c][j] for c in "abc" for j in (3, 4, 5)]
 
 
-def hk_rows_at(f, orbit: Mapping[int, Mapping[str, flint.fmpq]], iterates: Sequence[int]):
-    """Rows of eqs. "Psi1 iterates" ... "Psi3 iterates" at exact points, as rows over the 18 unknowns."""
-    rows, rhs = [], []
-    for c, basis in zip("abc", bases(f), strict=True):
-        for i in iterates:
-            row = [flint.fmpq(0)] * len(UNKNOWNS)
-            for k, phi in zip(BLOCK[c], basis[:6], strict=True):
-                row[k] = phi.evaluate(orbit[i])
-            rows.append(row)
-            rhs.append(basis[6].evaluate(orbit[i]))
-    return rows, rhs
-
-
 def step1_relations(f, known: Mapping[str, Frac]) -> list[Relation]:
     """The relation rows of Step 1: rel18_1 ... rel18_8 and 'dC Psi add lin rel 1, 2'."""
     rels = [rel for k in STEP1_RELATIONS for rel in relation_rows(f, REL18[k])]
@@ -335,7 +327,7 @@ def _kernel_weights(text: str) -> list[str]:
 def _step1_at(f, rels: Sequence[Relation], point: Mapping[str, flint.fmpq]):
     """The 17 x 18 system of Step 1 at an exact point."""
     orbit = orbit_points(f, point, (0, 1))
-    rows, rhs = hk_rows_at(f, orbit, (0, 1))
+    rows, rhs = block_rows_at(bases(f), [orbit[i] for i in (0, 1)])
     rows += [[c.evaluate(point) for c in rel.coefficients] for rel in rels]
     rhs += [rel.rhs.evaluate(point) for rel in rels]
     return rows, rhs

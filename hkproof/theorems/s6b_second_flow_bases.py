@@ -23,6 +23,7 @@ from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.linear_relations import parse_relation, relation_rank
 from hkproof.hk.reduced import (
     Relation,
+    block_rows_at,
     kernel_coordinates,
     linear_combination_equals,
     orbit_points,
@@ -156,8 +157,7 @@ def prove_l_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> No
         rel_rows = [[c.evaluate(point) for c in rel.coefficients] for rel in combined]
 
         def hk_rows(i: int) -> list[list[flint.fmpq]]:
-            return [[phis[b][k % 6].evaluate(orbit[i]) if k // 6 == b else flint.fmpq(0) for k in range(18)]
-                    for b in range(3)]
+            return block_rows_at(phis, [orbit[i]])[0]
 
         for key, rows in (("relations", rel_rows), ("rows0", hk_rows(0) + rel_rows),
                           ("rows01", hk_rows(0) + hk_rows(1) + rel_rows)):
@@ -282,8 +282,7 @@ def prove_second_bases(cert: Certificate, claimed: Mapping[str, str]) -> None:
                    r, fixed=W_FIXED) as s:
         point = {k: v for k, v in RANK_POINT.items() if k in r.names}
         orbit = orbit_points(f, point, (0, 1))
-        rows = [[phis[b][k % 6].evaluate(orbit[i]) if k // 6 == b else flint.fmpq(0) for k in range(18)]
-                for i in (0, 1) for b in range(3)]
+        rows, _ = block_rows_at(phis, [orbit[i] for i in (0, 1)])
         rows += [[c.evaluate(point) for c in rel.coefficients] for rel in relations]
         s.require(flint.fmpq_mat(rows).rank() == 18, "the system is not of rank 18 at the point")
     with cert.step("hypotheses of Prop. \"prop: even\" and the solution even in eps", "iterates 0, 1 (non-symmetric); "

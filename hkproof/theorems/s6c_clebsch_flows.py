@@ -24,6 +24,7 @@ from hkproof.hk.matrix_form import require_matrix_form
 from hkproof.hk.recipe_g import WHAT_IT_PROVES, recipe_g
 from hkproof.hk.reduced import (
     Relation,
+    block_rows_at,
     det_at_point,
     hk_row,
     kernel_coordinates,
@@ -531,8 +532,7 @@ def prove_second_relations_found(cert: Certificate, claimed: Mapping[str, str]) 
         theta_rows = [[flint.fmpq(int(k % 6 == j)) for k in range(18)] for j in range(6)]
 
         def rank(iterates: Sequence[int], extra: Sequence[Sequence[flint.fmpq]]) -> int:
-            rows = [[phis[b][j].evaluate(orbit[i]) if k // 6 == b else flint.fmpq(0)
-                     for k, j in ((k, k % 6) for k in range(18))] for b in range(3) for i in iterates]
+            rows, _ = block_rows_at(phis, [orbit[i] for i in iterates])
             return flint.fmpq_mat(rows + rel_rows + list(extra)).rank()
 
         for key, got in (("rows01", rank((0, 1), [])), ("rows01_theta", rank((0, 1), theta_rows)),
@@ -569,8 +569,7 @@ def _l_relations(cert: Certificate, f: KahanMap, phis: Sequence[Sequence[Frac]],
         l0 = big_l.evaluate(point)
         rel_rows = [[v[k] + v[19 + k] * l0 for k in range(18)] for v in space]
         orbit = f.orbit_exact(point, 1)
-        hk = {i: [[phis[b][j].evaluate({**point, **orbit[i]}) if k // 6 == b else flint.fmpq(0)
-                   for k, j in ((k, k % 6) for k in range(18))] for b in range(3)] for i in (0, 1)}
+        hk = {i: block_rows_at(phis, [{**point, **orbit[i]}])[0] for i in (0, 1)}
         for key, rows in (("rows0_L", hk[0]), ("rows01_L", hk[0] + hk[1])):
             got = flint.fmpq_mat(rows + rel_rows).rank()
             s.require(str(got) == claimed[key].strip(), f"rank {key} = {got}, claimed {claimed[key]}")
