@@ -38,7 +38,7 @@ from hkproof.hk.transport import Substitution, map_mismatches
 from hkproof.orchestration.registry import REGISTRY, claim, require_proven
 from hkproof.proof.certificate import Certificate, ProofStopped, StepRecorder
 from hkproof.proof.status import Status
-from hkproof.theorems._clebsch import H, named, recall, record, shift_frac
+from hkproof.theorems._clebsch import H, named, number, recall, record, shift_frac
 from hkproof.theorems._common import parse_matrix
 from hkproof.theorems._flows import (
     B_OF_YZ,
@@ -589,7 +589,7 @@ def _embedded(kernel: Sequence[Sequence[str]], slots: Sequence[int]) -> list[fli
     """The 1-dimensional kernel of a sub-basis as a vector of R^10 (zeros outside its slots)."""
     v = [flint.fmpq(0)] * 10
     for slot, c in zip(slots, kernel[0], strict=True):
-        v[slot] = flint.fmpq(*map(int, c.split("/"))) if "/" in c else flint.fmpq(int(c))
+        v[slot] = number(c)
     return v
 
 
