@@ -7,7 +7,7 @@ import pytest
 import sympy
 
 from hkproof.algebra import Frac, Parity, Ring, cramer, det, homogenized_compose, nullspace_q, rank_mod_p, rank_q
-from hkproof.algebra.linalg import rank_over_fraction_field
+from hkproof.algebra.linalg import rank_over_fraction_field, solve_by_inverse
 from hkproof.errors import ParseError, SingularPointError, SingularSystemError, UnknownSymbolError
 from tests.sympy_bridge import poly_from_sympy
 
@@ -187,3 +187,12 @@ def test_specialize_to_smaller_ring():
     small = R.drop(["a"])
     g = f.specialize({"a": "3/2"}, small)
     assert g == Frac.parse(small, "(x + 3*eps/2)/(y + 1/2)")
+
+
+def test_solve_by_inverse_agrees_with_cramer():
+    rows = [[Frac.parse(R, t) for t in row] for row in (["1", "x", "0"], ["y", "1", "1"], ["0", "x - y", "2"])]
+    rhs = [Frac.parse(R, t) for t in ("x**3*y + 1", "y**2/(x + 1)", "x*y - 5")]
+    sol = solve_by_inverse(rows, rhs)
+    assert sol == cramer(rows, rhs)[0]
+    assert all(sum((a * v for a, v in zip(row, sol)), Frac(R, 0)) == b for row, b in zip(rows, rhs))
+    assert solve_by_inverse(rows, [rhs[0] + 1, *rhs[1:]]) != sol

@@ -1,9 +1,14 @@
 """hk.expansion: coefficients in eps, even pieces (Prop. "prop: even") and weighted degrees."""
 from __future__ import annotations
 
+import re
+
+import pytest
+
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import get_ring
-from hkproof.hk.expansion import even_pieces, weighted_degrees
+from hkproof.hk.expansion import even_pieces, homogeneous_eps_pieces, weighted_degrees
+from hkproof.proof.certificate import Refuted
 
 
 def _poly(r, text):
@@ -29,3 +34,14 @@ def test_weighted_degrees_of_a_homogeneous_and_an_inhomogeneous_polynomial():
     assert weighted_degrees(r, _poly(r, "x**2 + eps*x*y"), ones) == {2}
     assert weighted_degrees(r, _poly(r, "x**2 + y"), ones) == {1, 2}
     assert weighted_degrees(r, _poly(r, "0"), ones) == set()
+
+
+def test_homogeneous_eps_pieces_reads_the_form_and_refutes_a_broken_one():
+    r = get_ring(("x", "y", "eps", "w"))
+    h = Frac.parse(r, "(x**2 + eps**2*w*x**3*y + eps**4*y**6)/(w + 1)")
+    pieces = homogeneous_eps_pieces(h, "eps", ("x", "y"), 3, 2, "h")
+    assert pieces == [Frac.parse(r, t) for t in ("x**2/(w + 1)", "w*x**3*y/(w + 1)", "y**6/(w + 1)")]
+    for broken, why in (("x**2 + eps*x**3", "eps^2"), ("x**2 + eps**2*x**3", "homogeneous"),
+                        ("x**2/(1 + eps)", "not a polynomial"), ("x**2 + eps**6*x**8", "eps^2 of degree 2")):
+        with pytest.raises(Refuted, match=re.escape(why)):
+            homogeneous_eps_pieces(Frac.parse(r, broken), "eps", ("x", "y"), 3, 2, "h")

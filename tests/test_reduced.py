@@ -1,9 +1,11 @@
 """Prop. "prop: even" as implemented: each hypothesis, when broken, keeps the verdict from being 'verified'."""
 from __future__ import annotations
 
+import flint
+
 from hkproof.algebra import Frac
 from hkproof.dynamics import kahan_map
-from hkproof.hk.reduced import Relation, prove_by_evenness
+from hkproof.hk.reduced import Relation, block_rows_at, kernel_coordinates, prove_by_evenness
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 
@@ -56,3 +58,23 @@ def test_a_single_iterate_is_not_a_range():
     rel = Relation([Frac(R, 1), Frac(R, -1)], Frac(R, 0))
     cert = run(["x1**2", "x2**2"], "1", iterates=(0,), relations=[rel])
     assert cert.status is Status.REFUTED and "non-symmetric" in cert.error
+
+
+def test_kernel_coordinates_are_integrals_at_an_exact_point():
+    point = {"x1": flint.fmpq(1, 2), "x2": 3, "x3": -2, "eps": flint.fmpq(1, 5), "a1": 2, "a2": -1, "a3": 3}
+    basis = [Frac.parse(R, t) for t in ("x1**2", "x2**2", "1")]
+    c = kernel_coordinates(F, [basis], point)
+    assert c is not None and len(c) == 2
+    assert kernel_coordinates(F, [basis], {**point, **F.orbit_exact(point, 1)[1]}) == c
+    assert sum((a * phi.evaluate(point) for a, phi in zip(c, basis)), flint.fmpq(0)) == 1
+    assert kernel_coordinates(F, [[Frac.parse(R, t) for t in ("x1**2", "x1*x2", "1")]], point) is None
+
+
+def test_block_rows_at_puts_each_basis_in_its_own_block():
+    first = [Frac.parse(R, t) for t in ("x1**2", "x2**2", "1")]
+    second = [Frac.parse(R, t) for t in ("x3", "x1*x3")]
+    y = {"x1": 2, "x2": 3, "x3": 5, "eps": flint.fmpq(1, 7), "a1": 1, "a2": 1, "a3": 1}
+    z = {**y, "x1": -1}
+    rows, rhs = block_rows_at([first, second], [y, z])
+    assert rows == [[4, 9, 0], [1, 9, 0], [0, 0, 5], [0, 0, 5]]
+    assert rhs == [1, 1, 10, -5]

@@ -136,6 +136,15 @@ def cramer(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac],
     return solve_cleared(rhs[0].ring, *cleared_system(rows, rhs), columns)
 
 
+def solve_by_inverse(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac]) -> list[Frac]:
+    """x with rows x = rhs for a small square matrix and large right-hand sides (the A, B, C, D system of sec. 6.7):
+    the inverse's columns by Cramer's rule, then one linear combination of the right-hand sides per unknown."""
+    r = rhs[0].ring
+    n = len(rows)
+    columns = [cramer(rows, [Frac(r, int(i == k)) for i in range(n)])[0] for k in range(n)]
+    return [sum((columns[k][j] * rhs[k] for k in range(n)), Frac(r, 0)) for j in range(n)]
+
+
 def solve_cleared(ring: Ring, a: PolyMatrix, b: Sequence[flint.fmpz_mpoly], common: flint.fmpz_mpoly,
                   columns: Sequence[int] | None = None) -> tuple[list[Frac], flint.fmpz_mpoly]:
     """The solution of A x = b / common (a `cleared_system`) by Cramer's rule, in lowest terms, with one big gcd:

@@ -7,6 +7,7 @@ import flint
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Ring
+from hkproof.proof.certificate import Refuted
 
 
 def coefficients_in(ring: Ring, p: flint.fmpz_mpoly, name: str) -> list[flint.fmpz_mpoly]:
@@ -63,3 +64,20 @@ def even_pieces(ring: Ring, p: flint.fmpz_mpoly, name: str, max_degree: int) -> 
     if len(coeffs) > max_degree + 1 or any(not c.is_zero() for c in coeffs[1::2]):
         return None
     return [coeffs[k] if k < len(coeffs) else ring.ctx.from_dict({}) for k in range(0, max_degree + 1, 2)]
+
+
+def homogeneous_eps_pieces(h: Frac, eps: str, names: Sequence[str], count: int, first_degree: int,
+                           what: str) -> list[Frac]:
+    """[h_0, ..., h_(count-1)] with h = sum_q eps^(2q) h_q, h_q homogeneous of degree first_degree + 2q in `names`
+    and free of eps (the form of sec. 6.7, eqs. "dC A" ... "dC D", "bigint_form"); Refuted naming `what` if not."""
+    r = h.ring
+    if Frac(r, h.den).variables() & {eps, *names}:
+        raise Refuted(f"{what} is not a polynomial in ({', '.join(names)}, {eps})")
+    coeffs = coefficients_in(r, h.num, eps)
+    if len(coeffs) > 2 * count - 1 or any(not c.is_zero() for c in coeffs[1::2]):
+        raise Refuted(f"{what}: not a polynomial in {eps}^2 of degree {count - 1}")
+    pieces = [Frac(r, coeffs[2 * q], h.den) if 2 * q < len(coeffs) else Frac(r, 0) for q in range(count)]
+    for q, piece in enumerate(pieces):
+        if not weighted_degrees(r, piece.num, {n: 1 for n in names}) <= {first_degree + 2 * q}:
+            raise Refuted(f"{what}: the {eps}^{2 * q} piece is not homogeneous of degree {first_degree + 2 * q}")
+    return pieces

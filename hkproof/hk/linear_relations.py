@@ -1,7 +1,8 @@
 """Linear relations among kernel coordinates written as text ('w1*e1 - w2*w3*e4 = 0'), as rows of recipe (E)."""
 from __future__ import annotations
 
-from typing import Sequence
+from itertools import pairwise
+from typing import Mapping, Sequence
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import rank_over_fraction_field
@@ -26,6 +27,25 @@ def parse_relation(ring: Ring, text: str, unknowns: Sequence[str]) -> Relation:
         coefficients.append(d.specialize(zero, ring))
     constant = expr.specialize(zero, ring)
     return Relation(coefficients, -constant)
+
+
+def parse_relation_chain(ring: Ring, text: str, unknowns: Sequence[str],
+                         known: Mapping[str, Frac] | None = None) -> list[Relation]:
+    """A printed chain 'X = Y = Z' (as in sec. 6.7, eqs. "rel18_4" ... "rel18_8") as the relations X = Y, Y = Z
+    among `unknowns`; `known` functions (integrals d7, g4, ...) may appear linearly and move to the right-hand side."""
+    known = dict(known or {})
+    k = len(unknowns)
+    out = []
+    for lhs, rhs in pairwise(text.split("=")):
+        rel = parse_relation(ring, f"{lhs} = {rhs}", [*unknowns, *known])
+        moved = sum((c * v for c, v in zip(rel.coefficients[k:], known.values(), strict=True)), Frac(ring, 0))
+        out.append(Relation(rel.coefficients[:k], rel.rhs - moved))
+    return out
+
+
+def same_relation(a: Relation, b: Relation) -> bool:
+    """The two relations are proportional over the fraction field (rank 1 of their augmented rows)."""
+    return relation_rank([a, b]) == 1
 
 
 def relation_rank(relations: Sequence[Relation]) -> int:

@@ -7,13 +7,12 @@ from typing import Callable, Mapping, Sequence
 import flint
 
 from hkproof.algebra.fraction import Frac, Parity
-from hkproof.algebra.linalg import cramer, lcm
+from hkproof.algebra.linalg import cramer, lcm, nullspace_q
 from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
 from hkproof.proof.certificate import Certificate
-
 
 SolutionCheck = Callable[..., bool]
 
@@ -136,6 +135,38 @@ def det_at_point(kmap: KahanMap, basis: Sequence[Frac], iterates: Sequence[int],
     if len(rows) != len(basis):
         raise HKProofError(f"{len(rows)} equations for {len(basis)} unknowns: the reduced system must be square")
     return flint.fmpq_mat(rows).det()
+
+
+def kernel_coordinates(kmap: KahanMap, bases: Sequence[Sequence[Frac]], point: Mapping[str, Rational],
+                       last: int = 6) -> list[flint.fmpq] | None:
+    """Recipe (B) at one exact point: ker X_[0,last] of each basis with its last coordinate -1, the others
+    concatenated (sec. 6.7's alpha, beta, gamma); None if a kernel is not 1-dimensional or ends in 0."""
+    orbit = kmap.orbit_exact(point, last)
+    out: list[flint.fmpq] = []
+    for basis in bases:
+        kernel = nullspace_q([[phi.evaluate({**point, **y}) for phi in basis] for y in orbit])
+        if len(kernel) != 1 or kernel[0][-1] == 0:
+            return None
+        out += [c / -kernel[0][-1] for c in kernel[0][:-1]]
+    return out
+
+
+def block_rows_at(bases: Sequence[Sequence[Frac]], points: Sequence[Mapping[str, Rational]]
+                  ) -> tuple[list[list[flint.fmpq]], list[flint.fmpq]]:
+    """The rows sum_k a_k phi_k(y) = phi_last(y) of several bases at exact points y, each basis with its own block
+    of unknowns (sec. 6.7, eqs. "Psi1 iterates" ... "Psi3 iterates"): (rows, right-hand sides), basis by basis."""
+    width = sum(len(basis) - 1 for basis in bases)
+    rows, rhs = [], []
+    start = 0
+    for basis in bases:
+        for y in points:
+            row = [flint.fmpq(0)] * width
+            for k, phi in enumerate(basis[:-1]):
+                row[start + k] = phi.evaluate(y)
+            rows.append(row)
+            rhs.append(basis[-1].evaluate(y))
+        start += len(basis) - 1
+    return rows, rhs
 
 
 def orbit_points(kmap: KahanMap, point: Mapping[str, Rational], iterates: Sequence[int]) -> dict[int, dict]:

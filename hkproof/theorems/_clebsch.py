@@ -9,7 +9,6 @@ import flint
 from hkproof.algebra.formula import cycled as formula_cycled
 from hkproof.algebra.formula import parse_rational, rename
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.linalg import lcm
 from hkproof.algebra.ring import Ring
 from hkproof.dynamics.catalogue import CLEBSCH_VARS
 from hkproof.dynamics.kahan import KahanMap
@@ -84,23 +83,6 @@ def named(kmap: KahanMap, text: str, values: Mapping[str, str | Frac] | None = N
     known = {**_integrals(ring), **{k: (v if isinstance(v, Frac) else Frac.parse(ring, v))
                                     for k, v in (values or {}).items()}}
     return Frac.parse(ring, text, known)
-
-
-def substitute_named(q: Frac, values: Mapping[str, Frac], ring: Ring) -> Frac:
-    """q, over `ring` extended by the names of `values`, with those names replaced by the values: one homogenized
-    compose over the values' common denominator, one gcd at the end."""
-    num, den = substituted(q, values, ring)
-    return Frac(ring, num, den)
-
-
-def substituted(q: Frac, values: Mapping[str, Frac], ring: Ring) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
-    """(P, Q) over `ring` with P/Q = q with the names of `values` replaced by the values, not reduced (compare it
-    with `Frac.is_ratio`, which needs no gcd)."""
-    big = q.ring
-    common = lcm([v.den for v in values.values()])
-    images = [(v.num * (common / v.den)).project_to_context(big.ctx) for v in values.values()]
-    num, den = q.pullback_terms(images, common.project_to_context(big.ctx), list(values))
-    return big.project(num, ring), big.project(den, ring)
 
 
 @lru_cache(maxsize=None)

@@ -22,6 +22,7 @@ from hkproof.hk.reduced import (
     prove_by_evenness,
 )
 from hkproof.hk.translation import prove_on_slice, slice_decides, verify_on_slice
+from hkproof.hk.transport import Substitution
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.resources import peak_rss_mb
@@ -35,7 +36,6 @@ from hkproof.theorems._clebsch import (
     recall,
     record,
     shift_frac,
-    substituted,
 )
 
 GROUP = "clebsch-bases"
@@ -395,7 +395,8 @@ def prove_theta_dependence(cert: Certificate, claimed: Mapping[str, str]) -> Non
         if slice_decides(s, TRANSLATION, {"the formula": formula, "g1": g1, **values}):
             g1, formula = TRANSLATION.restrict(g1), TRANSLATION.restrict(formula)
             args = {k: TRANSLATION.restrict(v) for k, v in values.items()}
-        s.require(g1.is_ratio(*substituted(formula, args, g1.ring)), "g1 differs from the formula in A, B, C, D")
+        s.require(g1.is_ratio(*Substitution(formula.ring, g1.ring, args).apply_terms(formula)),
+                  "g1 differs from the formula in A, B, C, D")
     with cert.step("g2, g3: the cyclic images", "the index shift (1 -> 2 -> 3) maps A -> B -> C -> A, D -> D and "
                    "g1 -> g2 -> g3 (exact)", r) as s:
         for a, b in (*_ABC_CYCLE.items(), ("D", "D"), ("g1", "g2"), ("g2", "g3")):

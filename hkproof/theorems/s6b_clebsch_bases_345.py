@@ -1,26 +1,35 @@
 """Section 6.7: Th. "dC bases 345" (bases Phi1, Phi2, Phi3): relations rel18, M2 with A, B, C, D, Step 1."""
 from __future__ import annotations
 
-from itertools import pairwise
 from typing import Mapping, Sequence
 
 import flint
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.linalg import cramer, rank_over_fraction_field
+from hkproof.algebra.linalg import rank_over_fraction_field, solve_by_inverse
 from hkproof.algebra.ring import Ring
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.errors import ParseError
 from hkproof.experiments.relations import find_relations
-from hkproof.hk.expansion import coefficients_in
+from hkproof.hk.expansion import homogeneous_eps_pieces
 from hkproof.hk.independence import jacobian_rank_at, sample_point
-from hkproof.hk.linear_relations import parse_relation
-from hkproof.hk.reduced import Relation, linear_combination_equals, orbit_points
+from hkproof.hk.linear_relations import (
+    parse_relation_chain,
+    relation_rank,
+    same_relation,
+)
+from hkproof.hk.reduced import (
+    Relation,
+    block_rows_at,
+    linear_combination_equals,
+    orbit_points,
+)
+from hkproof.hk.transport import Substitution
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
-from hkproof.theorems._clebsch import SYSTEM, X, named, recall, record, substitute_named
+from hkproof.theorems._clebsch import SYSTEM, X, named, recall, record
 
 GROUP = "clebsch-bases-345"
 COMMON = ("p1**2", "p2**2", "p3**2", "m1**2", "m2**2", "m3**2")
@@ -66,21 +75,8 @@ def bases(f) -> list[list[Frac]]:
 
 def relation_rows(f, text: str, unknowns: Sequence[str] = UNKNOWNS,
                   known: Mapping[str, Frac] | None = None) -> list[Relation]:
-    """A printed chain 'X = Y = Z' as relations X = Y, Y = Z among `unknowns`; `known` integrals (d7, g4, ...)
-    may appear linearly and are moved to the right-hand side."""
-    known = dict(known or {})
-    parts = text.split("=")
-    out = []
-    for lhs, rhs in pairwise(parts):
-        rel = parse_relation(f.ring, f"{lhs} = {rhs}", [*unknowns, *known])
-        k = len(unknowns)
-        moved = sum((c * v for c, v in zip(rel.coefficients[k:], known.values(), strict=True)), Frac(f.ring, 0))
-        out.append(Relation(rel.coefficients[:k], rel.rhs - moved))
-    return out
-
-
-def _augmented(rels: Sequence[Relation]) -> list[list[Frac]]:
-    return [list(r.coefficients) + [r.rhs] for r in rels]
+    """A printed chain of this section as relations among alpha_j, beta_j, gamma_j (the default unknowns)."""
+    return parse_relation_chain(f.ring, text, unknowns, known)
 
 
 # -- rel18: the nine relations, found again by recipe (E) ---------------------------------------------------------
@@ -98,9 +94,9 @@ def prove_relations(cert: Certificate, claimed: Mapping[str, str]) -> None:
                    "rank over Q(eps, w) of the augmented rows", r) as s:
         printed = [rel for k in REL18 for rel in relation_rows(f, claimed[k])]
         extra = relation_rows(f, claimed["rel18_extra"])
-        s.require(len(printed) == 9 and rank_over_fraction_field(_augmented(printed)) == 9,
+        s.require(len(printed) == 9 and relation_rank(printed) == 9,
                   "rel18_1 ... rel18_8 are not nine independent relations")
-        s.require(rank_over_fraction_field(_augmented(printed + extra)) == 9,
+        s.require(relation_rank(printed + extra) == 9,
                   "the two further relations do not follow from rel18_1 ... rel18_8")
     values = proven_coordinates(cert, r)
     with cert.step("the relations hold for the proven kernel coordinates", "exact identities in Q(m, p, eps, w)",
@@ -130,7 +126,7 @@ def prove_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> None
         found = [Relation(rel.coefficients, rel.rhs) for rel in search.relations]
         s.require(search.dimension == 9 and len(found) == 9,
                   f"relation space of dimension {search.dimension}, {len(found)} relations reconstructed")
-        s.require(rank_over_fraction_field(_augmented(found + printed)) == 9,
+        s.require(relation_rank(found + printed) == 9,
                   "a printed relation is not in the space found by recipe (E)")
         s.evidence(Status.EVIDENCE_EXACT, points=search.samples)
         s.note(f"{search.samples} exact samples; every relation checked at fresh samples (discovery; the proof is "
@@ -166,10 +162,6 @@ def _in_abcd(f, text: str, m2: str, known: Mapping[str, Frac]) -> Relation:
     return Relation(columns, rel.rhs)
 
 
-def _same_relation(a: Relation, b: Relation) -> bool:
-    return rank_over_fraction_field(_augmented([a, b])) == 1
-
-
 @claim("dc345-abcd", GROUP,
        "Eq. \"M2\": alpha_j, beta_j, gamma_j (j = 4, 5, 6) through A, B, C, D; eqs. \"ABCD dependence\", "
        "\"dC Psi add lin rel 1\" ... \"6\", \"dC A\" ... \"dC D\"",
@@ -194,9 +186,9 @@ def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
         for k in range(1, 7):
             via_m2 = _in_abcd(f, claimed[f"add_{k}"], claimed["M2"], known)
             (direct,) = relation_rows(f, claimed[f"add_{k}_abcd"], tuple("ABCD"), known)
-            s.require(_same_relation(via_m2, direct), f"the two sides of 'dC Psi add lin rel {k}' differ")
+            s.require(same_relation(via_m2, direct), f"the two sides of 'dC Psi add lin rel {k}' differ")
             rows.append(direct)
-        s.require(rank_over_fraction_field(_augmented(rows)) == 3 and
+        s.require(relation_rank(rows) == 3 and
                   rank_over_fraction_field([list(x.coefficients) for x in rows]) == 3,
                   "the six relations are not a consistent system of rank 3")
         one = [Frac(r, 1)] * 3 + [Frac(r, 0)]
@@ -207,16 +199,19 @@ def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
     with cert.step("A, B, C, D from eq. \"ABCD dependence\"", "the dependence is linear along (1, 1, 1, 0): "
                    "sum of 1/((w_i - w_j)(w_i - w_k)) = 0", r) as s:
         pick = rows[:1] + rows[3:5] + [Relation([Frac(r, 0)] * 2 + [Frac(r, 1), Frac(r, 0)], Frac(r, 0))]
-        base = _solve_constant([list(x.coefficients) for x in pick], [x.rhs for x in pick])
+        base = solve_by_inverse([list(x.coefficients) for x in pick], [x.rhs for x in pick])
         lhs, rhs = claimed["abcd_dependence"].split("=")
-        q = Frac.parse(r.extend(["A", "B", "C", "D", "t"]), f"({lhs}) - ({rhs})")
-        along = q.pullback([q.ring.gen(k) + q.ring.gen("t") for k in "ABC"] + [q.ring.gen("D")],
-                           q.ring.constant(1), ["A", "B", "C", "D"])
+        r4 = r.extend(["A", "B", "C", "D"])
+        q = Frac.parse(r4, f"({lhs}) - ({rhs})")
+        rt = r4.extend(["t"])
+        along = q.to_ring(rt).pullback([rt.gen(k) + rt.gen("t") for k in "ABC"] + [rt.gen("D")], rt.constant(1),
+                                       ["A", "B", "C", "D"])
         s.require(along.derivative("t").derivative("t").is_zero(),
                   "eq. \"ABCD dependence\" is not linear along (1, 1, 1, 0)")
-        slope = substitute_named(along.derivative("t"), dict(zip("ABCD", base, strict=True)), r)
+        at_base = Substitution(r4, r, dict(zip("ABCD", base, strict=True)))
+        slope = at_base.apply(along.derivative("t").to_ring(r4))
         s.require(not slope.is_zero(), "eq. \"ABCD dependence\" does not fix A + B + C")
-        t = -substitute_named(q, dict(zip("ABCD", base, strict=True)), r) / slope
+        t = -at_base.apply(q) / slope
         abcd = dict(zip("ABCD", [base[0] + t, base[1] + t, base[2] + t, base[3]], strict=True))
         s.require(all(linear_combination_equals(x.coefficients, list(abcd.values()), x.rhs) for x in rows),
                   "A, B, C, D do not satisfy the six relations")
@@ -246,60 +241,22 @@ def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
                    "coefficients in eps of 2 eps^2 Delta A and 2 Delta D; homogeneity in (m, p)", r) as s:
         e2 = Frac(r, r.gen(EPS) ** 2)
         for name in "ABC":
-            pieces = _eps_pieces(s, r, abcd[name] * 2 * e2 * delta, f"2 eps^2 Delta {name}", 5, 0)
+            pieces = homogeneous_eps_pieces(abcd[name] * 2 * e2 * delta, EPS, X, 5, 0, f"2 eps^2 Delta {name}")
             s.require_equal(pieces[0], named(f, claimed["A_leading"]), f"{name}^(0)")
             s.require_equal(pieces[1], named(f, claimed["A_2"]), f"{name}^(2)")
-        pieces = _eps_pieces(s, r, abcd["D"] * 2 * delta, "2 Delta D", 4, 2)
+        pieces = homogeneous_eps_pieces(abcd["D"] * 2 * delta, EPS, X, 4, 2, "2 Delta D")
         s.require_equal(pieces[0], named(f, claimed["D_leading"]), "D^(2)")
         s.require_equal(pieces[1], named(f, claimed["D_4"]), "D^(4)")
     with cert.step("eq. \"ABCD dependence\" for A, B, C, D, directly", "one homogenized compose of the quadric "
                    "over the common denominator of A, B, C, D (a check of the construction; last, being the costliest "
                    "when a claim is false)", r) as s:
-        s.require(substitute_named(q, abcd, r).is_zero(), "eq. \"ABCD dependence\" fails")
-
-
-def _solve_constant(rows: list[list[Frac]], rhs: list[Frac]) -> list[Frac]:
-    """x with rows x = rhs, rows free of phase variables: the inverse by Cramer (small), then one combination each
-    (no fraction-free elimination over the big right-hand sides)."""
-    r = rhs[0].ring
-    n = len(rows)
-    columns = [cramer(rows, [Frac(r, int(i == k)) for i in range(n)])[0] for k in range(n)]
-    return [sum((columns[k][j] * rhs[k] for k in range(n)), Frac(r, 0)) for j in range(n)]
-
-
-def _eps_pieces(s, r, h: Frac, what: str, count: int, first_degree: int) -> list[Frac]:
-    """h as sum_q eps^(2q) h_q with h_q homogeneous of degree first_degree + 2q in (m, p), eps-free (coefficients
-    in Q(w))."""
-    s.require(not Frac(r, h.den).variables() & {EPS, *X}, f"{what} is not a polynomial in (m, p, eps)")
-    coeffs = coefficients_in(r, h.num, EPS)
-    s.require(len(coeffs) <= 2 * count - 1 and all(c.is_zero() for c in coeffs[1::2]),
-              f"{what}: not a polynomial in eps^2 of degree {count - 1}")
-    pieces = [Frac(r, coeffs[2 * q], h.den) if 2 * q < len(coeffs) else Frac(r, 0) for q in range(count)]
-    idx = [r.index(n) for n in X]
-    for q, piece in enumerate(pieces):
-        degs = {sum(m[i] for i in idx) for m in piece.num.monoms()}
-        s.require(degs <= {first_degree + 2 * q}, f"{what}: the eps^{2 * q} piece is not homogeneous of degree "
-                                                  f"{first_degree + 2 * q}")
-    return pieces
+        s.require(Substitution(r4, r, abcd).apply(q).is_zero(), "eq. \"ABCD dependence\" fails")
 
 
 # -- Step 1: the 17 x 18 system ---------------------------------------------------------------------------------
 STEP1_RELATIONS = ("rel18_1", "rel18_2", "rel18_3", "rel18_4", "rel18_6", "rel18_8")
 BLOCK = {c: [UNKNOWNS.index(f"{c}{j}") for j in range(1, 7)] for c in "abc"}
 J456 = [BLOCK[c][j] for c in "abc" for j in (3, 4, 5)]
-
-
-def hk_rows_at(f, orbit: Mapping[int, Mapping[str, flint.fmpq]], iterates: Sequence[int]):
-    """Rows of eqs. "Psi1 iterates" ... "Psi3 iterates" at exact points, as rows over the 18 unknowns."""
-    rows, rhs = [], []
-    for c, basis in zip("abc", bases(f), strict=True):
-        for i in iterates:
-            row = [flint.fmpq(0)] * len(UNKNOWNS)
-            for k, phi in zip(BLOCK[c], basis[:6], strict=True):
-                row[k] = phi.evaluate(orbit[i])
-            rows.append(row)
-            rhs.append(basis[6].evaluate(orbit[i]))
-    return rows, rhs
 
 
 def step1_relations(f, known: Mapping[str, Frac]) -> list[Relation]:
@@ -370,7 +327,7 @@ def _kernel_weights(text: str) -> list[str]:
 def _step1_at(f, rels: Sequence[Relation], point: Mapping[str, flint.fmpq]):
     """The 17 x 18 system of Step 1 at an exact point."""
     orbit = orbit_points(f, point, (0, 1))
-    rows, rhs = hk_rows_at(f, orbit, (0, 1))
+    rows, rhs = block_rows_at(bases(f), [orbit[i] for i in (0, 1)])
     rows += [[c.evaluate(point) for c in rel.coefficients] for rel in rels]
     rhs += [rel.rhs.evaluate(point) for rel in rels]
     return rows, rhs

@@ -7,6 +7,7 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import rank_q
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
+from hkproof.hk.expansion import homogeneous_eps_pieces
 from hkproof.hk.independence import sample_point
 from hkproof.hk.reduced import Relation, det_at_point, linear_combination_equals
 from hkproof.hk.translation import check_solution_on_slice, prove_on_slice
@@ -18,7 +19,6 @@ from hkproof.theorems.s6b_clebsch_bases_345 import (
     F_TEXT,
     GROUP,
     REL18,
-    _eps_pieces,
     bases,
     relation_rows,
 )
@@ -44,7 +44,7 @@ def _bigint_form(s, f, h: Frac, name: str, leading: str, delta: Frac) -> None:
     """Eq. "bigint_form": 2 eps^2 H3 Delta h = h^(2) + eps^2 h^(4) + ... + eps^10 h^(12), h^(2) as in "alpha123"."""
     r = f.ring
     top = h * Frac(r, 2 * r.gen(EPS) ** 2) * named(f, "H3") * delta
-    pieces = _eps_pieces(s, r, top, f"2 eps^2 H3 Delta {name}", 6, 2)
+    pieces = homogeneous_eps_pieces(top, EPS, X, 6, 2, f"2 eps^2 H3 Delta {name}")
     s.require_equal(pieces[0], named(f, leading), f"{name}^(2)")
 
 
@@ -104,7 +104,8 @@ def prove_alpha(cert: Certificate, claimed: Mapping[str, str]) -> None:
         record(cert, "F", F)
     with cert.step("Step 3: the form of F", "eps-coefficients of 2 eps^2 Delta F/(w2 - w3)", r) as s:
         w23 = named(f, "w2 - w3")
-        pieces = _eps_pieces(s, r, F * Frac(r, 2 * r.gen(EPS) ** 2) * delta / w23, "2 eps^2 Delta F/(w2 - w3)", 5, 0)
+        pieces = homogeneous_eps_pieces(F * Frac(r, 2 * r.gen(EPS) ** 2) * delta / w23, EPS, X, 5, 0,
+                                        "2 eps^2 Delta F/(w2 - w3)")
         s.require_equal(pieces[0], named(f, claimed["F_leading"]), "F^(0)")
     (frow,) = relation_rows(f, f"{claimed['F_row']} = 0", _block("a"))
     sol = _solve_block(cert, f, "a", Relation(frow.coefficients, F + frow.rhs, "dc345-alpha, Step 3"), abcd)

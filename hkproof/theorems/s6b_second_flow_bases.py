@@ -21,12 +21,19 @@ from hkproof.errors import HKProofError
 from hkproof.experiments.relations import find_relations
 from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.linear_relations import parse_relation, relation_rank
-from hkproof.hk.reduced import Relation, linear_combination_equals, orbit_points
+from hkproof.hk.reduced import (
+    Relation,
+    block_rows_at,
+    kernel_coordinates,
+    linear_combination_equals,
+    orbit_points,
+)
 from hkproof.hk.row_check import check_solution_by_rows
+from hkproof.hk.transport import Substitution
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate, Refuted
 from hkproof.proof.status import Status
-from hkproof.theorems._clebsch import record, substitute_named
+from hkproof.theorems._clebsch import record
 from hkproof.theorems.s6b_clebsch_bases_345 import UNKNOWNS, bases
 from hkproof.theorems.s6c_clebsch_flows import (
     FLOW2,
@@ -34,7 +41,6 @@ from hkproof.theorems.s6c_clebsch_flows import (
     PHI_MAX_TEXT,
     RANK_POINT,
     SUB_BASES,
-    kernel_coordinates,
 )
 
 L_NAMES = tuple(f"L{u}" for u in UNKNOWNS)     # L a_j, L b_j, L c_j: kernel coordinates of (p^2, m^2, L m_k p_k)
@@ -151,8 +157,7 @@ def prove_l_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> No
         rel_rows = [[c.evaluate(point) for c in rel.coefficients] for rel in combined]
 
         def hk_rows(i: int) -> list[list[flint.fmpq]]:
-            return [[phis[b][k % 6].evaluate(orbit[i]) if k // 6 == b else flint.fmpq(0) for k in range(18)]
-                    for b in range(3)]
+            return block_rows_at(phis, [orbit[i]])[0]
 
         for key, rows in (("relations", rel_rows), ("rows0", hk_rows(0) + rel_rows),
                           ("rows01", hk_rows(0) + hk_rows(1) + rel_rows)):
@@ -205,12 +210,13 @@ def solve_on_line(f: KahanMap, phis: Sequence[Sequence[Frac]], rel_rows: Sequenc
     a = [[rel_rows[k][j] for j in pivots] for k in chosen]
     columns = {fj: dict(zip(pivots, cramer(a, [-rel_rows[k][fj] for k in chosen])[0], strict=True)) for fj in free}
     lifted = r.extend(["L"])
+    at_l = Substitution(lifted, r, {"L": big_l})
 
     def entry(j: int, fj: int) -> Frac:
         if j in free:
             return Frac(r, int(j == fj))
         v = columns[fj][j]
-        return Frac(r, 0) if v.is_zero() else substitute_named(v.to_ring(lifted), {"L": big_l}, r)
+        return Frac(r, 0) if v.is_zero() else at_l.apply(v.to_ring(lifted))
 
     p = [[entry(j, fj) for fj in free] for j in range(len(UNKNOWNS))]
     rows0 = [[sum((phis[b][j] * p[6 * b + j][c] for j in range(6)), Frac(r, 0)) for c in range(len(free))]
@@ -259,8 +265,11 @@ def prove_second_bases(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.note("their coefficients are in Q(eps^2)[L], L an even integral (flow-second-theorem)")
     rel_rows = [list(rel.coefficients) for rel in small_rels]
 
+    lifted = r.extend(["L"])
+    sigma = Substitution(lifted, r, {"L": big_l})
+
     def at_l(h: Frac) -> Frac:
-        return substitute_named(h.to_ring(r.extend(["L"])), {"L": big_l}, r)
+        return sigma.apply(h.to_ring(lifted))
 
     relations = [Relation([at_l(c) for c in rel.coefficients], at_l(rel.rhs), "L (flow-second-theorem)")
                  for rel in small_rels]
@@ -273,8 +282,7 @@ def prove_second_bases(cert: Certificate, claimed: Mapping[str, str]) -> None:
                    r, fixed=W_FIXED) as s:
         point = {k: v for k, v in RANK_POINT.items() if k in r.names}
         orbit = orbit_points(f, point, (0, 1))
-        rows = [[phis[b][k % 6].evaluate(orbit[i]) if k // 6 == b else flint.fmpq(0) for k in range(18)]
-                for i in (0, 1) for b in range(3)]
+        rows, _ = block_rows_at(phis, [orbit[i] for i in (0, 1)])
         rows += [[c.evaluate(point) for c in rel.coefficients] for rel in relations]
         s.require(flint.fmpq_mat(rows).rank() == 18, "the system is not of rank 18 at the point")
     with cert.step("hypotheses of Prop. \"prop: even\" and the solution even in eps", "iterates 0, 1 (non-symmetric); "

@@ -24,8 +24,10 @@ from hkproof.hk.matrix_form import require_matrix_form
 from hkproof.hk.recipe_g import WHAT_IT_PROVES, recipe_g
 from hkproof.hk.reduced import (
     Relation,
+    block_rows_at,
     det_at_point,
     hk_row,
+    kernel_coordinates,
     linear_combination_equals,
     orbit_points,
     verify_by_evenness,
@@ -36,7 +38,7 @@ from hkproof.hk.transport import Substitution, map_mismatches
 from hkproof.orchestration.registry import REGISTRY, claim, require_proven
 from hkproof.proof.certificate import Certificate, ProofStopped, StepRecorder
 from hkproof.proof.status import Status
-from hkproof.theorems._clebsch import H, named, recall, record, shift_frac
+from hkproof.theorems._clebsch import H, named, number, recall, record, shift_frac
 from hkproof.theorems._common import parse_matrix
 from hkproof.theorems._flows import (
     B_OF_YZ,
@@ -530,8 +532,7 @@ def prove_second_relations_found(cert: Certificate, claimed: Mapping[str, str]) 
         theta_rows = [[flint.fmpq(int(k % 6 == j)) for k in range(18)] for j in range(6)]
 
         def rank(iterates: Sequence[int], extra: Sequence[Sequence[flint.fmpq]]) -> int:
-            rows = [[phis[b][j].evaluate(orbit[i]) if k // 6 == b else flint.fmpq(0)
-                     for k, j in ((k, k % 6) for k in range(18))] for b in range(3) for i in iterates]
+            rows, _ = block_rows_at(phis, [orbit[i] for i in iterates])
             return flint.fmpq_mat(rows + rel_rows + list(extra)).rank()
 
         for key, got in (("rows01", rank((0, 1), [])), ("rows01_theta", rank((0, 1), theta_rows)),
@@ -543,19 +544,6 @@ def prove_second_relations_found(cert: Certificate, claimed: Mapping[str, str]) 
                "integral right-hand sides are still to be found before Prop. \"prop: even\" applies; the symmetric "
                "system determines alpha, beta, gamma (the paper's Step 2 route, which proves nothing by itself)")
     _l_relations(cert, f, phis, claimed)
-
-
-def kernel_coordinates(f: KahanMap, phis: Sequence[Sequence[Frac]], point: Mapping[str, Rational]
-                        ) -> list[flint.fmpq] | None:
-    """alpha, beta, gamma at one exact point (kernels of X_[0,6], last coordinate -1), None if a kernel is not 1-dim."""
-    orbit = f.orbit_exact(point, 6)
-    out: list[flint.fmpq] = []
-    for basis in phis:
-        kernel = nullspace_q([[phi.evaluate({**point, **y}) for phi in basis] for y in orbit])
-        if len(kernel) != 1 or kernel[0][-1] == 0:
-            return None
-        out += [c / -kernel[0][-1] for c in kernel[0][:-1]]
-    return out
 
 
 def _l_relations(cert: Certificate, f: KahanMap, phis: Sequence[Sequence[Frac]], claimed: Mapping[str, str]) -> None:
@@ -581,8 +569,7 @@ def _l_relations(cert: Certificate, f: KahanMap, phis: Sequence[Sequence[Frac]],
         l0 = big_l.evaluate(point)
         rel_rows = [[v[k] + v[19 + k] * l0 for k in range(18)] for v in space]
         orbit = f.orbit_exact(point, 1)
-        hk = {i: [[phis[b][j].evaluate({**point, **orbit[i]}) if k // 6 == b else flint.fmpq(0)
-                   for k, j in ((k, k % 6) for k in range(18))] for b in range(3)] for i in (0, 1)}
+        hk = {i: block_rows_at(phis, [{**point, **orbit[i]}])[0] for i in (0, 1)}
         for key, rows in (("rows0_L", hk[0]), ("rows01_L", hk[0] + hk[1])):
             got = flint.fmpq_mat(rows + rel_rows).rank()
             s.require(str(got) == claimed[key].strip(), f"rank {key} = {got}, claimed {claimed[key]}")
@@ -602,7 +589,7 @@ def _embedded(kernel: Sequence[Sequence[str]], slots: Sequence[int]) -> list[fli
     """The 1-dimensional kernel of a sub-basis as a vector of R^10 (zeros outside its slots)."""
     v = [flint.fmpq(0)] * 10
     for slot, c in zip(slots, kernel[0], strict=True):
-        v[slot] = flint.fmpq(*map(int, c.split("/"))) if "/" in c else flint.fmpq(int(c))
+        v[slot] = number(c)
     return v
 
 
