@@ -26,17 +26,7 @@ def prove_citing(claim_id: str, cited: Mapping[str, Certificate]) -> Certificate
     """A worker's task: the run's cache seeded with the certificates `claim_id` cites, then the claim proven once."""
     load_all()
     remember(cited.values())
-    _share_exact_values(cited.values())
     return get_claim(claim_id).prove()
-
-
-def _share_exact_values(certs: Iterable[Certificate]) -> None:
-    """The theorem helpers look exact values up by their text (theorems._clebsch.record/recall) instead of parsing
-    them again (some are too large for the parser); in a worker they come with the cited certificates."""
-    from hkproof.theorems import _clebsch
-    for cert in certs:
-        for name, value in cert.values.items():
-            _clebsch._FOUND.setdefault(cert.formulas[name], value)
 
 
 def worker_failed(claim_id: str, exc: BaseException) -> Certificate:

@@ -47,19 +47,16 @@ def shift(ring: Ring, p: flint.fmpz_mpoly) -> flint.fmpz_mpoly:
     return ring.substitute(p, {n: ring.gen(_CYCLE[n]) for n in ring.names if n in _CYCLE})
 
 
-_FOUND: dict[str, Frac] = {}
-
-
 def record(cert: Certificate, name: str, value: Frac) -> None:
-    """cert.formula(name, value), keeping the exact value so that later proofs need not re-parse its string."""
+    """cert.formula(name, value): the certificate keeps the exact value, so that later proofs need not re-parse it."""
     cert.formula(name, value)
-    _FOUND[cert.formulas[name]] = value
 
 
 def recall(cert: Certificate, name: str, ring: Ring) -> Frac:
-    """A formula of an earlier certificate as an exact element of `ring` (parsed only if not kept)."""
-    text = cert.formulas[name]
-    return _FOUND[text] if text in _FOUND and _FOUND[text].ring == ring else Frac.parse(ring, text)
+    """A formula of an earlier certificate as an exact element of `ring`: the value the certificate keeps, or its
+    text read again (another ring, or a certificate that kept no value)."""
+    kept = cert.values.get(name)
+    return kept if kept is not None and kept.ring == ring else Frac.parse(ring, cert.formulas[name])
 
 
 def shift_frac(h: Frac) -> Frac:
