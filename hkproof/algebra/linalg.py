@@ -1,7 +1,7 @@
 """Exact linear algebra: fraction-free determinants and Cramer's rule over Z[v]; ranks and kernels over Q and Z/p."""
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import flint
 
@@ -178,6 +178,29 @@ def cleared_system(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac]
         scaled.append(b * Frac(b.ring, row_lcm))
     common = lcm([b.den for b in scaled])
     return a, [b.num * (common / b.den) for b in scaled], common
+
+
+def pivots_at(rows: Sequence[Sequence[Frac]], point: Mapping[str, Rational]) -> tuple[list[int], list[int]]:
+    """(independent rows, pivot columns) of a matrix of rational functions, read off its values at one rational point.
+
+    A minor that is non-zero at the point is a non-zero rational function, so the rows chosen are independent over
+    Q(v) and the pivots are valid generically (the caller's solve checks the rest exactly).
+
+    >>> from hkproof.algebra.ring import get_ring
+    >>> r = get_ring(("e",))
+    >>> e = Frac.parse(r, "e")
+    >>> pivots_at([[e, 2 * e, Frac(r, 1)], [Frac(r, 2), Frac(r, 4), Frac(r, 0)], [e, 2 * e, e]], {"e": 1})
+    ([0, 1], [0, 2])
+    """
+    values = [[c.evaluate(point) for c in row] for row in rows]
+    chosen: list[int] = []
+    for k in range(len(values)):
+        if flint.fmpq_mat([values[i] for i in chosen + [k]]).rank() == len(chosen) + 1:
+            chosen.append(k)
+    if not chosen:
+        return [], []
+    reduced, rank = flint.fmpq_mat([values[k] for k in chosen]).rref()
+    return chosen, [next(j for j in range(len(values[0])) if reduced[i, j] != 0) for i in range(rank)]
 
 
 def lcm(polys: Sequence[flint.fmpz_mpoly]) -> flint.fmpz_mpoly:

@@ -12,7 +12,7 @@ from typing import Mapping, Sequence
 import flint
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.linalg import cramer, lcm
+from hkproof.algebra.linalg import cramer, lcm, pivots_at
 from hkproof.algebra.ring import Rational, Ring
 from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.field import EPS
@@ -185,24 +185,13 @@ def _relations_at(claimed: Mapping[str, str], ring: Ring, fixed: Mapping[str, in
     return out
 
 
-def _pivots(rows: Sequence[Sequence[Frac]], point: Mapping[str, Rational]) -> tuple[list[int], list[int]]:
-    """(independent rows, pivot columns) of the relations at a rational point (both valid generically)."""
-    values = [[c.evaluate(point) for c in row] for row in rows]
-    chosen: list[int] = []
-    for k in range(len(values)):
-        if flint.fmpq_mat([values[i] for i in chosen + [k]]).rank() == len(chosen) + 1:
-            chosen.append(k)
-    reduced, rank = flint.fmpq_mat([values[k] for k in chosen]).rref()
-    return chosen, [next(j for j in range(len(UNKNOWNS)) if reduced[i, j] != 0) for i in range(rank)]
-
-
 def solve_on_line(f: KahanMap, phis: Sequence[Sequence[Frac]], rel_rows: Sequence[Sequence[Frac]],
                   big_l: Frac) -> list[Frac]:
     """alpha, beta, gamma: the homogeneous relations (rows over Q(eps, L), small) leave 18 - 14 unknowns u, the rows
     i = 0 a line u_p + t v, and the row i = 1 of Phi1 fixes t (its value by Horner in the numerators of f). A
     candidate only: the caller substitutes it into every relation (with its right-hand side) and row."""
     r = f.ring
-    chosen, pivots = _pivots(rel_rows, {"eps": flint.fmpq(1, 7), "L": flint.fmpq(3, 11)})
+    chosen, pivots = pivots_at(rel_rows, {"eps": flint.fmpq(1, 7), "L": flint.fmpq(3, 11)})
     free = [j for j in range(len(UNKNOWNS)) if j not in pivots]
     if len(free) != 4:
         raise HKProofError(f"the relations have rank {len(pivots)}, not 14: they leave {len(free)} unknowns, and the "
