@@ -5,6 +5,11 @@ import argparse
 from dataclasses import dataclass
 from typing import Any, Callable
 
+import flint
+
+from hkproof.dynamics.catalogue import SYSTEMS, kahan_map
+from hkproof.dynamics.field import EPS
+from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ParseError
 
 
@@ -24,6 +29,30 @@ def add_command(sub: argparse._SubParsersAction, name: str, help: str,
     p.add_argument("--json", action="store_true", help="print a JSON object instead of text")
     p.set_defaults(run=run)
     return p
+
+
+def add_system_argument(p: argparse.ArgumentParser) -> None:
+    """SYSTEM: a catalogue name or a TOML file."""
+    p.add_argument("system", help=f"a catalogue name ({', '.join(SYSTEMS)}) or a TOML file")
+
+
+def add_param_option(p: argparse.ArgumentParser) -> None:
+    """--param NAME=VALUE for commands that keep eps symbolic: a specialized system, results verified(specialized)."""
+    p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                   help="fix a parameter to an exact rational (repeatable); results then hold for these values only "
+                        "(verified(specialized))")
+
+
+def specialized_map(args: argparse.Namespace) -> tuple[KahanMap, KahanMap, dict[str, flint.fmpq]]:
+    """(map of SYSTEM, map of SYSTEM with the --param values fixed, those values); the same map twice without them."""
+    f = kahan_map(args.system)
+    values = fixed_values(argparse.Namespace(param=args.param, eps=None))
+    if EPS in values:
+        raise ParseError("this command keeps eps symbolic: --param fixes parameters only")
+    fixed = f.field.check_values(values)
+    if not fixed:
+        return f, f, {}
+    return f, kahan_map(f.field.specialize(fixed)), fixed
 
 
 def at_least(minimum: int) -> Callable[[str], int]:

@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import argparse
 
-from hkproof.commands import Result, add_command, at_least, fixed_values
-from hkproof.commands._geometry import EPS_CONVENTION, add_system_options
+from hkproof.commands import Result, add_command, add_system_argument, add_values_options, at_least, fixed_values
+from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.degrees import MAX_DEGREE, degree_growth, fit_growth, symbolic_degree
 from hkproof.proof.status import Status
@@ -14,11 +14,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "degrees", "degree growth (algebraic entropy) of the Kahan map: deg f^n for n = 1..N as a "
                     "rational map in lowest terms, by restriction to random lines over large prime fields at random "
                     f"eps and parameters (evidence, not proof). {EPS_CONVENTION}.", run_degrees)
-    add_system_options(p, "a rational eps (default: random mod p)")
+    add_system_argument(p)
+    add_values_options(p)
     p.add_argument("--iterates", type=at_least(1), default=8, help="largest n (default 8)")
     p.add_argument("--runs", type=at_least(1), default=2,
                    help="independent (prime, line, values) runs that must agree (default 2)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the primes, lines and values (default 0)")
     p.add_argument("--symbolic-up-to", type=at_least(0), default=0, metavar="K",
                    help="also compute f^n for n <= K with eps and the parameters symbolic: those degrees are exact "
                         "(costly: the Euler top's f^5 takes about 20 s, the Clebsch f^2 minutes)")

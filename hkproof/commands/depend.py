@@ -6,8 +6,8 @@ import random
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.formula import check_name, split_list
-from hkproof.commands import Result, add_command, add_values_options, at_least, fixed_values
-from hkproof.dynamics.catalogue import SYSTEMS, kahan_map
+from hkproof.commands import Result, add_command, add_system_argument, add_values_options, at_least, fixed_values
+from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ParseError
 from hkproof.experiments.dependence import find_rational_relations
@@ -18,7 +18,7 @@ from hkproof.orchestration.registry import proven
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "depend", "find relations T * P(U) = Q(U) among integrals, exactly, at fixed eps and "
                     "parameters (evidence: a formula to prove, not a proof)", run_depend)
-    p.add_argument("system", help=f"a catalogue name ({', '.join(SYSTEMS)}) or a TOML file")
+    add_system_argument(p)
     p.add_argument("--target", required=True, metavar="NAME=EXPR | CLAIM:NAME",
                    help="the function T: a formula, or a formula recorded by a proven claim (e.g. dc-theta:g1)")
     p.add_argument("--on", required=True, action="append", metavar="NAME=EXPR | CLAIM:NAME[,NAME...]",

@@ -4,8 +4,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from hkproof.commands import Result, add_command, fixed_values
-from hkproof.dynamics.catalogue import SYSTEMS, get_system
+from hkproof.commands import Result, add_command, add_system_argument, fixed_values
+from hkproof.dynamics.catalogue import get_system
 from hkproof.experiments.discovery import discover
 from hkproof.hk.discover import DiscoveryReport
 
@@ -13,7 +13,7 @@ from hkproof.hk.discover import DiscoveryReport
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "discover", "search HK-bases among monomials of degree <= D, reconstruct the integrals "
                     "and certify them exactly", run_discover)
-    p.add_argument("system", help=f"a catalogue name ({', '.join(SYSTEMS)}) or a TOML file")
+    add_system_argument(p)
     p.add_argument("--degree", type=int, default=2, help="largest degree of the basis monomials (default 2)")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                    help="fix a parameter to a rational (repeatable); the others stay symbolic")

@@ -4,9 +4,8 @@ from __future__ import annotations
 import argparse
 
 from hkproof.algebra.fraction import Frac
-from hkproof.commands import Result, add_command
-from hkproof.commands._geometry import (EPS_CONVENTION, add_param_option, add_system_argument, specialized_map,
-                                        specialized_status)
+from hkproof.commands import Result, add_command, add_param_option, add_system_argument, specialized_map
+from hkproof.commands._geometry import EPS_CONVENTION, specialized_status
 from hkproof.hk.modified_hamiltonian import parse_matrix, verify
 from hkproof.proof.status import Status
 

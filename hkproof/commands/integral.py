@@ -4,10 +4,8 @@ from __future__ import annotations
 import argparse
 
 from hkproof.algebra.fraction import Frac
-from hkproof.commands import Result, add_command, fixed_values
-from hkproof.dynamics.catalogue import get_system, kahan_map
+from hkproof.commands import Result, add_command, add_param_option, add_system_argument, specialized_map
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import ParseError
 from hkproof.experiments.refute import modular_witness
 from hkproof.hk.integrals import check_integral
 from hkproof.hk.recipe_g import recipe_g
@@ -17,31 +15,23 @@ from hkproof.proof.status import Status
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "integral", "decide exactly whether EXPR is an integral of the Kahan map of SYSTEM "
                     "(exit 0 verified, 1 refuted)", run_integral)
-    p.add_argument("system", help="a catalogue name or a TOML file")
+    add_system_argument(p)
     p.add_argument("expr", help="a rational function in the system's variables, eps (half the time step) and "
                    "parameters, e.g. \"(x1**2 - x2**2)/3\"; decimals are read exactly (0.1 = 1/10)")
     p.add_argument("--method", choices=("substitution", "groebner"), default="substitution",
                    help="substitution: h(N/Delta) - h = 0; groebner: recipe (G), Delta^k delta = sum lambda_i E_i "
                         "with cofactors checked by expansion")
-    p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
-                   help="check at this exact parameter value only (repeatable): the verdict is then "
-                        "verified(specialized)")
+    add_param_option(p)
     p.add_argument("--seed", type=int, default=0, help="seed of the random point of the first, modular check")
 
 
 def run_integral(args: argparse.Namespace) -> Result:
-    field = get_system(args.system)
-    h = field.parse(args.expr)
-    values = fixed_values(argparse.Namespace(param=args.param, eps=None))
-    if values:
-        exact = field.check_values(values)
-        if "eps" in exact:
-            raise ParseError("--param fixes parameters, not eps: an integral must hold for every step size")
-        small = field.specialize(exact)
-        h, field = h.specialize(exact, small.ring), small
-    f = kahan_map(field)
-    status = Status.VERIFIED_SPECIALIZED if values else Status.VERIFIED
-    payload = {"system": f.field.name, "expr": str(h), "fixed": values}
+    full, f, fixed = specialized_map(args)
+    h = full.field.parse(args.expr)
+    if fixed:
+        h = h.specialize(fixed, f.ring)
+    status = Status.VERIFIED_SPECIALIZED if fixed else Status.VERIFIED
+    payload = {"system": f.field.name, "expr": str(h), "fixed": {k: str(v) for k, v in fixed.items()}}
     notes = []
     if not h.variables() & set(f.variables):
         notes.append("h does not depend on the phase variables: it is trivially invariant")

@@ -4,13 +4,13 @@ from __future__ import annotations
 import argparse
 
 from hkproof.algebra.fraction import poly_str
-from hkproof.commands import Result, add_command
+from hkproof.commands import Result, add_command, add_system_argument
 from hkproof.dynamics.catalogue import SYSTEMS, kahan_map
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "map", "print the explicit Kahan map x~ = N(x)/Delta(x) of a system", run_map)
-    p.add_argument("system", help=f"a catalogue name ({', '.join(SYSTEMS)}) or a TOML file")
+    add_system_argument(p)
     p = add_command(sub, "systems", "list the catalogue of systems", run_systems)
 
 

@@ -5,9 +5,8 @@ import argparse
 from typing import Any
 
 from hkproof.algebra.fraction import poly_str
-from hkproof.commands import Result, add_command, at_least
-from hkproof.commands._geometry import (EPS_CONVENTION, add_param_option, add_system_argument, specialized_map,
-                                        specialized_status)
+from hkproof.commands import Result, add_command, add_param_option, add_system_argument, at_least, specialized_map
+from hkproof.commands._geometry import EPS_CONVENTION, specialized_status
 from hkproof.hk.darboux import search_darboux
 
 JACOBIAN = "det Df(x) = det M(f(x), -eps) / det M(x, eps), from M(x, eps) Df(x) = M(f(x), -eps)"

@@ -5,8 +5,8 @@ import argparse
 from typing import Any
 import random
 
-from hkproof.commands import Result, add_command, at_least, fixed_values
-from hkproof.commands._geometry import EPS_CONVENTION, add_system_options
+from hkproof.commands import Result, add_command, add_system_argument, add_values_options, at_least, fixed_values
+from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.orbits import exact_orbit
 from hkproof.dynamics.values import parse_point
@@ -18,14 +18,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "orbit", "the exact orbit of a rational point under the Kahan map (over Q), stopped when it "
                     "closes (periodic orbit), and a PNG of a float orbit in coordinate projections. "
                     f"{EPS_CONVENTION}.", run_orbit)
-    add_system_options(p, "a rational eps, half the time step (default: random, printed)")
+    add_system_argument(p)
     p.add_argument("point", help='the initial point: exact rationals separated by commas, e.g. "1/2, 3, -1"')
     p.add_argument("--steps", type=at_least(0), default=20, help="exact steps (default 20)")
     p.add_argument("--plot", metavar="FILE.png", help="write a picture of the float orbit to FILE.png")
     p.add_argument("--plot-steps", type=at_least(1), default=3000, help="float steps drawn in the picture (default 3000)")
     p.add_argument("--max-digits", type=at_least(1), default=100_000,
                    help="stop the exact orbit when a coordinate has more digits (default 100000)")
-    p.add_argument("--seed", type=int, default=0, help="seed of eps and the parameters not given (default 0)")
+    add_values_options(p)
 
 
 def run_orbit(args: argparse.Namespace) -> Result:

@@ -3,14 +3,7 @@ from __future__ import annotations
 
 import argparse
 
-from hkproof.commands import (
-    Result,
-    add_command,
-    add_values_options,
-    at_least,
-    fixed_values,
-)
-from hkproof.dynamics.catalogue import SYSTEMS
+from hkproof.commands import Result, add_command, add_system_argument, add_values_options, at_least, fixed_values
 from hkproof.experiments.profiles import HK_BASIS, SINGULAR, KernelProfile
 from hkproof.experiments.scan import ScanResult, scan
 from hkproof.orchestration.execution import map_executor
@@ -31,7 +24,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def add_scene_options(p: argparse.ArgumentParser, several_bases: bool = False) -> None:
     """SYSTEM, --basis, --eps, --param and --seed: shared by scan and relations."""
-    p.add_argument("system", help=f"a catalogue name ({', '.join(SYSTEMS)}) or a TOML file")
+    add_system_argument(p)
     p.add_argument("--basis", required=True, action="append" if several_bases else "store",
                    help='the candidate basis, e.g. "x1**2, x2**2, x3**2, 1"'
                    + (" (repeat to relate the kernels of several bases)" if several_bases else ""))
