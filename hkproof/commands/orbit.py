@@ -33,8 +33,7 @@ def run_orbit(args: argparse.Namespace) -> Result:
     point = parse_point(f.field, args.point)
     if args.plot:
         check_plot_path(args.plot)
-    given = f.field.check_values(fixed_values(args))
-    values = {k: given.get(k, v) for k, v in random_values(f, random.Random(args.seed), given).items()}
+    values = random_values(f, random.Random(args.seed), fixed_values(args))  # checked there, the others random
     orbit = exact_orbit(f, point, values, args.steps, args.max_digits)
     at = ", ".join(f"{k} = {v}" for k, v in values.items())
     payload: dict[str, Any] = {"system": f.field.name, "values": {k: str(v) for k, v in values.items()},
