@@ -73,3 +73,27 @@ def test_fixed_parameters_give_specialized_status(capsys):
     out = json.loads(capsys.readouterr().out)
     assert out["modified_hamiltonian"]["status"] == "verified(specialized: a=3)"
     assert main(["hamiltonian", CUBIC, "--hamiltonian", H_CUBIC, "--poisson", J2, "--param", "eps=3"]) == 2
+
+
+def test_modified_hamiltonian_and_density_by_an_independent_route(capsys):
+    """H~(f(x)) = H~(x) and rho(f(x)) det Df(x) = rho(x) with f, Df built by sympy from the printed map and evaluated
+    at random rational points (no hkproof algebra on this side)."""
+    import random
+
+    import sympy
+
+    assert main(["hamiltonian", CUBIC, "--hamiltonian", H_CUBIC, "--poisson", J2, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    f = kahan_map(CUBIC)
+    symbols = {n: sympy.Symbol(n) for n in f.ring.names}
+    xs = [symbols[v] for v in f.variables]
+    comps = sympy.Matrix([sympy.sympify(str(c), locals=symbols) for c in f.components()])
+    jac = comps.jacobian(xs)
+    ht = sympy.sympify(out["modified_hamiltonian"]["expr"], locals=symbols)
+    rho = sympy.sympify(out["density"]["expr"], locals=symbols)
+    rng = random.Random(7)
+    for _ in range(3):
+        at = {s: sympy.Rational(rng.randint(-9, 9) or 1, rng.randint(1, 9)) for s in symbols.values()}
+        moved = {**at, **{x: comps[k].subs(at) for k, x in enumerate(xs)}}
+        assert sympy.simplify(ht.subs(moved) - ht.subs(at)) == 0
+        assert sympy.simplify(rho.subs(moved) * jac.subs(at).det() - rho.subs(at)) == 0
