@@ -1,9 +1,11 @@
 """Polynomial rings Z[names] on python-flint, with parsing from strings and specialization."""
 from __future__ import annotations
 
+import os
+from contextlib import contextmanager
 from fractions import Fraction
 from functools import lru_cache
-from typing import Iterable, Mapping, Sequence
+from typing import Iterable, Iterator, Mapping, Sequence
 
 import flint
 import sympy
@@ -132,3 +134,14 @@ class Ring:
 def get_ring(names: tuple[str, ...]) -> Ring:
     """The Ring with these names, built once and shared."""
     return Ring(names)
+
+
+@contextmanager
+def flint_threads(n: int | None = None) -> Iterator[None]:
+    """FLINT's own threads for big polynomial products and divisions (n = the cores this process may use)."""
+    before = flint.ctx.threads
+    flint.ctx.threads = n or len(os.sched_getaffinity(0))
+    try:
+        yield
+    finally:
+        flint.ctx.threads = before

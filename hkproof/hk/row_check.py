@@ -9,6 +9,7 @@ import flint
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import lcm
+from hkproof.algebra.ring import flint_threads
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.reduced import Relation, linear_combination_equals
 
@@ -37,7 +38,8 @@ def row_holds(kmap: KahanMap, basis: Sequence[Frac], target: Frac, i: int, solut
     top = max(sum(mu) for mu in coefficients)
     common = lcm([c.den for c in coefficients.values()])
     terms = {(*mu, top - sum(mu)): c.num * (common / c.den) for mu, c in coefficients.items()}
-    return _horner(terms, [*nums, delta]).is_zero()
+    with flint_threads():
+        return _horner(terms, [*nums, delta]).is_zero()
 
 
 def check_solution_by_rows(kmap: KahanMap, basis: Sequence[Frac], target: Frac, iterates: Sequence[int],

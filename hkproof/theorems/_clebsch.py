@@ -47,6 +47,12 @@ def shift(ring: Ring, p: flint.fmpz_mpoly) -> flint.fmpz_mpoly:
     return ring.substitute(p, {n: ring.gen(_CYCLE[n]) for n in ring.names if n in _CYCLE})
 
 
+def commutes_with_shift(kmap: KahanMap) -> bool:
+    """The index shift tau is a symmetry of the map: tau(f_v) = f_(tau v) for every component (exact)."""
+    comps = dict(zip(kmap.variables, kmap.components(), strict=True))
+    return all(shift_frac(comps[v]) == comps[_CYCLE[v]] for v in kmap.variables)
+
+
 def record(cert: Certificate, name: str, value: Frac) -> None:
     """cert.formula(name, value): the certificate keeps the exact value, so that later proofs need not re-parse it."""
     cert.formula(name, value)

@@ -1,0 +1,90 @@
+"""Sums of products of big rational functions in lowest terms without a gcd of the big numerator: the
+denominators are factored (they are small next to the numerators), the sum is taken over the lcm of the factored
+denominators, and each factor is then cancelled by exact division where it divides."""
+from __future__ import annotations
+
+from typing import Sequence
+
+import flint
+from flint.utils.flint_exceptions import DomainError
+
+from hkproof.algebra.fraction import Frac, normalize_sign
+
+
+_FACTORED: dict[tuple[int, str], tuple[flint.fmpz, list[tuple[flint.fmpz_mpoly, int]]]] = {}
+
+
+def factor(p: flint.fmpz_mpoly) -> tuple[flint.fmpz, list[tuple[flint.fmpz_mpoly, int]]]:
+    """FLINT's factorization (content, [(irreducible, multiplicity)]), remembered for the denominators that many
+    components of one solution share (a 30 000-term denominator takes seconds to factor)."""
+    key = (id(p.context()), str(p))
+    if key not in _FACTORED:
+        if len(_FACTORED) > 64:
+            _FACTORED.clear()
+        _FACTORED[key] = p.factor()
+    return _FACTORED[key]
+
+
+def _product(factors: dict[str, tuple[flint.fmpz_mpoly, int]], one: flint.fmpz_mpoly) -> flint.fmpz_mpoly:
+    out = one
+    for q, e in factors.values():
+        out = out * q ** e
+    return out
+
+
+def _divides(q: flint.fmpz_mpoly, p: flint.fmpz_mpoly) -> flint.fmpz_mpoly | None:
+    """p / q when q divides p exactly, else None (FLINT's exact division stops at the first failing term)."""
+    try:
+        return p / q
+    except DomainError:
+        return None
+
+
+def sum_of_products(terms: Sequence[Sequence[Frac]]) -> Frac:
+    """sum_i prod_j terms[i][j] in lowest terms, for big numerators over denominators that FLINT can factor.
+
+    >>> from hkproof.algebra.ring import get_ring
+    >>> r = get_ring(("x", "y"))
+    >>> a, b, g = Frac.parse(r, "1/(x + y)"), Frac.parse(r, "y/(x + y)"), Frac.parse(r, "1/x")
+    >>> sum_of_products([[a], [g, b]])
+    (1)/(x)
+    """
+    ring = terms[0][0].ring
+    one = ring.constant(1)
+    contents, parts = [], []
+    for factors in terms:
+        num, dens = one, {}
+        content = flint.fmpz(1)
+        for f in factors:
+            c, fs = factor(f.den)
+            num = num * (f.num if c > 0 else -f.num)
+            content *= abs(c)
+            for q, e in fs:
+                key = str(q)
+                dens[key] = (q, dens.get(key, (q, 0))[1] + e)
+        contents.append(content)
+        parts.append((num, dens))
+    common: dict[str, tuple[flint.fmpz_mpoly, int]] = {}
+    for _, dens in parts:
+        for key, (q, e) in dens.items():
+            if e > common.get(key, (q, 0))[1]:
+                common[key] = (q, e)
+    scale = flint.fmpz(1)
+    for c in contents:
+        scale = scale * c // scale.gcd(c)
+    total = one - one
+    for (num, dens), content in zip(parts, contents, strict=True):
+        cofactor = {k: (q, e - dens.get(k, (q, 0))[1]) for k, (q, e) in common.items()}
+        total += num * _product(cofactor, one) * int(scale // content)
+    remaining = dict(common)
+    for key, (q, e) in common.items():
+        while e and (quotient := _divides(q, total)) is not None:
+            total, e = quotient, e - 1
+        remaining[key] = (q, e)
+    if total.is_zero():
+        return Frac(ring, 0)
+    den = _product(remaining, one) * int(scale)
+    g = total.content().gcd(scale)
+    if g != 1:
+        total, den = total / int(g), den / int(g)
+    return Frac(ring, *normalize_sign(total, den), reduced=True)

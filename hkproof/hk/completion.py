@@ -1,0 +1,77 @@
+"""Kernel coordinates of several HK-bases at once, with all parameters symbolic, from linear relations whose
+coefficients involve integrals (recipe (E) with integral columns), the rows i = 0 and one equation with a known
+integral (the sum of one coordinate over the bases, e.g. a Theta kernel coordinate).
+
+Only a *candidate*: the caller proves it (rows with iterates, evenness, uniqueness: Prop. "prop: even"). The
+integrals enter as symbols first, so that every elimination runs over Q(eps, parameters)[L] with small entries;
+they are substituted once, and the known integral last, over factored denominators (`algebra.factored`).
+"""
+from __future__ import annotations
+
+from typing import Mapping, Sequence
+
+import flint
+
+from hkproof.algebra.factored import sum_of_products
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.linalg import cramer, pivots_at
+from hkproof.algebra.ring import flint_threads
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.errors import HKProofError
+from hkproof.hk.transport import Substitution
+
+
+def generic_point(names: Sequence[str]) -> dict[str, flint.fmpq]:
+    """Distinct rational values for `names` (where the relations' pivots are read off)."""
+    return {n: flint.fmpq(3 * k + 2, 2 * k + 7) for k, n in enumerate(names)}
+
+
+def complete_coordinates(kmap: KahanMap, bases: Sequence[Sequence[Frac]], relations: Sequence[Sequence[Frac]],
+                         integrals: Mapping[str, Frac], known: tuple[Sequence[int], Frac],
+                         wanted: Sequence[int]) -> list[Frac]:
+    """The components `wanted` of the unknowns (the bases' kernel coordinates, block after block, each basis with
+    its last element normalized to -1) from: the homogeneous `relations` (coefficient rows over Q(eps, parameters,
+    the symbols of `integrals`)), the rows i = 0 of every basis, and sum_{k in known[0]} a_k = known[1].
+
+    The relations must leave exactly len(bases) + 1 unknowns free; the rows i = 0 and the known equation fix them.
+    """
+    if not relations:
+        raise HKProofError("no relations: the rows i = 0 and one known integral cannot fix the coordinates")
+    lifted = relations[0][0].ring
+    width = len(relations[0])
+    if width != sum(len(b) - 1 for b in bases) or any(len(row) != width for row in relations):
+        raise HKProofError(f"relation rows of length {width}, but the bases have "
+                           f"{sum(len(b) - 1 for b in bases)} unknowns")
+    at = generic_point(lifted.names)
+    chosen, pivots = pivots_at(relations, at)
+    free = [j for j in range(width) if j not in pivots]
+    if len(free) != len(bases) + 1:
+        raise HKProofError(f"the relations have rank {len(pivots)}: they leave {len(free)} unknowns free, and the "
+                           f"{len(bases)} rows i = 0 and the known integral fix {len(bases) + 1}")
+    minor = [[relations[k][j] for j in pivots] for k in chosen]
+    solved = {fj: dict(zip(pivots, cramer(minor, [-relations[k][fj] for k in chosen])[0], strict=True))
+              for fj in free}
+    zero = Frac(lifted, 0)
+
+    def in_free(j: int) -> list[Frac]:
+        return [Frac(lifted, int(j == fj)) if j in free else solved[fj][j] for fj in free]
+
+    columns = [in_free(j) for j in range(width)]
+    rows, rhs, start = [], [], 0
+    for basis in bases:
+        lifted_basis = [phi.to_ring(lifted) for phi in basis]
+        rows.append([sum((lifted_basis[k] * columns[start + k][c] for k in range(len(basis) - 1)), zero)
+                     for c in range(len(free))])
+        rhs.append(lifted_basis[-1])
+        start += len(basis) - 1
+    rows.append([sum((columns[k][c] for k in known[0]), zero) for c in range(len(free))])
+    particular = cramer(rows, [*rhs, zero])[0]
+    direction = cramer(rows, [zero] * len(bases) + [Frac(lifted, 1)])[0]
+    sigma = Substitution(lifted, kmap.ring, dict(integrals))
+    out = []
+    with flint_threads():
+        for j in wanted:
+            a0 = sigma.apply(sum((x * u for x, u in zip(columns[j], particular, strict=True)), zero))
+            a1 = sigma.apply(sum((x * u for x, u in zip(columns[j], direction, strict=True)), zero))
+            out.append(sum_of_products([[a0], [known[1], a1]]))
+    return out
