@@ -29,7 +29,7 @@ from hkproof.theorems.s6c_clebsch_flows import (FLOW2, GROUP, REDUCTION_CLAIM, T
 
 ORDER = ["flow-general-map", "flow-reduction", "flow-second-theorem", "flow-second-recipe-g", "flow-general-phi0",
          "flow-second-theta", "flow-theta-all", "flow-second-relations-found", "flow-second-l-relations-found",
-         "flow-second-bases-345", "flow-conjecture-evidence"]
+         "flow-second-bases-345", "flow-conjecture"]
 
 
 def claims_table() -> tuple[list[str], float]:
@@ -94,8 +94,9 @@ def main() -> None:
              "Cited claims of other groups (part I's `dc-theta` and its own citations) are proven inside the first "
              "row that needs them. Without the slow claims (`--no-slow`) the group is the sum of the unmarked rows. "
              "The slow ones: the Theta proof for the second flow (Cramer and the substitution into the row i = 1), "
-             "the discovery of the 23 relations in L (recipe (E) on six bases) and the fixed-w proof of Phi1, Phi2, "
-             "Phi3; the transported claims (`flow-general-phi0`, `flow-theta-all`) cost little of their own.", "",
+             "the discovery of the 23 relations in L (recipe (E) on six bases), the proof of Phi1, Phi2, Phi3 with w "
+             "symbolic (the candidate over factored denominators, the row i = 1 by Horner) and the conjecture for "
+             "every flow (its transport); `flow-general-phi0` and `flow-theta-all` cost little of their own.", "",
              *rows, ""]
     if not args.no_peers:
         lines += ["## Side by side", "", *peers(), ""]

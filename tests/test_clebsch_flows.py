@@ -5,7 +5,7 @@ import pytest
 
 from hkproof.orchestration.registry import get_claim, proven
 from hkproof.proof.status import Status
-from hkproof.theorems.s6c_clebsch_flows import GENERAL_CLAIM, SECOND, THETA_RELATION, conjecture_evidence
+from hkproof.theorems.s6c_clebsch_flows import GENERAL_CLAIM, SECOND, THETA_RELATION
 
 
 def test_second_flow_verified_with_correction():
@@ -30,10 +30,17 @@ def test_general_map_perturbed_refuted(key, text):
     assert get_claim("flow-general-map").prove({key: text}).status is not Status.VERIFIED
 
 
-def test_conjecture_is_evidence_only():
-    cert = conjecture_evidence(sets=2, per=3)
-    assert cert.status is Status.EVIDENCE_EXACT, cert.render()
-    assert cert.steps[0].points == 6
+@pytest.mark.slow
+def test_conjecture_for_every_flow_verified():
+    cert = get_claim("flow-conjecture").prove()
+    assert cert.status is Status.VERIFIED, cert.render()
+    for case in ("z != 0: ", "z = 0: "):
+        assert sum(s.name.startswith(case) for s in cert.steps) == 3, cert.render()
+
+
+@pytest.mark.slow
+def test_conjecture_with_a_wrong_dimension_refuted():
+    assert get_claim("flow-conjecture").prove({"dim": "5"}).status is Status.REFUTED
 
 
 def test_general_phi0_verified():

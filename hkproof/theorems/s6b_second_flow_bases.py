@@ -251,7 +251,9 @@ def prove_second_bases(cert: Certificate, claimed: Mapping[str, str]) -> None:
             record(cert, name, h)
         s.note("a unique solution of rows i = 0, 1 and relations with even integral coefficients, even in eps: "
                "its components are integrals (Prop. \"prop: even\"), and (block k, -1) lies in K_Phi_k")
-    _max_basis(cert, f, big_l, sol, second)
+    e = [Frac.parse(r, second.formulas[f"e{k}"]) for k in range(1, 7)]
+    vectors = embedded_vectors(e, [sol[:6], sol[6:12], sol[12:]])
+    max_basis_facts(cert, f, vectors, [big_l, sol[0], sol[6], sol[12]], "L, a1, b1, c1")
 
 
 def rel_coefficient(c: Frac, big_l: Frac) -> Frac:
@@ -260,36 +262,46 @@ def rel_coefficient(c: Frac, big_l: Frac) -> Frac:
     return Substitution(lifted, big_l.ring, {"L": big_l}).apply(c)
 
 
-def _max_basis(cert: Certificate, f: KahanMap, big_l: Frac, sol: Sequence[Frac], second: Certificate) -> None:
-    """dim K_Phi_k = 1, dim K_Phi = 4 = the span of e, alpha, beta, gamma; L, a1, b1, c1 independent."""
-    r = f.ring
-    e = [Frac.parse(r, second.formulas[f"e{k}"]) for k in range(1, 7)]
+def embedded_vectors(phi0: Sequence[Frac], blocks: Sequence[Sequence[Frac]]) -> list[list[Frac]]:
+    """The null-vectors of Phi0 (e, -1) and of Phi1..Phi3 (block k, -1) placed in R^10 (the monomials of
+    PHI_MAX_TEXT)."""
+    r = phi0[0].ring
     zero, minus = Frac(r, 0), Frac(r, -1)
-    vectors = [e + [zero] * 3 + [minus]]
-    for b in range(3):
-        vec = list(sol[6 * b:6 * b + 6]) + [zero] * 4
+    vectors = [list(phi0) + [zero] * 3 + [minus]]
+    for b, block in enumerate(blocks):
+        vec = list(block) + [zero] * 4
         vec[6 + b] = minus
         vectors.append(vec)
+    return vectors
+
+
+def max_basis_facts(cert: Certificate, f: KahanMap, vectors: Sequence[Sequence[Frac]], integrals: Sequence[Frac],
+                    names: str, case: str = "", dim: str = "4") -> None:
+    """For null-vectors of Phi0..Phi3 with integral components (placed in R^10): dim K_Phi_k = 1, dim K_Phi = `dim`
+    = 4, the span of the four; the four `integrals` functionally independent (exact ranks at a rational point)."""
+    r = f.ring
     point = {k: v for k, v in RANK_POINT.items() if k in r.names}
     monomials = [Frac.parse(r, m) for m in PHI_MAX_TEXT.split(", ")]
-    with cert.step("K_Phi_k = [block k : -1] (dim 1) and K_Phi = span of the four vectors (dim 4)",
+    with cert.step(f"{case}K_Phi_k = [block k : -1] (dim 1) and K_Phi = span of the four vectors (dim 4)",
                    "exact kernels of X_[0,5] and X_[0,6] at a rational point; rank of the four vectors", r) as s:
         orbit = f.orbit_exact(point, 6)
         values = [[m.evaluate({**point, **x}) for m in monomials] for x in orbit]
-        s.require(flint.fmpq_mat(values[:6]).rank() == 6, "dim ker X_[0,5] != 4 for the ten monomials")
+        found = 10 - flint.fmpq_mat(values[:6]).rank()
+        s.require(str(found) == dim.strip() == "4", f"dim ker X_[0,5] = {found} for the ten monomials, claimed {dim}")
         for name, slots in SUB_BASES.items():
             got = flint.fmpq_mat([[row[k] for k in slots] for row in values]).rank()
             s.require(got == 6, f"rank X_[0,6] = {got} for {name}, not 6")
         vals = [[h.evaluate(point) for h in vec] for vec in vectors]
         s.require(flint.fmpq_mat(vals).rank() == 4, "the four kernel vectors are dependent at the point")
-        s.require(all(sum((a * b for a, b in zip(vec, values[0], strict=True)), flint.fmpq(0)) == 0 for vec in vals),
-                  "a vector misses the row i = 0 at the point")
-        s.note("the four vectors have integral components and satisfy the rows i = 0 (flow-second-theorem and the "
-               "previous steps), hence every row: they lie in K_Phi; independent at one point; a non-zero maximal "
-               "minor of X_[0,5] at one point bounds dim K_Phi by 4 and dim K_Phi_k by 1 off a proper subset")
-    with cert.step("L, a1, b1, c1 functionally independent", "exact Jacobian rank at a rational point", r) as s:
+        s.require(all(sum((a * b for a, b in zip(vec, row, strict=True)), flint.fmpq(0)) == 0
+                      for vec in vals for row in values),
+                  "a vector misses a row i = 0 ... 6 at the point")
+        s.note("the four vectors have integral components and satisfy the rows i = 0 (cited and previous steps), "
+               "hence every row: they lie in K_Phi; independent at one point; a non-zero maximal minor of X_[0,5] "
+               "at one point bounds dim K_Phi by 4 and dim K_Phi_k by 1 off a proper algebraic subset")
+    with cert.step(f"{case}{names} functionally independent", "exact Jacobian rank at a rational point", r) as s:
         params = {k: v for k, v in point.items() if k not in f.variables}
         ring_x = r.drop(params)
-        funcs = [h.specialize(params, ring_x) for h in (big_l, sol[0], sol[6], sol[12])]
+        funcs = [h.specialize(params, ring_x) for h in integrals]
         rank = jacobian_rank_at(funcs, f.variables, {k: point[k] for k in f.variables})
         s.require(rank == 4, f"Jacobian rank {rank}, not 4")

@@ -16,7 +16,6 @@ from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import SingularPointError
 from hkproof.experiments.relations import find_relations
-from hkproof.experiments.scan import scan
 from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.integrals import check_integral, lie_derivative
 from hkproof.hk.linear_relations import parse_relation, relation_rank
@@ -35,10 +34,10 @@ from hkproof.hk.reduced import (
 from hkproof.hk.row_check import check_solution_by_rows
 from hkproof.hk.translation import ParameterTranslation
 from hkproof.hk.transport import Substitution, map_mismatches
-from hkproof.orchestration.registry import REGISTRY, claim, require_proven
-from hkproof.proof.certificate import Certificate, ProofStopped, StepRecorder
+from hkproof.orchestration.registry import claim, require_proven
+from hkproof.proof.certificate import Certificate, StepRecorder
 from hkproof.proof.status import Status
-from hkproof.theorems._clebsch import H, named, number, recall, record, shift_frac
+from hkproof.theorems._clebsch import H, named, recall, record, shift_frac
 from hkproof.theorems._common import parse_matrix
 from hkproof.theorems._flows import (
     B_OF_YZ,
@@ -579,70 +578,10 @@ def _l_relations(cert: Certificate, f: KahanMap, phis: Sequence[Sequence[Frac]],
                "follow from rows i = 0, 1 and relations with even integral coefficients (L), Prop. \"prop: even\"")
 
 
-# ---------------------------------------------------------------- the conjecture: exact evidence ----------------
+# ---------------------------------------------------------------- the ten monomials of Th. "dClebsch max basis" ---
 PHI_MAX_TEXT = "p1**2, p2**2, p3**2, m1**2, m2**2, m3**2, m1*p1, m2*p2, m3*p3, 1"
 SUB_BASES = {"Phi0": (0, 1, 2, 3, 4, 5, 9), "Phi1": (0, 1, 2, 3, 4, 5, 6), "Phi2": (0, 1, 2, 3, 4, 5, 7),
              "Phi3": (0, 1, 2, 3, 4, 5, 8)}
-
-
-def _embedded(kernel: Sequence[Sequence[str]], slots: Sequence[int]) -> list[flint.fmpq]:
-    """The 1-dimensional kernel of a sub-basis as a vector of R^10 (zeros outside its slots)."""
-    v = [flint.fmpq(0)] * 10
-    for slot, c in zip(slots, kernel[0], strict=True):
-        v[slot] = number(c)
-    return v
-
-
-EVIDENCE_STATEMENT = ("For random b, w, eps and random points, exact kernel profiles (algorithm (N) over Q) give "
-                      "dim K = 4 for the 10-function basis, dim 1 for Phi0 = (p^2, m^2, 1) and Phi_k = (p^2, m^2, m_k p_k), and "
-                      "the four null-spaces embedded in Q^10 are independent and span K_Phi. Evidence, not proof.")
-DIMENSIONS = {"Phi": 4, "Phi0": 1, "Phi1": 1, "Phi2": 1, "Phi3": 1}
-
-
-@claim("flow-conjecture-evidence", GROUP, "Conjecture for the general flow: dim K_Phi = 4 = sum of four 1-dim "
-       "K_Phi_k", "sec. 6, conjecture after eq. \"dC2 map\"", EVIDENCE_STATEMENT, expected=Status.EVIDENCE_EXACT)
-def prove_conjecture_evidence(cert: Certificate, claimed: Mapping[str, str]) -> None:
-    _profile_evidence(cert, sets=6, per=4)
-
-
-def conjecture_evidence(sets: int = 6, per: int = 4) -> Certificate:
-    """The open claim flow-conjecture-evidence with another sample size (never verified, only evidence)."""
-    c = REGISTRY["flow-conjecture-evidence"]
-    cert = Certificate(c.id, c.title, c.paper_ref, c.statement)
-    try:
-        _profile_evidence(cert, sets, per)
-    except ProofStopped as exc:
-        cert.error = str(exc)
-    return cert
-
-
-def _profile_evidence(cert: Certificate, sets: int, per: int) -> None:
-    """Profiles of the 10-function basis and of Phi0..Phi3 at `sets` random (b, w, eps), `per` points each."""
-    basis_list = PHI_MAX_TEXT.split(", ")
-    with cert.step("exact kernel profiles and the direct sum", "algorithm (N) over Q (hkproof.experiments.scan, "
-                   "fmpq_mat ranks); ranks of the embedded null vectors", "Q at random rational b, w, eps, x") as s:
-        total, counts = 0, {k: 0 for k in ("Phi", *SUB_BASES)}
-        for seed in range(sets):
-            full = scan(GENERAL, PHI_MAX_TEXT, points=per, seed=1000 + seed)
-            points = [p.point for p in full.profiles]
-            subs = {k: scan(GENERAL, [basis_list[i] for i in slots], points=points, values=full.values)
-                    for k, slots in SUB_BASES.items()}
-            s.require(full.dimension == DIMENSIONS["Phi"], f"dim K_Phi = {full.dimension} at {full.values}")
-            counts["Phi"] += full.count("hk-basis")
-            for k, res in subs.items():
-                s.require(res.dimension == DIMENSIONS[k], f"dim K_{k} = {res.dimension} at {res.values}")
-                counts[k] += res.count("hk-basis")
-            for i, prof in enumerate(full.profiles):
-                if prof.kernel is None or any(subs[k].profiles[i].kernel is None for k in subs):
-                    continue
-                k_max = [_embedded([vec], range(10)) for vec in prof.kernel]
-                parts = [_embedded(subs[k].profiles[i].kernel or [], SUB_BASES[k]) for k in SUB_BASES]
-                s.require(flint.fmpq_mat(parts).rank() == 4, f"the four null-spaces are dependent at {prof.point}")
-                s.require(flint.fmpq_mat(k_max + parts).rank() == 4, f"K_Phi0 + ... + K_Phi3 != K_Phi at {prof.point}")
-                total += 1
-        s.evidence(Status.EVIDENCE_EXACT, points=total)
-        s.note(f"{sets} random parameter sets x {per} points: profiles with d as claimed at "
-               + ", ".join(f"{k}: {v}" for k, v in counts.items()) + f" points; direct sum checked at {total} points")
 
 
 # ---------------------------------------------------------------- towards the conjecture: Theta for every flow ---

@@ -1,0 +1,68 @@
+"""algebra.factored (sums of products over factored denominators) against Frac arithmetic and sympy's exact values,
+and hk.completion's refusals."""
+from __future__ import annotations
+
+import random
+
+import pytest
+import sympy
+
+from hkproof.algebra import Frac, Ring
+from hkproof.algebra.factored import sum_of_products
+from hkproof.dynamics.catalogue import kahan_map
+from hkproof.errors import HKProofError
+from hkproof.hk.completion import complete_coordinates
+from tests.sympy_bridge import poly_from_sympy
+
+R = Ring(("x", "y", "eps"))
+SYMS = sympy.symbols("x y eps")
+
+
+def _random_frac(rng: random.Random) -> tuple[Frac, sympy.Expr]:
+    def poly() -> sympy.Expr:
+        while True:
+            p = sum(rng.randint(-4, 4) * SYMS[0] ** rng.randint(0, 2) * SYMS[1] ** rng.randint(0, 2)
+                    * SYMS[2] ** rng.randint(0, 1) for _ in range(3))
+            if p != 0:
+                return sympy.expand(p)
+    shared = [sympy.expand(SYMS[0] + SYMS[1]), sympy.expand(SYMS[2] ** 2 - SYMS[0]), sympy.Integer(6)]
+    num, den = poly(), sympy.expand(poly() * rng.choice(shared) ** rng.randint(0, 2))
+    return Frac(R, poly_from_sympy(R, num)[0], poly_from_sympy(R, den)[0]), num / den
+
+
+@pytest.mark.parametrize("seed", range(25))
+def test_sum_of_products_agrees_with_sympy(seed):
+    rng = random.Random(seed)
+    terms, expected = [], sympy.Integer(0)
+    for _ in range(rng.randint(1, 3)):
+        factors = [_random_frac(rng) for _ in range(rng.randint(1, 3))]
+        terms.append([f for f, _ in factors])
+        expected += sympy.Mul(*[e for _, e in factors])
+    got = sum_of_products(terms)
+    for _ in range(3):      # sympy's exact value at rational points where no denominator vanishes
+        at = {x: sympy.Rational(rng.randint(-50, 50), rng.randint(1, 9)) for x in SYMS}
+        want = expected.subs(at)
+        if want.is_finite:
+            assert got.to_sympy().subs(at) == want
+    plain = sum((_product(t) for t in terms), Frac(R, 0))
+    assert (got.num, got.den) == (plain.num, plain.den)    # the same lowest terms and sign as Frac arithmetic
+
+
+def _product(factors):
+    out = Frac(R, 1)
+    for f in factors:
+        out = out * f
+    return out
+
+
+def test_completion_refuses_relations_that_leave_the_wrong_number_of_unknowns():
+    f = kahan_map("clebsch-flow2")
+    lifted = f.ring.extend(["L"])
+    basis = [Frac.parse(f.ring, t) for t in ("p1**2", "p2**2", "m1*p1")]
+    one_relation = [[Frac(lifted, 1), Frac(lifted, -1)]]          # a1 = a2: one unknown left, two equations
+    with pytest.raises(HKProofError, match="leave 1 unknowns free"):
+        complete_coordinates(f, [basis], one_relation, {"L": Frac(f.ring, 1)}, ((0,), Frac(f.ring, 1)), [0])
+    with pytest.raises(HKProofError, match="no relations"):
+        complete_coordinates(f, [basis], [], {"L": Frac(f.ring, 1)}, ((0,), Frac(f.ring, 1)), [0])
+    with pytest.raises(HKProofError, match="relation rows of length 3"):
+        complete_coordinates(f, [basis], [[Frac(lifted, 1)] * 3], {"L": Frac(f.ring, 1)}, ((0,), Frac(f.ring, 1)), [0])
