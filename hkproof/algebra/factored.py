@@ -53,7 +53,8 @@ def sum_of_products(terms: Sequence[Sequence[Frac]]) -> Frac:
     one = ring.constant(1)
     contents, parts = [], []
     for factors in terms:
-        num, dens = one, {}
+        num = one
+        dens: dict[str, tuple[flint.fmpz_mpoly, int]] = {}
         content = flint.fmpz(1)
         for f in factors:
             c, fs = factor(f.den)
@@ -84,7 +85,7 @@ def sum_of_products(terms: Sequence[Sequence[Frac]]) -> Frac:
     if total.is_zero():
         return Frac(ring, 0)
     den = _product(remaining, one) * int(scale)
-    g = total.content().gcd(scale)
+    g = total.content().gcd(scale)  # type: ignore[attr-defined]  # in python-flint 0.9, missing from its stubs
     if g != 1:
         total, den = total / int(g), den / int(g)
     return Frac(ring, *normalize_sign(total, den), reduced=True)
