@@ -56,14 +56,12 @@ def test_general_phi0_perturbed_refuted(key, text):
     assert get_claim("flow-general-phi0").prove({key: text}).status is not Status.VERIFIED
 
 
-@pytest.mark.slow
 def test_theta_every_flow_with_w_symbolic():
     cert = get_claim("flow-theta-all").prove()
     assert cert.status is Status.VERIFIED, cert.render()
     assert any("sigma" in step.name for step in cert.steps)         # the transport of flow-second-theta
 
 
-@pytest.mark.slow
 def test_theta_perturbed_relation_refuted():
     bad = THETA_RELATION.replace("(w2 - w3)*c1*(eps**2*L - c1)", "(w2 - w3)*c1*(eps**2*L - 2*c1)")
     assert get_claim("flow-theta-all").prove({"relation": bad}).status is not Status.VERIFIED
@@ -76,7 +74,6 @@ def test_the_general_flow_is_invariant_under_the_combined_shift():
     assert "y -> y + (-z) c" in str(YZ_SHIFT)
 
 
-@pytest.mark.slow
 def test_second_theta_perturbed_relation_refuted():
     bad = THETA_RELATION.replace("(w3 - w1)*c2*(eps**2*L - c2)", "(w3 - w1)*c2*(eps**2*L + c2)")
     assert get_claim("flow-second-theta").prove({"relation": bad}).status is not Status.VERIFIED

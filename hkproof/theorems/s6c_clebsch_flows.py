@@ -597,7 +597,7 @@ THETA_NAMES = ("g1", "g2", "g3")
        "For the second flow (w, eps symbolic): (g1, g2, g3) from (sum g_k I_k) o f^i = H4 o f^i, i = 0, 1, and the "
        "relation with coefficients in the integral L are even in eps, hence integrals (Prop. \"prop: even\"); "
        "[g1 : ... : g6 : -1] with eq. \"Theta rels\" spans K_Theta (dim 1); L, g1, g2 are functionally independent.",
-       claimed={"relation": THETA_RELATION}, slow=True, uses=["flow-second-theorem"])
+       claimed={"relation": THETA_RELATION}, uses=["flow-second-theorem"])
 def prove_second_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(FLOW2)
     big_l = _cite_l(cert, f, "flow-second-theorem")
@@ -626,7 +626,7 @@ def prove_second_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
        "of flow-general-phi0, = z^3 sigma(L) for the second flow's L); the g_k are even in eps and integrals; with "
        "g4..g6 by eq. \"Theta rels\" they span K_Theta (dim 1); L_b, g1, g2 are functionally independent. z = 0: "
        "the first flow's Theta kernel (dc-theta) at eps' = y eps.",
-       claimed={"relation": THETA_RELATION}, slow=True, uses=["flow-reduction", "flow-second-theta", "flow-second-theorem", "dc-theta"])
+       claimed={"relation": THETA_RELATION}, uses=["flow-reduction", "flow-second-theta", "flow-second-theorem", "dc-theta"])
 def prove_theta_all_flows(cert: Certificate, claimed: Mapping[str, str]) -> None:
     sigma, sigma0 = reduction_substitutions(require_proven(cert, "flow-reduction").formulas)
     g, g0 = yz_map(), yz_map_at_z0()
