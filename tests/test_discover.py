@@ -146,3 +146,43 @@ def test_discovered_integrals_hold_by_an_independent_route():
             at_fx = h.subs({**{symbols[n]: sympy.Rational(v.numerator, v.denominator) for n, v in point.items()},
                             **{symbols[n]: sympy.Rational(int(v.p), int(v.q)) for n, v in image.items()}})
             assert at_x == at_fx, i.name
+
+
+def _psi_problem():
+    from hkproof.algebra.fraction import Frac
+    from hkproof.dynamics.catalogue import kahan_map
+    from hkproof.experiments.relations import find_relations
+    from hkproof.hk.reduced import Relation
+    f = kahan_map("clebsch")
+    basis = [Frac.parse(f.ring, t) for t in ("m1*p1", "m2*p2", "m3*p3", "p1**2", "p2**2", "p3**2")]
+    rels = [Relation(r.coefficients, r.rhs) for r in find_relations(f, [basis]).relations]
+    return f, basis, rels
+
+
+def test_recipe_e_with_prop_even_certifies_the_psi_basis_of_the_first_clebsch_flow():
+    from hkproof.hk.discover import solve_by_evenness
+    f, basis, rels = _psi_problem()
+    solution, status, method = solve_by_evenness(f, basis, rels)
+    assert status is Status.VERIFIED and solution is not None, method
+    assert all(len(c.num) > 100 for c in solution[:3])     # d7, d8, d9 of Th. "dC basis 2" (up to normalization)
+
+
+def test_recipe_e_refuses_a_relation_that_is_not_even_in_eps():
+    from hkproof.algebra.fraction import Frac
+    from hkproof.hk.discover import solve_by_evenness
+    from hkproof.hk.reduced import Relation
+    f, basis, rels = _psi_problem()
+    eps = Frac.parse(f.ring, "eps")
+    bad = [Relation([c + eps if k == 0 else c for k, c in enumerate(rels[0].coefficients)], rels[0].rhs)] + rels[1:]
+    solution, status, method = solve_by_evenness(f, basis, bad)
+    assert solution is None and status < Status.VERIFIED and "even" in method
+    too_few = solve_by_evenness(f, basis, rels[:1])
+    assert too_few[0] is None and "cannot fix" in too_few[2]
+
+
+@pytest.mark.slow
+def test_discover_first_clebsch_flow_finds_three_independent_integrals_by_recipe_e():
+    report = discover("clebsch", 2, seconds=300)
+    proven = [i for i in report.integrals if i.status is Status.VERIFIED and i.independent]
+    assert len(proven) >= 3 and report.expected_independent == 4
+    assert any("recipe (E)" in i.method for i in proven)

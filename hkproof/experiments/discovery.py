@@ -36,8 +36,10 @@ from hkproof.experiments.modular import ModP, UnluckyPrimeError, random_prime
 from hkproof.experiments.profiles import HK_BASIS, ProfileProblem, fundamental_finite, kernel_vector
 from hkproof.experiments.scene import Scene, make_scene
 from hkproof.experiments.weights import Weights, scaling_weights
+from hkproof.experiments.relations import find_relations
 from hkproof.hk.discover import (DiscoveryReport, FoundIntegral, certify, independent_subset, is_phase_constant,
-                                 jacobian_points)
+                                 jacobian_points, solve_by_evenness)
+from hkproof.hk.reduced import Relation
 from hkproof.experiments.reconstruction import (dense_size, kernel_mod_p, line_degrees, monomials_upto,
                                                 reconstruct_rational, univariate_degrees)
 from hkproof.proof.status import Status
@@ -46,6 +48,7 @@ Exponents = tuple[int, ...]
 MAX_CIRCUIT_TRIALS = 20000
 FULL_CIRCUITS = 5000        # above this many trials, circuits are sought in a complement of the trivial part
 MAX_CONFIRMED = 24          # minimal bases confirmed by algorithm (N) over Q; the rest are listed
+MAX_RELATION_BASIS = 8      # recipe (E) is tried on minimal bases of at most this many functions
 
 
 class BudgetExhausted(HKProofError):
@@ -566,6 +569,7 @@ def _reconstruct_all(report: DiscoveryReport, kmap: KahanMap, full_map: KahanMap
     """Reconstruct and certify kernel coordinates, one per new independent gradient, simplest bases first."""
     accepted: list[list[int]] = []
     caches: dict[tuple, dict] = {}
+    solved: dict[tuple[str, ...], tuple[list[Frac] | None, Status, str, float]] = {}
     inner = list(kmap.variables)
     count = 0
     for cand in candidates:
@@ -575,6 +579,8 @@ def _reconstruct_all(report: DiscoveryReport, kmap: KahanMap, full_map: KahanMap
             continue
         texts = [monomial_text(kmap.variables, e) for e in cand.basis]
         if cand.estimate > max_unknowns:
+            if _by_relations(report, kmap, full_map, cand, texts, fixed, solved, accepted, clock):
+                continue
             report.skipped.append({"basis": texts, "coordinate": f"c{cand.k + 1}/c{cand.j + 1}", "degrees": None,
                                    "reason": f"dense ansatz of about {cand.estimate} unknowns along a line "
                                              f"(limit {max_unknowns})" if cand.estimate < 10**9 else
@@ -591,6 +597,8 @@ def _reconstruct_all(report: DiscoveryReport, kmap: KahanMap, full_map: KahanMap
         degrees = (max(d[0] for d in measured), max(d[1] for d in measured)) if len(measured) == len(lines) else None
         size = None if degrees is None else dense_size(len(free) + len(inner), degrees)
         if degrees is None or size is None or size > max_unknowns:
+            if _by_relations(report, kmap, full_map, cand, texts, fixed, solved, accepted, clock):
+                continue
             report.skipped.append({"basis": texts, "coordinate": f"c{cand.k + 1}/c{cand.j + 1}",
                                    "degrees": None if degrees is None else list(degrees),
                                    "reason": (f"degree > {max_degree} along a line" if degrees is None else
@@ -625,6 +633,45 @@ def _reconstruct_all(report: DiscoveryReport, kmap: KahanMap, full_map: KahanMap
         clock.say(f"{name} = {found.frac}: {status.label}")
     report.covered.append(f"reconstructed {count} kernel coordinates chosen for new independent gradients; "
                           f"{len(report.skipped)} skipped as too large for dense reconstruction")
+
+
+def _by_relations(report: DiscoveryReport, kmap: KahanMap, full_map: KahanMap, cand: Candidate, texts: list[str],
+                  fixed, solved: dict, accepted: list[list[int]], clock: _Clock) -> bool:
+    """A kernel coordinate too large for dense interpolation, by the paper's recipe (E) instead: relations among the
+    basis's kernel coordinates found exactly (symbolic in eps and the parameters), then the rows i = 0, 1 solved
+    and certified by Prop. "prop: even" (hk.discover.solve_by_evenness). True if it gave an integral."""
+    key = tuple(texts)
+    if key not in solved:
+        if len(texts) > MAX_RELATION_BASIS:
+            solved[key] = (None, Status.UNKNOWN, "basis too large for the relation search", 0.0)
+        else:
+            clock.check(f"recipe (E) on ({', '.join(texts)})")
+            clock.start("relations", f"recipe (E) on ({', '.join(texts)})")
+            start = time.perf_counter()
+            basis = [Frac.parse(kmap.ring, t) for t in texts]
+            try:
+                search = find_relations(kmap, [basis])
+                rels = [Relation(r.coefficients, r.rhs) for r in search.relations]
+                solved[key] = (*solve_by_evenness(kmap, basis, rels, fixed), time.perf_counter() - start)
+            except HKProofError as exc:
+                solved[key] = (None, Status.UNKNOWN, f"recipe (E) failed: {exc}", time.perf_counter() - start)
+            clock.say(f"recipe (E) on ({', '.join(texts)}): {solved[key][2]}")
+    solution, status, method, seconds = solved[key]
+    if solution is None:
+        return False
+    c = [*solution, Frac(kmap.ring, -1)]
+    if c[cand.j].is_zero():
+        return False
+    h = c[cand.k] / c[cand.j]
+    name = f"I{len(report.integrals) + 1}"
+    found = FoundIntegral(name, h.to_ring(full_map.ring), status, "kernel coordinate", texts,
+                          f"c{cand.k + 1}/c{cand.j + 1}", seconds, method,
+                          ["too large for dense interpolation along a line; solved symbolically instead"])
+    report.integrals.append(found)
+    if status >= Status.VERIFIED_SPECIALIZED and not is_phase_constant(h, kmap.variables):
+        accepted.append(cand.gradient)
+    clock.say(f"{name}: {status.label} by recipe (E)")
+    return True
 
 
 def _exps(kmap: KahanMap, e: Exponents) -> dict[str, int]:
