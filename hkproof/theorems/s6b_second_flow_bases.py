@@ -17,6 +17,7 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.experiments.relations import find_relations
+from hkproof.hk.balance import orbit_matrix
 from hkproof.hk.completion import complete_coordinates
 from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.linear_relations import parse_relation, relation_rank
@@ -284,8 +285,8 @@ def max_basis_facts(cert: Certificate, f: KahanMap, vectors: Sequence[Sequence[F
     monomials = [Frac.parse(r, m) for m in PHI_MAX_TEXT.split(", ")]
     with cert.step(f"{case}K_Phi_k = [block k : -1] (dim 1) and K_Phi = span of the four vectors (dim 4)",
                    "exact kernels of X_[0,5] and X_[0,6] at a rational point; rank of the four vectors", r) as s:
-        orbit = f.orbit_exact(point, 6)
-        values = [[m.evaluate({**point, **x}) for m in monomials] for x in orbit]
+        matrix = orbit_matrix(f, monomials, point, 7)
+        values = [[matrix[i, j] for j in range(matrix.ncols())] for i in range(matrix.nrows())]
         found = 10 - flint.fmpq_mat(values[:6]).rank()
         s.require(str(found) == dim.strip() == "4", f"dim ker X_[0,5] = {found} for the ten monomials, claimed {dim}")
         for name, slots in SUB_BASES.items():

@@ -16,6 +16,7 @@ from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import SingularPointError
 from hkproof.experiments.relations import find_relations
+from hkproof.hk.balance import orbit_matrix
 from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.integrals import check_integral, lie_derivative
 from hkproof.hk.linear_relations import parse_relation, relation_rank
@@ -258,9 +259,8 @@ def _kernel_rank_bound(cert: Certificate, kmap: KahanMap, e: Sequence[Frac]) -> 
     with cert.step("dim K_Phi0 = 1 (upper bound)", "exact rank of X_[0,6] (fmpq_mat) at one rational point, and the "
                    "kernel there equals (e, -1)", r) as s:
         point = {k: v for k, v in RANK_POINT.items() if k in r.names}
-        orbit = kmap.orbit_exact(point, 6)
-        rows = [[Frac.parse(r, phi).evaluate({**point, **x}) for phi in PHI0] + [flint.fmpq(1)] for x in orbit]
-        mat = flint.fmpq_mat(rows)
+        mat = orbit_matrix(kmap, [Frac.parse(r, phi) for phi in PHI0] + [Frac(r, 1)], point, 7)
+        rows = [[mat[i, j] for j in range(7)] for i in range(7)]
         s.require(mat.rank() == 6, f"rank X_[0,6] = {mat.rank()} at {point}, not 6")
         ev = [a.evaluate(point) for a in e] + [flint.fmpq(-1)]
         s.require(all(sum((row[k] * ev[k] for k in range(7)), flint.fmpq(0)) == 0 for row in rows),

@@ -121,9 +121,9 @@ _register(Entry("kirchhoff", 2, (), 4, seconds=900.0), "Kirchhoff case of a rigi
           "the degree-2 kernel of the moving coordinates carries 3 independent integrals, with m3 the 4 Liouville "
           "integrability needs; the other 2 are beyond dense reconstruction", 2, "0,3", 3, slow=True)
 _register(Entry("gaudin-2", 2, (), 4, seconds=900.0), "Classical Gaudin magnet, two spins in a field",
-          "The Kahan map has 3 functionally independent rational integrals proven (s3 + t3 and two deformed quadric "
-          "ratios); the degree-2 kernel carries 4, what Liouville integrability needs (2 Casimirs + 2)", 3, "1,3", 4,
-          slow=True)
+          "The Kahan map has 4 functionally independent rational integrals proven (s3 + t3, two deformed quadric "
+          "ratios by interpolation, and one more by recipe (E) with Prop. \"prop: even\"), all that the degree-2 "
+          "kernel carries and what Liouville integrability needs (2 Casimirs + 2)", 4, "1,3", 4, slow=True)
 # the commuting flow's integrals have larger coefficients in a_i: its parameters are fixed (verified(specialized))
 _A_FIXED = (("a1", "1"), ("a2", "2"), ("a3", "3"), ("a4", "5"))
 for _name, _title, _fixed in (("so4-euler-top", "Euler top on so(4), Manakov case", ()),
