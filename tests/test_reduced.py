@@ -78,3 +78,15 @@ def test_block_rows_at_puts_each_basis_in_its_own_block():
     rows, rhs = block_rows_at([first, second], [y, z])
     assert rows == [[4, 9, 0], [1, 9, 0], [0, 0, 5], [0, 0, 5]]
     assert rhs == [1, 1, 10, -5]
+
+
+def test_system_at_stacks_the_rows_of_every_iterate_and_the_relations():
+    from hkproof.hk.reduced import orbit_points, system_at
+    first = [Frac.parse(R, t) for t in ("x1**2", "x2**2", "1")]
+    second = [Frac.parse(R, t) for t in ("x3", "x1*x3")]
+    point = {"x1": 2, "x2": 3, "x3": 5, "eps": flint.fmpq(1, 7), "a1": 1, "a2": 2, "a3": -3}
+    rel = Relation([Frac.parse(R, "eps"), Frac(R, 1), Frac(R, 0)], Frac.parse(R, "a1"))
+    rows, rhs = system_at(F, [first, second], (0, 1), [rel], point)
+    orbit = orbit_points(F, point, (0, 1))
+    expected, expected_rhs = block_rows_at([first, second], [orbit[0], orbit[1]])
+    assert rows == expected + [[flint.fmpq(1, 7), 1, 0]] and rhs == expected_rhs + [1]

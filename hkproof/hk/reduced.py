@@ -177,6 +177,18 @@ def orbit_points(kmap: KahanMap, point: Mapping[str, Rational], iterates: Sequen
     return {i: {**fixed, **(forward[i] if i >= 0 else backward[-i])} for i in iterates}
 
 
+def system_at(kmap: KahanMap, bases: Sequence[Sequence[Frac]], iterates: Sequence[int],
+              relations: Sequence[Relation], point: Mapping[str, Rational]
+              ) -> tuple[list[list[flint.fmpq]], list[flint.fmpq]]:
+    """A reduced system at one exact point: the rows i in `iterates` of every basis (`block_rows_at`) and the
+    relations' rows (rows, right-hand sides). A rank here is a lower bound for the generic rank."""
+    orbit = orbit_points(kmap, point, iterates)
+    rows, rhs = block_rows_at(bases, [orbit[i] for i in iterates])
+    rows += [[c.evaluate(point) for c in rel.coefficients] for rel in relations]
+    rhs += [rel.rhs.evaluate(point) for rel in relations]
+    return rows, rhs
+
+
 def _non_symmetric_range(iterates: Sequence[int]) -> bool:
     it = sorted(iterates)
     consecutive = it == list(range(it[0], it[-1] + 1))

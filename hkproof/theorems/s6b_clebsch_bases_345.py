@@ -19,12 +19,7 @@ from hkproof.hk.linear_relations import (
     relation_rank,
     same_relation,
 )
-from hkproof.hk.reduced import (
-    Relation,
-    block_rows_at,
-    linear_combination_equals,
-    orbit_points,
-)
+from hkproof.hk.reduced import Relation, linear_combination_equals, system_at
 from hkproof.hk.transport import Substitution
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate
@@ -297,7 +292,7 @@ def prove_step1(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.note("rows i = 0, 1 of each block see only (p1^2, p2^2, p3^2) o f^i in the j = 1, 2, 3 columns")
     with cert.step("rank 17", "exact rank of the 17 x 18 matrix at a rational point", r) as s:
         point = sample_point(r.names, seed=3)
-        rows, _ = _step1_at(f, rels, point)
+        rows, _ = system_at(f, bases(f), (0, 1), rels, point)
         s.require(flint.fmpq_mat(rows).rank() == 17, "rank < 17 at the sample point: choose another point")
         s.note("a non-zero 17 x 17 minor at a point: rank 17 over Q(m, p, eps, w), so the kernel is spanned by the "
                "vector above, which vanishes in the j = 4, 5, 6 positions: those unknowns are determined uniquely")
@@ -322,15 +317,6 @@ def _kernel_weights(text: str) -> list[str]:
             raise ParseError(f"{item!r} is not of the form weight*n")
         out.append(item[:-2])
     return out
-
-
-def _step1_at(f, rels: Sequence[Relation], point: Mapping[str, flint.fmpq]):
-    """The 17 x 18 system of Step 1 at an exact point."""
-    orbit = orbit_points(f, point, (0, 1))
-    rows, rhs = block_rows_at(bases(f), [orbit[i] for i in (0, 1)])
-    rows += [[c.evaluate(point) for c in rel.coefficients] for rel in rels]
-    rhs += [rel.rhs.evaluate(point) for rel in rels]
-    return rows, rhs
 
 
 # -- Conclusions: functional independence --------------------------------------------------------------------------

@@ -21,13 +21,7 @@ from hkproof.hk.balance import orbit_matrix
 from hkproof.hk.completion import complete_coordinates
 from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.linear_relations import parse_relation, relation_rank
-from hkproof.hk.reduced import (
-    Relation,
-    block_rows_at,
-    kernel_coordinates,
-    linear_combination_equals,
-    orbit_points,
-)
+from hkproof.hk.reduced import Relation, kernel_coordinates, linear_combination_equals, system_at
 from hkproof.hk.row_check import check_solution_by_rows
 from hkproof.hk.transport import Substitution
 from hkproof.orchestration.registry import claim, require_proven
@@ -154,14 +148,9 @@ def prove_l_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> No
     with cert.step("ranks: the relations, with rows i = 0, with rows i = 0, 1", "exact ranks at a rational point "
                    "(values of Phi_k o f^i and of the relations' coefficients)", "Q at one rational point") as s:
         point = {k: v for k, v in RANK_POINT.items() if k in r.names}
-        orbit = orbit_points(f, point, (0, 1))
         rel_rows = [[c.evaluate(point) for c in rel.coefficients] for rel in combined]
-
-        def hk_rows(i: int) -> list[list[flint.fmpq]]:
-            return block_rows_at(phis, [orbit[i]])[0]
-
-        for key, rows in (("relations", rel_rows), ("rows0", hk_rows(0) + rel_rows),
-                          ("rows01", hk_rows(0) + hk_rows(1) + rel_rows)):
+        for key, rows in (("relations", rel_rows), ("rows0", system_at(f, phis, (0,), combined, point)[0]),
+                          ("rows01", system_at(f, phis, (0, 1), combined, point)[0])):
             got = flint.fmpq_mat(rows).rank()
             s.require(str(got) == claimed[key].strip(), f"rank {key} = {got}, claimed {claimed[key]}")
         s.evidence(Status.EVIDENCE_EXACT, points=1)
@@ -227,11 +216,8 @@ def prove_second_bases(cert: Certificate, claimed: Mapping[str, str]) -> None:
                  for row in rows]
     with cert.step("unique solution: rows i = 0, 1 and the relations have rank 18", "exact rank at a rational point",
                    r) as s:
-        point = {k: v for k, v in RANK_POINT.items() if k in r.names}
-        orbit = orbit_points(f, point, (0, 1))
-        hk, _ = block_rows_at(phis, [orbit[i] for i in (0, 1)])
-        s.require(flint.fmpq_mat(hk + [[c.evaluate(point) for c in rel.coefficients] for rel in relations]).rank()
-                  == 18, "the system is not of rank 18 at the point")
+        at_point, _ = system_at(f, phis, (0, 1), relations, {k: v for k, v in RANK_POINT.items() if k in r.names})
+        s.require(flint.fmpq_mat(at_point).rank() == 18, "the system is not of rank 18 at the point")
     with cert.step("hypotheses of Prop. \"prop: even\" and the solution even in eps", "iterates 0, 1 "
                    "(non-symmetric); relation coefficients even integrals; exact parity of the 18 components", r) as s:
         for name, h in zip(UNKNOWNS, sol, strict=True):

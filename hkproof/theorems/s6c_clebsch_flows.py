@@ -29,7 +29,7 @@ from hkproof.hk.reduced import (
     hk_row,
     kernel_coordinates,
     linear_combination_equals,
-    orbit_points,
+    system_at,
     verify_by_evenness,
 )
 from hkproof.hk.row_check import check_solution_by_rows
@@ -526,13 +526,11 @@ def prove_second_relations_found(cert: Certificate, claimed: Mapping[str, str]) 
     with cert.step("how far the relations go: exact ranks at a rational point", "fmpq_mat ranks of the rows "
                    "(values of Phi_k o f^i) and the relations at the point", "Q at one rational point") as s:
         point = {k: v for k, v in RANK_POINT.items() if k in r.names}
-        orbit = orbit_points(f, point, (-1, 0, 1))
-        rel_rows = [[c.evaluate(point) for c in rel.coefficients] for rel in claimed_rels]
         theta_rows = [[flint.fmpq(int(k % 6 == j)) for k in range(18)] for j in range(6)]
 
         def rank(iterates: Sequence[int], extra: Sequence[Sequence[flint.fmpq]]) -> int:
-            rows, _ = block_rows_at(phis, [orbit[i] for i in iterates])
-            return flint.fmpq_mat(rows + rel_rows + list(extra)).rank()
+            rows, _ = system_at(f, phis, iterates, claimed_rels, point)
+            return flint.fmpq_mat(rows + list(extra)).rank()
 
         for key, got in (("rows01", rank((0, 1), [])), ("rows01_theta", rank((0, 1), theta_rows)),
                          ("symmetric", rank((-1, 0, 1), []))):
