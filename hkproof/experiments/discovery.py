@@ -631,8 +631,10 @@ def _reconstruct_all(report: DiscoveryReport, kmap: KahanMap, full_map: KahanMap
         if status >= Status.VERIFIED_SPECIALIZED and not is_phase_constant(h, kmap.variables):
             accepted.append(cand.gradient)
         clock.say(f"{name} = {found.frac}: {status.label}")
-    report.covered.append(f"reconstructed {count} kernel coordinates chosen for new independent gradients; "
-                          f"{len(report.skipped)} skipped as too large for dense reconstruction")
+    by_relations = sum(1 for i in report.integrals if i.method.startswith("recipe (E)"))
+    report.covered.append(f"reconstructed {count} kernel coordinates chosen for new independent gradients and "
+                          f"solved {by_relations} by recipe (E); {len(report.skipped)} skipped as too large for "
+                          "dense reconstruction")
 
 
 def _by_relations(report: DiscoveryReport, kmap: KahanMap, full_map: KahanMap, cand: Candidate, texts: list[str],
