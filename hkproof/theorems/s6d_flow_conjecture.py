@@ -10,6 +10,7 @@ from hkproof.algebra.ring import flint_threads
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
+from hkproof.hk.balance import orbit_matrix
 from hkproof.hk.reduced import linear_combination_equals
 from hkproof.hk.transport import Substitution
 from hkproof.orchestration.registry import claim, require_proven
@@ -18,7 +19,7 @@ from hkproof.theorems._clebsch import recall
 from hkproof.theorems.s6b_clebsch_bases_345 import UNKNOWNS
 from hkproof.theorems.s6b_clebsch_steps import kernel_vectors
 from hkproof.theorems.s6b_second_flow_bases import embedded_vectors, max_basis_facts
-from hkproof.theorems.s6c_clebsch_flows import FIRST, FLOW2, GROUP, PHI_MAX_TEXT, reduction_substitutions
+from hkproof.theorems.s6c_clebsch_flows import FIRST, FLOW2, GROUP, PHI_MAX_TEXT, RANK_POINT, reduction_substitutions
 from hkproof.theorems._flows import yz_map, yz_map_at_z0
 
 STATEMENT = ("For every flow of the Clebsch system (b_k = s + y w_k - z w_i w_j, i.e. b and w arbitrary; w, y, z, eps "
@@ -37,6 +38,13 @@ STATEMENT = ("For every flow of the Clebsch system (b_k = s + y w_k - z w_i w_j,
        uses=["flow-reduction", "flow-second-theorem", "flow-second-bases-345", "dc-basis1-relations", "dc345-alpha",
              "dc345-step5"])
 def prove_conjecture(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    with cert.step("the claimed dim K_Phi against rank X_[0,5] at a rational point of both target maps (a fast "
+                   "refutation; the full check follows)", "exact rank (fmpq_mat)", yz_map().ring) as s:
+        for target in (yz_map(), yz_map_at_z0()):
+            point = {k: v for k, v in RANK_POINT.items() if k in target.ring.names}
+            monomials = [Frac.parse(target.ring, m) for m in PHI_MAX_TEXT.split(", ")]
+            found = 10 - orbit_matrix(target, monomials, point, 6).rank()
+            s.require(str(found) == claimed["dim"].strip(), f"dim ker X_[0,5] = {found}, claimed {claimed['dim']}")
     sigma, sigma0 = reduction_substitutions(require_proven(cert, "flow-reduction").formulas)
     flow2, first = kahan_map(FLOW2), kahan_map(FIRST)
     theorem, bases2 = require_proven(cert, "flow-second-theorem"), require_proven(cert, "flow-second-bases-345")
