@@ -140,7 +140,8 @@ def get_ring(names: tuple[str, ...]) -> Ring:
 def flint_threads(n: int | None = None) -> Iterator[None]:
     """FLINT's own threads for big polynomial products and divisions (n = the cores this process may use)."""
     before = flint.ctx.threads
-    flint.ctx.threads = n or len(os.sched_getaffinity(0))
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    flint.ctx.threads = n or cores
     try:
         yield
     finally:
