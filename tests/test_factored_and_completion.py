@@ -12,6 +12,7 @@ from hkproof.algebra.factored import sum_of_products
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.errors import HKProofError
 from hkproof.hk.completion import complete_coordinates
+from hkproof.hk.reduced import Relation
 from tests.sympy_bridge import poly_from_sympy
 
 R = Ring(("x", "y", "eps"))
@@ -59,10 +60,14 @@ def test_completion_refuses_relations_that_leave_the_wrong_number_of_unknowns():
     f = kahan_map("clebsch-flow2")
     lifted = f.ring.extend(["L"])
     basis = [Frac.parse(f.ring, t) for t in ("p1**2", "p2**2", "m1*p1")]
-    one_relation = [[Frac(lifted, 1), Frac(lifted, -1)]]          # a1 = a2: one unknown left, two equations
+    one_relation = [Relation([Frac(lifted, 1), Frac(lifted, -1)], Frac(lifted, 0))]   # a1 = a2: one unknown left
     with pytest.raises(HKProofError, match="leave 1 unknowns free"):
         complete_coordinates(f, [basis], one_relation, {"L": Frac(f.ring, 1)}, ((0,), Frac(f.ring, 1)), [0])
+    with pytest.raises(HKProofError, match="homogeneous"):
+        complete_coordinates(f, [basis], [Relation([Frac(lifted, 1), Frac(lifted, -1)], Frac(lifted, 1))],
+                             {"L": Frac(f.ring, 1)}, ((0,), Frac(f.ring, 1)), [0])
     with pytest.raises(HKProofError, match="no relations"):
         complete_coordinates(f, [basis], [], {"L": Frac(f.ring, 1)}, ((0,), Frac(f.ring, 1)), [0])
     with pytest.raises(HKProofError, match="relation rows of length 3"):
-        complete_coordinates(f, [basis], [[Frac(lifted, 1)] * 3], {"L": Frac(f.ring, 1)}, ((0,), Frac(f.ring, 1)), [0])
+        complete_coordinates(f, [basis], [Relation([Frac(lifted, 1)] * 3, Frac(lifted, 0))], {"L": Frac(f.ring, 1)},
+                             ((0,), Frac(f.ring, 1)), [0])

@@ -18,6 +18,7 @@ from hkproof.algebra.linalg import cramer, pivots_at
 from hkproof.algebra.ring import flint_threads
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
+from hkproof.hk.reduced import Relation
 from hkproof.hk.transport import Substitution
 
 
@@ -26,47 +27,44 @@ def generic_point(names: Sequence[str]) -> dict[str, flint.fmpq]:
     return {n: flint.fmpq(3 * k + 2, 2 * k + 7) for k, n in enumerate(names)}
 
 
-def complete_coordinates(kmap: KahanMap, bases: Sequence[Sequence[Frac]], relations: Sequence[Sequence[Frac]],
+def complete_coordinates(kmap: KahanMap, bases: Sequence[Sequence[Frac]], relations: Sequence[Relation],
                          integrals: Mapping[str, Frac], known: tuple[Sequence[int], Frac],
                          wanted: Sequence[int]) -> list[Frac]:
     """The components `wanted` of the unknowns (the bases' kernel coordinates, block after block, each basis with
-    its last element normalized to -1) from: the homogeneous `relations` (coefficient rows over Q(eps, parameters,
-    the symbols of `integrals`)), the rows i = 0 of every basis, and sum_{k in known[0]} a_k = known[1].
+    its last element normalized to -1) from: the homogeneous `relations` (coefficients over Q(eps, parameters, the
+    symbols of `integrals`)), the rows i = 0 of every basis, and sum_{k in known[0]} a_k = known[1].
 
     The relations must leave exactly len(bases) + 1 unknowns free; the rows i = 0 and the known equation fix them.
     """
     if not relations:
         raise HKProofError("no relations: the rows i = 0 and one known integral cannot fix the coordinates")
-    lifted = relations[0][0].ring
-    width = len(relations[0])
-    if width != sum(len(b) - 1 for b in bases) or any(len(row) != width for row in relations):
-        raise HKProofError(f"relation rows of length {width}, but the bases have "
-                           f"{sum(len(b) - 1 for b in bases)} unknowns")
-    at = generic_point(lifted.names)
-    chosen, pivots = pivots_at(relations, at)
+    if any(not rel.rhs.is_zero() for rel in relations):
+        raise HKProofError("the relations must be homogeneous (right-hand side 0); put a known value in `known`")
+    lifted = relations[0].rhs.ring
+    width = sum(len(b) - 1 for b in bases)
+    if any(len(rel.coefficients) != width for rel in relations):
+        raise HKProofError(f"relation rows of length {len(relations[0].coefficients)}, but the bases have "
+                           f"{width} unknowns")
+    rows = [list(rel.coefficients) for rel in relations]
+    chosen, pivots = pivots_at(rows, generic_point(lifted.names))
     free = [j for j in range(width) if j not in pivots]
     if len(free) != len(bases) + 1:
         raise HKProofError(f"the relations have rank {len(pivots)}: they leave {len(free)} unknowns free, and the "
                            f"{len(bases)} rows i = 0 and the known integral fix {len(bases) + 1}")
-    minor = [[relations[k][j] for j in pivots] for k in chosen]
-    solved = {fj: dict(zip(pivots, cramer(minor, [-relations[k][fj] for k in chosen])[0], strict=True))
-              for fj in free}
+    minor = [[rows[k][j] for j in pivots] for k in chosen]
+    solved = {fj: dict(zip(pivots, cramer(minor, [-rows[k][fj] for k in chosen])[0], strict=True)) for fj in free}
     zero = Frac(lifted, 0)
-
-    def in_free(j: int) -> list[Frac]:
-        return [Frac(lifted, int(j == fj)) if j in free else solved[fj][j] for fj in free]
-
-    columns = [in_free(j) for j in range(width)]
-    rows, rhs, start = [], [], 0
+    columns = [[Frac(lifted, int(j == fj)) if j in free else solved[fj][j] for fj in free] for j in range(width)]
+    system, targets, start = [], [], 0
     for basis in bases:
         lifted_basis = [phi.to_ring(lifted) for phi in basis]
-        rows.append([sum((lifted_basis[k] * columns[start + k][c] for k in range(len(basis) - 1)), zero)
-                     for c in range(len(free))])
-        rhs.append(lifted_basis[-1])
+        block = range(start, start + len(basis) - 1)
+        system.append([sum((lifted_basis[k - start] * columns[k][c] for k in block), zero) for c in range(len(free))])
+        targets.append(lifted_basis[-1])
         start += len(basis) - 1
-    rows.append([sum((columns[k][c] for k in known[0]), zero) for c in range(len(free))])
-    particular = cramer(rows, [*rhs, zero])[0]
-    direction = cramer(rows, [zero] * len(bases) + [Frac(lifted, 1)])[0]
+    system.append([sum((columns[k][c] for k in known[0]), zero) for c in range(len(free))])
+    particular = cramer(system, [*targets, zero])[0]
+    direction = cramer(system, [zero] * len(bases) + [Frac(lifted, 1)])[0]
     sigma = Substitution(lifted, kmap.ring, dict(integrals))
     out = []
     with flint_threads():
