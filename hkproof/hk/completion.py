@@ -66,10 +66,35 @@ def complete_coordinates(kmap: KahanMap, bases: Sequence[Sequence[Frac]], relati
     particular = cramer(system, [*targets, zero])[0]
     direction = cramer(system, [zero] * len(bases) + [Frac(lifted, 1)])[0]
     sigma = Substitution(lifted, kmap.ring, dict(integrals))
-    out = []
+    found: dict[int, Frac] = {}
     with flint_threads():
         for j in wanted:
+            if j in found:
+                continue
             a0 = sigma.apply(sum((x * u for x, u in zip(columns[j], particular, strict=True)), zero))
             a1 = sigma.apply(sum((x * u for x, u in zip(columns[j], direction, strict=True)), zero))
-            out.append(sum_of_products([[a0], [known[1], a1]]))
+            found[j] = sum_of_products([[a0], [known[1], a1]])
+            found.update(_from_relations(rows, found, [k for k in wanted if k not in found], sigma))
+    return [found[j] for j in wanted]
+
+
+def _from_relations(rows: Sequence[Sequence[Frac]], found: Mapping[int, Frac], rest: Sequence[int],
+                    sigma: Substitution) -> dict[int, Frac]:
+    """The remaining components at once, when the relations that involve only found and remaining unknowns fix
+    them: rest = W found with W small (Cramer over Q(eps, parameters)[symbols]), then a few products with the big
+    found components over factored denominators -- much cheaper than the completion itself. {} if they do not."""
+    if not rest:
+        return {}
+    inside = [row for row in rows if all(c.is_zero() or k in found or k in rest for k, c in enumerate(row))]
+    if not inside:
+        return {}
+    chosen, pivots = pivots_at([[row[k] for k in rest] for row in inside], generic_point(rows[0][0].ring.names))
+    if len(pivots) < len(rest):
+        return {}
+    square = [[inside[i][k] for k in rest] for i in chosen]
+    weights = {k: cramer(square, [-inside[i][k] for i in chosen])[0] for k in found}
+    out = {}
+    for n, r in enumerate(rest):
+        terms = [[sigma.apply(weights[k][n]), found[k]] for k in found if not weights[k][n].is_zero()]
+        out[r] = sum_of_products(terms) if terms else Frac(sigma.target, 0)
     return out
