@@ -71,3 +71,19 @@ def test_completion_refuses_relations_that_leave_the_wrong_number_of_unknowns():
     with pytest.raises(HKProofError, match="relation rows of length 3"):
         complete_coordinates(f, [basis], [Relation([Frac(lifted, 1)] * 3, Frac(lifted, 0))], {"L": Frac(f.ring, 1)},
                              ((0,), Frac(f.ring, 1)), [0])
+
+
+def test_components_fixed_by_relations_from_found_ones():
+    from hkproof.hk.completion import _from_relations
+    from hkproof.hk.transport import Substitution
+    lifted = R.extend(["L"])
+    one, big_l = Frac(lifted, 1), Frac.parse(lifted, "L")
+    rows = [[one, big_l, -one, Frac(lifted, 0)],            # a0 + L a1 - a2 = 0
+            [Frac(lifted, 0), one, Frac(lifted, 0), -one],   # a1 - a3 = 0
+            [one, -one, Frac(lifted, 0), Frac(lifted, 0)]]   # a0 = a1: not used (no unknown left in it)
+    value_l = Frac.parse(R, "x/(1 + eps**2*y)")
+    sigma = Substitution(lifted, R, {"L": value_l})
+    found = {0: Frac.parse(R, "x*y/(x + 1)"), 1: Frac.parse(R, "1/(x + 1)")}
+    got = _from_relations(rows, found, [2, 3], sigma)
+    assert got[2] == found[0] + value_l * found[1] and got[3] == found[1]
+    assert _from_relations(rows[:1], found, [2, 3], sigma) == {}       # one relation cannot fix two unknowns
