@@ -23,7 +23,6 @@ from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.linear_relations import parse_relation, relation_rank
 from hkproof.hk.reduced import Relation, kernel_coordinates, linear_combination_equals, system_at
 from hkproof.hk.row_check import check_solution_by_rows
-from hkproof.hk.transport import Substitution
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate, Refuted, StepRecorder
 from hkproof.proof.status import Status
@@ -163,17 +162,16 @@ def prove_l_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> No
 BLOCK_SHIFT = (2, 0, 1, 5, 3, 4)   # beta_{tau(j)} = tau(alpha_j): p1^2 -> p2^2 -> p3^2 -> p1^2, m likewise
 
 
-def lifted_relations(claimed: Mapping[str, str], ring: Ring) -> list[list[Frac]]:
-    """The claimed relations as rows over Q(eps, w)[L] (L a symbol): coefficient of a_k plus L times that of L a_k."""
+def lifted_relations(claimed: Mapping[str, str], ring: Ring) -> list[Relation]:
+    """The claimed relations over Q(eps, w)[L], L a symbol (`_combined`); each must be homogeneous."""
     lifted = ring.extend(["L"])
-    big_l, n = Frac(lifted, lifted.gen("L")), len(UNKNOWNS)
-    rows = []
+    out = []
     for key in SECOND_PHI_RELATIONS:
         rel = parse_relation(lifted, claimed[key], [*UNKNOWNS, *L_NAMES])
         if not rel.rhs.is_zero():
             raise Refuted(f"{key} is not homogeneous")
-        rows.append([rel.coefficients[k] + big_l * rel.coefficients[n + k] for k in range(n)])
-    return rows
+        out.append(_combined(rel, Frac(lifted, lifted.gen("L"))))
+    return out
 
 
 def shifted_block(alpha: Sequence[Frac]) -> list[Frac]:
@@ -200,21 +198,21 @@ def prove_second_bases(cert: Certificate, claimed: Mapping[str, str]) -> None:
                    "(after a screen: each relation at two rational points, for a fast refutation)",
                    r.extend(["L"])) as s:
         screen_at_samples(s, f, claimed, big_l)
-        rows = lifted_relations(claimed, r)
-        s.require(all(c.is_even_in(EPS) for row in rows for c in row), "a coefficient is not even in eps")
+        lifted = lifted_relations(claimed, r)
+        s.require(all(c.is_even_in(EPS) for rel in lifted for c in rel.coefficients),
+                  "a coefficient is not even in eps")
         s.note("their coefficients are in Q(eps^2, w)[L], L an even integral (flow-second-theorem)")
     with cert.step("candidate: alpha from the relations, the rows i = 0 and a1 + b1 + c1 = g1; beta, gamma by the "
                    "cyclic symmetry", "hk.completion: Cramer over Q(eps, w)[L], L and g1 (flow-second-theta) "
                    "substituted last over factored denominators; index shift 1 -> 2 -> 3", r) as s:
         g1 = recall(require_proven(cert, "flow-second-theta"), "g1", r)
-        lifted = [Relation(row, Frac(row[0].ring, 0)) for row in rows]
         alpha = complete_coordinates(f, phis, lifted, {"L": big_l}, ((0, 6, 12), g1), range(6))
         beta = shifted_block(alpha)
         sol = [*alpha, *beta, *shifted_block(beta)]
         s.note(f"numerators up to {max(len(h.num) for h in sol)} terms, denominators {max(len(h.den) for h in sol)}; "
                "only a candidate (g1 is not cited as a fact): the next steps prove it")
-    relations = [Relation([rel_coefficient(c, big_l) for c in row], Frac(r, 0), "L (flow-second-theorem)")
-                 for row in rows]
+    relations = [_combined(parse_relation(r, claimed[key], [*UNKNOWNS, *L_NAMES]), big_l)
+                 for key in SECOND_PHI_RELATIONS]
     with cert.step("unique solution: rows i = 0, 1 and the relations have rank 18", "exact rank at a rational point",
                    r) as s:
         at_point, _ = system_at(f, phis, (0, 1), relations, {k: v for k, v in RANK_POINT.items() if k in r.names})
@@ -242,12 +240,6 @@ def prove_second_bases(cert: Certificate, claimed: Mapping[str, str]) -> None:
     e = [Frac.parse(r, second.formulas[f"e{k}"]) for k in range(1, 7)]
     vectors = embedded_vectors(e, [sol[:6], sol[6:12], sol[12:]])
     max_basis_facts(cert, f, vectors, [big_l, sol[0], sol[6], sol[12]], "L, a1, b1, c1")
-
-
-def rel_coefficient(c: Frac, big_l: Frac) -> Frac:
-    """A coefficient over Q(eps, w)[L] as a function on the map's phase space (L -> the integral)."""
-    lifted = c.ring
-    return Substitution(lifted, big_l.ring, {"L": big_l}).apply(c)
 
 
 def embedded_vectors(phi0: Sequence[Frac], blocks: Sequence[Sequence[Frac]]) -> list[list[Frac]]:
