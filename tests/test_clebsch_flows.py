@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import pytest
+import sympy
 
 from hkproof.orchestration.registry import get_claim, proven
 from hkproof.proof.status import Status
@@ -185,3 +186,27 @@ def test_substitution_injectivity_is_checked():
     assert substitution(f2, g, REDUCTION).is_injective_at(moved, point)
     collapsed = {**REDUCTION, "w2": REDUCTION["w1"]}
     assert not substitution(f2, g, collapsed).is_injective_at(moved, point)
+
+
+@pytest.mark.slow
+def test_second_flow_kernel_coordinates_by_an_independent_route():
+    """alpha, beta, gamma of flow-second-bases-345 (w symbolic) at a random rational point annihilate the rows
+    i = 0 ... 4 along an orbit that sympy computes from the printed field (no hkproof map, no composition)."""
+    from fractions import Fraction
+
+    from hkproof.dynamics.catalogue import kahan_map
+    from hkproof.orchestration.registry import proven
+    from tests.sympy_bridge import kahan_orbit
+    f = kahan_map("clebsch-flow2")
+    cert = proven("flow-second-bases-345")
+    values = {"eps": Fraction(1, 5), "w1": Fraction(3, 2), "w2": -2, "w3": Fraction(7, 3), "m1": 1, "m2": -2,
+              "m3": Fraction(1, 3), "p1": 2, "p2": Fraction(-1, 2), "p3": 3}
+    orbit = kahan_orbit([str(c) for c in f.field.rhs], f.variables, values, 4)
+    common = ("p1**2", "p2**2", "p3**2", "m1**2", "m2**2", "m3**2")
+    for block, (letter, target) in enumerate(zip("abc", ("m1*p1", "m2*p2", "m3*p3"))):
+        coords = [cert.values[f"{letter}{j}"].evaluate(values) for j in range(1, 7)]
+        for y in orbit:
+            env = {k: sympy.Rational(v) for k, v in y.items()}
+            row = [sympy.sympify(t).subs(env) for t in common]
+            lhs = sum(sympy.Rational(int(c.p), int(c.q)) * v for c, v in zip(coords, row))
+            assert lhs == sympy.sympify(target).subs(env), (block, y)
