@@ -210,3 +210,33 @@ def test_second_flow_kernel_coordinates_by_an_independent_route():
             row = [sympy.sympify(t).subs(env) for t in common]
             lhs = sum(sympy.Rational(int(c.p), int(c.q)) * v for c, v in zip(coords, row))
             assert lhs == sympy.sympify(target).subs(env), (block, y)
+
+
+
+@pytest.mark.slow
+def test_transported_kernel_coordinates_by_an_independent_route():
+    """flow-conjecture's transport, z != 0: alpha, beta, gamma of the second flow taken at eps' = z eps and
+    w' = w + y/z annihilate the rows i = 0 ... 3 along an orbit that sympy computes from the printed general field
+    with b_k = y w_k - z w_i w_j (no hkproof map, no substitution code)."""
+    from fractions import Fraction
+
+    from hkproof.dynamics.catalogue import get_system
+    from hkproof.orchestration.registry import proven
+    from tests.sympy_bridge import kahan_orbit
+    general = get_system("clebsch-general")
+    cert = proven("flow-second-bases-345")
+    eps, y, z = Fraction(1, 4), Fraction(2, 3), Fraction(-3, 2)
+    w = {"w1": Fraction(1, 2), "w2": 3, "w3": Fraction(-5, 4)}
+    x = {"m1": 2, "m2": Fraction(-1, 3), "m3": 1, "p1": -1, "p2": Fraction(5, 2), "p3": 2}
+    b = {f"b{k + 1}": y * w[f"w{k + 1}"] - z * w[f"w{i + 1}"] * w[f"w{j + 1}"]
+         for k, i, j in ((0, 1, 2), (1, 2, 0), (2, 0, 1))}
+    orbit = kahan_orbit([str(c) for c in general.rhs], general.variables, {**x, **w, **b, "eps": eps}, 3)
+    moved = {**x, "eps": z * eps, **{k: v + y / z for k, v in w.items()}}
+    common = ("p1**2", "p2**2", "p3**2", "m1**2", "m2**2", "m3**2")
+    for block, (letter, target) in enumerate(zip("abc", ("m1*p1", "m2*p2", "m3*p3"))):
+        coords = [cert.values[f"{letter}{j}"].evaluate(moved) for j in range(1, 7)]
+        for point in orbit:
+            env = {k: sympy.Rational(v) for k, v in point.items()}
+            row = [sympy.sympify(t).subs(env) for t in common]
+            lhs = sum(sympy.Rational(int(c.p), int(c.q)) * v for c, v in zip(coords, row))
+            assert lhs == sympy.sympify(target).subs(env), (block, point)

@@ -73,12 +73,11 @@ def linear_combination_equals(coefficients: Sequence[Frac], values: Sequence[Fra
     return total.is_zero()
 
 
-def _prop_even_checks(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], target: Frac, names: Sequence[str],
-                      iterates: Sequence[int], relations: Sequence[Relation], solution: Sequence[Frac],
-                      check: SolutionCheck | None = None) -> None:
-    """Checks (2)-(4) of Prop. "prop: even": hypotheses on the rows, evenness, substitution back."""
-    ring = kmap.ring
-    with cert.step("hypotheses of Prop. \"prop: even\"", "structure of the system", ring) as s:
+def prop_even_hypotheses(cert: Certificate, kmap: KahanMap, iterates: Sequence[int],
+                         relations: Sequence[Relation]) -> None:
+    """Check (2) of Prop. "prop: even": rows from a non-symmetric range of iterates containing 0; relation
+    coefficients and right-hand sides even in eps, and integrals (constants, or proven by the cited source)."""
+    with cert.step("hypotheses of Prop. \"prop: even\"", "structure of the system", kmap.ring) as s:
         s.require(_non_symmetric_range(iterates),
                   f"iterates {list(iterates)} are not a non-symmetric consecutive range containing 0")
         for k, rel in enumerate(relations):
@@ -91,14 +90,27 @@ def _prop_even_checks(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], 
                               f"relation {k + 1}: {part} depends on phase variables "
                               "but no proof that it is an integral is cited")
             else:
-                s.note(f"relation {k + 1}: right-hand side is an integral by {rel.source}")
+                s.note(f"relation {k + 1}: coefficients and right-hand side are integrals by {rel.source}")
         s.note(f"rows from iterates {list(iterates)}: non-symmetric, contain 0")
+
+
+def even_components(cert: Certificate, names: Sequence[str], solution: Sequence[Frac]) -> None:
+    """Check (3) of Prop. "prop: even": every component even in eps (exact parity in lowest terms)."""
+    ring = solution[0].ring
     with cert.step("solution is even in eps", "exact parity of each component in lowest terms", ring) as s:
         for n, a in zip(names, solution, strict=True):
             par = a.parity(EPS)
             s.require(par is Parity.EVEN, f"{n} is {par.value} in eps, not even: {a}")
         s.note(f"{', '.join(names)} even in eps")
-    with cert.step("solution satisfies the system", "substitution back into every equation", ring) as s:
+
+
+def _prop_even_checks(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], target: Frac, names: Sequence[str],
+                      iterates: Sequence[int], relations: Sequence[Relation], solution: Sequence[Frac],
+                      check: SolutionCheck | None = None) -> None:
+    """Checks (2)-(4) of Prop. "prop: even": hypotheses on the rows, evenness, substitution back."""
+    prop_even_hypotheses(cert, kmap, iterates, relations)
+    even_components(cert, names, solution)
+    with cert.step("solution satisfies the system", "substitution back into every equation", kmap.ring) as s:
         s.require((check or check_solution)(kmap, basis, target, iterates, relations, solution),
                   "the computed solution does not satisfy the system")
 

@@ -21,11 +21,13 @@ def row_holds(kmap: KahanMap, basis: Sequence[Frac], target: Frac, i: int, solut
 
     With f^i = N / Delta and D the largest degree, the row times Delta^D is sum_mu C_mu(x) N^mu Delta^(D - |mu|),
     C_mu(x) = sum_k a_k(x) [x^mu] phi_k - [x^mu] phi_l (the a_k stay at x, only phi moves); it is evaluated by
-    Horner's scheme in (N, Delta) over the common denominator of the C_mu, and compared with 0. Row i = 0 is the
-    plain substitution.
+    Horner's scheme in (N, Delta) over the common denominator of the C_mu, and compared with 0. Row i = 0, and a
+    row of basis functions that are not polynomial in x, is the plain substitution.
     """
     if i == 0:
         return linear_combination_equals(basis, solution, target)
+    if any(phi.den_variables_in(kmap.variables) for phi in (*basis, target)):
+        return linear_combination_equals([kmap.pullback(phi, i) for phi in basis], solution, kmap.pullback(target, i))
     ring = kmap.ring
     coefficients: dict[Monomial, Frac] = {}
     for a, phi in [*zip(solution, basis, strict=True), (Frac(ring, -1), target)]:

@@ -3,7 +3,6 @@ from __future__ import annotations
 
 from typing import Mapping, Sequence
 
-import flint
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import rank_over_fraction_field, solve_by_inverse
@@ -12,6 +11,7 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.errors import ParseError
 from hkproof.experiments.relations import find_relations
+from hkproof.hk.block_system import BlockSystem, determined_components
 from hkproof.hk.expansion import homogeneous_eps_pieces
 from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.linear_relations import (
@@ -19,10 +19,10 @@ from hkproof.hk.linear_relations import (
     relation_rank,
     same_relation,
 )
-from hkproof.hk.reduced import Relation, linear_combination_equals, system_at
+from hkproof.hk.reduced import Relation, linear_combination_equals
 from hkproof.hk.transport import Substitution
 from hkproof.orchestration.registry import claim, require_proven
-from hkproof.proof.certificate import Certificate
+from hkproof.proof.certificate import Certificate, Refuted
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import SYSTEM, X, named, recall, record
 
@@ -274,28 +274,16 @@ def prove_step1(cert: Certificate, claimed: Mapping[str, str]) -> None:
     b2 = require_proven(cert, "dc-basis2")
     known = {k: recall(b2, k, r) for k in ("d7", "d8")}
     rels = step1_relations(f, known)
-    with cert.step("the kernel direction of the system", "n = p^2(x) x p^2(f(x)) (cross product) in each block, "
-                   "weights (w2 - w3, w3 - w1, w1 - w2); exact identities", r) as s:
-        p2 = [Frac.parse(r, t) for t in COMMON[:3]]
-        p2f = [f.pullback(h) for h in p2]
-        n = [p2[1] * p2f[2] - p2[2] * p2f[1], p2[2] * p2f[0] - p2[0] * p2f[2], p2[0] * p2f[1] - p2[1] * p2f[0]]
-        weights = [named(f, w) for w in _kernel_weights(claimed["kernel_vector"])]
-        v = [Frac(r, 0)] * len(UNKNOWNS)
-        for c, w in zip("abc", weights, strict=True):
-            for j in range(3):
-                v[BLOCK[c][j]] = w * n[j]
-        for row in (p2, p2f):
-            s.require(linear_combination_equals(row, n, Frac(r, 0)), "n does not annihilate the p^2 columns")
-        for k, rel in enumerate(rels):
-            s.require(linear_combination_equals(rel.coefficients, v, Frac(r, 0)),
-                      f"the kernel vector violates relation row {k + 1}")
-        s.note("rows i = 0, 1 of each block see only (p1^2, p2^2, p3^2) o f^i in the j = 1, 2, 3 columns")
-    with cert.step("rank 17", "exact rank of the 17 x 18 matrix at a rational point", r) as s:
-        point = sample_point(r.names, seed=3)
-        rows, _ = system_at(f, bases(f), (0, 1), rels, point)
-        s.require(flint.fmpq_mat(rows).rank() == 17, "rank < 17 at the sample point: choose another point")
-        s.note("a non-zero 17 x 17 minor at a point: rank 17 over Q(m, p, eps, w), so the kernel is spanned by the "
-               "vector above, which vanishes in the j = 4, 5, 6 positions: those unknowns are determined uniquely")
+    p2 = [Frac.parse(r, t) for t in COMMON[:3]]
+    p2f = [f.pullback(h) for h in p2]
+    n = [p2[1] * p2f[2] - p2[2] * p2f[1], p2[2] * p2f[0] - p2[0] * p2f[2], p2[0] * p2f[1] - p2[1] * p2f[0]]
+    weights = [named(f, w) for w in _kernel_weights(claimed["kernel_vector"])]
+    shape = [*n, *[Frac(r, 0)] * 3]
+    system = BlockSystem(f, tuple(tuple(b) for b in bases(f)), tuple(rels), (0, 1))
+    determined = determined_components(cert, system, [shape] * 3, sample_point(r.names, seed=3), weights)
+    if determined != J456:
+        raise Refuted(f"the kernel direction vanishes at {[UNKNOWNS[k] for k in determined]}, not at the j = 4, 5, 6 "
+                      "components")
     abcd = require_proven(cert, "dc345-abcd")
     values = proven_coordinates(cert, r)
     with cert.step("the proven kernel coordinates solve the system; their j = 4, 5, 6 components are eq. \"M2\"",

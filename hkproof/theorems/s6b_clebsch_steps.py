@@ -9,16 +9,19 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.hk.expansion import homogeneous_eps_pieces
 from hkproof.hk.independence import sample_point
-from hkproof.hk.reduced import Relation, det_at_point, linear_combination_equals
-from hkproof.hk.translation import check_solution_on_slice, prove_on_slice
+from hkproof.errors import ParseError
+from hkproof.hk.block_system import BlockSystem, check_block, prove_block
+from hkproof.hk.reduced import Relation, linear_combination_equals
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate
 from hkproof.theorems._clebsch import SYSTEM, TRANSLATION, X, named, recall, record
 from hkproof.theorems.s6a_clebsch_kernels import POINTS, phi_max_profiles
 from hkproof.theorems.s6b_clebsch_bases_345 import (
+    BLOCK,
     F_TEXT,
     GROUP,
     REL18,
+    UNKNOWNS,
     bases,
     relation_rows,
 )
@@ -33,11 +36,16 @@ def _block(c: str) -> list[str]:
     return [f"{c}{j}" for j in range(1, 7)]
 
 
-def _m2_rows(cert: Certificate, c: str, r) -> list[Relation]:
-    """The rows c4 = ..., c5 = ..., c6 = ... of eq. "M2" (integrals A, B, C, D of dc345-abcd)."""
+def _m2_rows(abcd: Certificate, r) -> list[Relation]:
+    """The rows a4 = ..., ..., c6 = ... of eq. "M2" (integrals A, B, C, D of dc345-abcd) over all 18 unknowns."""
     zero, one = Frac(r, 0), Frac(r, 1)
-    return [Relation([one if k == j else zero for k in range(6)], recall(cert, f"{c}{j + 1}", r), "dc345-abcd")
-            for j in (3, 4, 5)]
+    return [Relation([one if u == name else zero for u in UNKNOWNS], recall(abcd, name, r), "dc345-abcd")
+            for name in (f"{c}{j}" for c in "abc" for j in (4, 5, 6))]
+
+
+def part_two(f, abcd: Certificate, relations: Sequence[Relation]) -> BlockSystem:
+    """Phi1, Phi2, Phi3 with the rows i = 0, 1, eq. "M2" and further `relations` (the systems of Steps 3-5)."""
+    return BlockSystem(f, tuple(tuple(b) for b in bases(f)), (*_m2_rows(abcd, f.ring), *relations), (0, 1))
 
 
 def _bigint_form(s, f, h: Frac, name: str, leading: str, delta: Frac) -> None:
@@ -48,28 +56,27 @@ def _bigint_form(s, f, h: Frac, name: str, leading: str, delta: Frac) -> None:
     s.require_equal(pieces[0], named(f, leading), f"{name}^(2)")
 
 
-def _solve_block(cert: Certificate, f, c: str, extra: Relation, abcd: Certificate) -> list[Frac]:
+def _solve_block(cert: Certificate, system: BlockSystem, c: str, known: Mapping[int, Frac], source: str) -> list[Frac]:
     """Prop. "prop: even" for the rows i = 0, 1 of one block, the rows of eq. "M2" and one more relation."""
-    r = f.ring
-    basis = bases(f)["abc".index(c)]
-    sol = prove_on_slice(cert, f, TRANSLATION, basis[:6], basis[6], _block(c), (0, 1),
-                         _m2_rows(abcd, c, r) + [extra])
+    sol = prove_block(cert, system, "abc".index(c), known, _block(c), source, TRANSLATION)
     for name, h in zip(_block(c), sol, strict=True):
         record(cert, name, h)
     return sol
 
 
-def _symmetric_step(cert: Certificate, f, c: str, sol: Sequence[Frac], abcd: Certificate, delta: Frac,
-                    claimed: Mapping[str, str]) -> None:
+def _symmetric_step(cert: Certificate, system: BlockSystem, c: str, sol: Sequence[Frac], abcd: Certificate,
+                    delta: Frac, claimed: Mapping[str, str]) -> None:
     """Step 2: the solution also solves the symmetric system i = -1, 0, 1, uniquely; eqs. "bigint_form", "alpha123"."""
+    f = system.kmap
     r = f.ring
-    basis = bases(f)["abc".index(c)]
+    b = "abc".index(c)
+    m2 = system.with_(relations=_m2_rows(abcd, r), iterates=SYMMETRIC)
     with cert.step(f"Step 2 ({c}): the symmetric system i = -1, 0, 1 has this unique solution",
                    "substitution into the row i = -1 (f^-1(x, eps) = f(x, -eps)), on the slice w3 = 0 when "
                    "everything is invariant under w -> w + c; det at a rational point", r) as s:
-        s.require(check_solution_on_slice(f, TRANSLATION, basis[:6], basis[6], (-1,), [], sol),
+        s.require(check_block(system.with_(relations=(), iterates=(-1,)), b, {}, sol, TRANSLATION),
                   "the row i = -1 fails")
-        det = det_at_point(f, basis[:6], SYMMETRIC, _m2_rows(abcd, c, r), sample_point(r.names, seed=3))
+        det = m2.block_det_at(b, sample_point(r.names, seed=3))
         s.require(det != 0, "the symmetric system is singular at the sample point")
         s.note(f"det = {det} at a rational point: the symmetric system determines {c}1, {c}2, {c}3")
     with cert.step(f"eqs. \"bigint_form\" and \"alpha123\" for {c}1, {c}2, {c}3",
@@ -107,16 +114,10 @@ def prove_alpha(cert: Certificate, claimed: Mapping[str, str]) -> None:
         pieces = homogeneous_eps_pieces(F * Frac(r, 2 * r.gen(EPS) ** 2) * delta / w23, EPS, X, 5, 0,
                                         "2 eps^2 Delta F/(w2 - w3)")
         s.require_equal(pieces[0], named(f, claimed["F_leading"]), "F^(0)")
-    (frow,) = relation_rows(f, f"{claimed['F_row']} = 0", _block("a"))
-    sol = _solve_block(cert, f, "a", Relation(frow.coefficients, F + frow.rhs, "dc345-alpha, Step 3"), abcd)
-    _symmetric_step(cert, f, "a", sol, abcd, delta, claimed)
-
-
-def _link(f, text: str, k: int, unknowns: list[str], known: Mapping[str, Frac], source: str) -> Relation:
-    """The k-th equality of a printed chain X = Y = Z as a relation among `unknowns`, `known` moved right."""
-    parts = text.split("=")
-    (rel,) = relation_rows(f, f"{parts[k]} = {parts[k + 1]}", unknowns, known)
-    return Relation(rel.coefficients, rel.rhs, source)
+    (frow,) = relation_rows(f, f"{claimed['F_row']} = 0")
+    system = part_two(f, abcd, [Relation(frow.coefficients, F + frow.rhs, "dc345-alpha, Step 3")])
+    sol = _solve_block(cert, system, "a", {}, "")
+    _symmetric_step(cert, system, "a", sol, abcd, delta, claimed)
 
 
 @claim("dc345-step5", GROUP, "Proof of Th. \"dC bases 345\", Step 5: beta_j and gamma_j, with eps and w symbolic",
@@ -132,11 +133,15 @@ def prove_step5(cert: Certificate, claimed: Mapping[str, str]) -> None:
     r = f.ring
     abcd, b2, al = (require_proven(cert, k) for k in ("dc345-abcd", "dc-basis2", "dc345-alpha"))
     delta = recall(b2, "Delta", r)
-    known = {u: recall(al, u, r) for u in _block("a")}
-    for k, c, source in ((0, "b", "dc345-alpha"), (1, "c", "dc345-step5 (beta)")):
-        sol = _solve_block(cert, f, c, _link(f, claimed["rel18_6"], k, _block(c), known, source), abcd)
-        _symmetric_step(cert, f, c, sol, abcd, delta, claimed)
-        known = dict(zip(_block(c), sol, strict=True))
+    links = relation_rows(f, claimed["rel18_6"])
+    if len(links) != 2:
+        raise ParseError(f"eq. \"rel18_6\" must be a chain of three members, not {claimed['rel18_6']!r}")
+    system = part_two(f, abcd, links)
+    known = {k: recall(al, UNKNOWNS[k], r) for k in BLOCK["a"]}
+    for c, source in (("b", "dc345-alpha"), ("c", "dc345-step5 (beta)")):
+        sol = _solve_block(cert, system, c, known, source)
+        _symmetric_step(cert, system, c, sol, abcd, delta, claimed)
+        known.update(zip(BLOCK[c], sol, strict=True))
 
 
 def kernel_vectors(cert: Certificate, r) -> dict[str, list[Frac]]:

@@ -18,11 +18,11 @@ from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.experiments.relations import find_relations
 from hkproof.hk.balance import orbit_matrix
+from hkproof.hk.block_system import BlockSymmetry, BlockSystem, verify_candidate
 from hkproof.hk.completion import complete_coordinates
 from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.linear_relations import parse_relation, relation_rank
-from hkproof.hk.reduced import Relation, kernel_coordinates, linear_combination_equals, system_at
-from hkproof.hk.row_check import check_solution_by_rows
+from hkproof.hk.reduced import Relation, kernel_coordinates, system_at
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate, Refuted, StepRecorder
 from hkproof.proof.status import Status
@@ -159,7 +159,9 @@ def prove_l_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> No
 
 
 # ---------------------------------------------------------------- Phi1, Phi2, Phi3 with w symbolic: Prop. "prop: even" ---
-BLOCK_SHIFT = (2, 0, 1, 5, 3, 4)   # beta_{tau(j)} = tau(alpha_j): p1^2 -> p2^2 -> p3^2 -> p1^2, m likewise
+# The index shift tau (1 -> 2 -> 3 in m, p, w) carries Phi1 to Phi2 and Phi2 to Phi3: tau(Phi_k[PERM[j]]) = Phi_k+1[j]
+PERM = (2, 0, 1, 5, 3, 4, 6)
+INDEX_SHIFT = BlockSymmetry(shift_frac, commutes_with_shift, ((0, 1, PERM), (1, 2, PERM)))
 
 
 def lifted_relations(claimed: Mapping[str, str], ring: Ring) -> list[Relation]:
@@ -172,11 +174,6 @@ def lifted_relations(claimed: Mapping[str, str], ring: Ring) -> list[Relation]:
             raise Refuted(f"{key} is not homogeneous")
         out.append(_combined(rel, Frac(lifted, lifted.gen("L"))))
     return out
-
-
-def shifted_block(alpha: Sequence[Frac]) -> list[Frac]:
-    """The next block by the cyclic symmetry: beta_{tau(j)} = tau(alpha_j) (indices of m, p, w shifted)."""
-    return [shift_frac(alpha[j]) for j in BLOCK_SHIFT]
 
 
 @claim("flow-second-bases-345", GROUP, "Second flow, w symbolic: Phi1, Phi2, Phi3 are HK-bases with 1-dim null-spaces, "
@@ -207,36 +204,17 @@ def prove_second_bases(cert: Certificate, claimed: Mapping[str, str]) -> None:
                    "substituted last over factored denominators; index shift 1 -> 2 -> 3", r) as s:
         g1 = recall(require_proven(cert, "flow-second-theta"), "g1", r)
         alpha = complete_coordinates(f, phis, lifted, {"L": big_l}, ((0, 6, 12), g1), range(6))
-        beta = shifted_block(alpha)
-        sol = [*alpha, *beta, *shifted_block(beta)]
+        beta = INDEX_SHIFT.image(alpha, PERM)
+        sol = [*alpha, *beta, *INDEX_SHIFT.image(beta, PERM)]
         s.note(f"numerators up to {max(len(h.num) for h in sol)} terms, denominators {max(len(h.den) for h in sol)}; "
                "only a candidate (g1 is not cited as a fact): the next steps prove it")
     relations = [_combined(parse_relation(r, claimed[key], [*UNKNOWNS, *L_NAMES]), big_l)
                  for key in SECOND_PHI_RELATIONS]
-    with cert.step("unique solution: rows i = 0, 1 and the relations have rank 18", "exact rank at a rational point",
-                   r) as s:
-        at_point, _ = system_at(f, phis, (0, 1), relations, {k: v for k, v in RANK_POINT.items() if k in r.names})
-        s.require(flint.fmpq_mat(at_point).rank() == 18, "the system is not of rank 18 at the point")
-    with cert.step("hypotheses of Prop. \"prop: even\" and the solution even in eps", "iterates 0, 1 "
-                   "(non-symmetric); relation coefficients even integrals; exact parity of the 18 components", r) as s:
-        for name, h in zip(UNKNOWNS, sol, strict=True):
-            s.require(h.is_even_in(EPS), f"{name} is not even in eps")
-    with cert.step("the solution satisfies the system", "substitution: the relations and rows i = 0 exactly; row "
-                   "i = 1 of Phi1 by Horner in the numerators of f (hk.row_check), of Phi2, Phi3 as its images under "
-                   "the index shift tau, a symmetry of f (checked)", r) as s:
-        for key, rel in zip(SECOND_PHI_RELATIONS, relations, strict=True):
-            s.require(linear_combination_equals(rel.coefficients, sol, rel.rhs), f"{key} fails")
-        for b in range(3):
-            s.require(check_solution_by_rows(f, phis[b][:6], phis[b][6], (0,), [], sol[6 * b:6 * b + 6]),
-                      f"row i = 0 of Phi{b + 1} fails")
-        s.require(check_solution_by_rows(f, phis[0][:6], phis[0][6], (1,), [], alpha), "row i = 1 of Phi1 fails")
-        s.require(commutes_with_shift(f), "the index shift is not a symmetry of the map")
-        s.note("tau(f_v) = f_(tau v) for every component, so tau carries the identity row i = 1 of Phi1 (alpha) to "
-               "that of Phi2 (beta = tau alpha, re-indexed) and of Phi3 (gamma = tau beta)")
-        for name, h in zip(UNKNOWNS, sol, strict=True):
-            record(cert, name, h)
-        s.note("a unique solution of rows i = 0, 1 and relations with even integral coefficients, even in eps: "
-               "its components are integrals (Prop. \"prop: even\"), and (block k, -1) lies in K_Phi_k")
+    system = BlockSystem(f, tuple(tuple(b) for b in phis), tuple(relations), (0, 1))
+    point = {k: v for k, v in RANK_POINT.items() if k in r.names}
+    sol = verify_candidate(cert, system, UNKNOWNS, sol, point, INDEX_SHIFT)
+    for name, h in zip(UNKNOWNS, sol, strict=True):
+        record(cert, name, h)
     e = [Frac.parse(r, second.formulas[f"e{k}"]) for k in range(1, 7)]
     vectors = embedded_vectors(e, [sol[:6], sol[6:12], sol[12:]])
     max_basis_facts(cert, f, vectors, [big_l, sol[0], sol[6], sol[12]], "L, a1, b1, c1")
