@@ -186,3 +186,20 @@ def test_discover_first_clebsch_flow_finds_three_independent_integrals_by_recipe
     proven = [i for i in report.integrals if i.status is Status.VERIFIED and i.independent]
     assert len(proven) >= 3 and report.expected_independent == 4
     assert any("recipe (E)" in i.method for i in proven)
+    # independent route: each proven integral, read by sympy from its printed form, takes the same value at x and at
+    # the next two points of an orbit that sympy computes from the printed field (no hkproof map)
+    from fractions import Fraction
+
+    import sympy
+
+    from hkproof.dynamics.catalogue import get_system
+    from tests.sympy_bridge import kahan_orbit
+    field = get_system("clebsch")
+    values = {"eps": Fraction(1, 3), "w1": Fraction(1, 2), "w2": -2, "w3": 3, "m1": 1, "m2": Fraction(-2, 3),
+              "m3": 2, "p1": Fraction(3, 2), "p2": 1, "p3": -1}
+    orbit = kahan_orbit([str(c) for c in field.rhs], field.variables, values, 2)
+    params = {sympy.Symbol(k): sympy.Rational(str(v)) for k, v in values.items() if k not in field.variables}
+    for integral in proven:
+        h = sympy.sympify(str(integral.frac), locals={str(s): s for s in params}).subs(params)
+        at = [h.subs({sympy.Symbol(k): v for k, v in point.items()}) for point in orbit]
+        assert at[0] == at[1] == at[2], integral.name
