@@ -123,3 +123,43 @@ def test_a_found_relation_is_a_row_of_the_reduced_systems():
     c = prove_by_evenness(cert, f, basis, Frac(f.ring, 1), ("c1", "c2", "c3"), (0, 1), [rel])
     assert all(step.status is Status.VERIFIED for step in cert.steps)
     assert c[0] == Frac.parse(f.ring, "(1 + eps**2*(w1 - w2)*p2**2 + eps**2*(w1 - w3)*p3**2)/(p1**2 + p2**2 + p3**2)")
+
+
+def test_support_screen_agrees_with_the_direct_kernel_test():
+    """`_sparsest`'s screen (rank of the annihilator's columns, mod p then over Q) answers exactly what the direct
+    test answers: does the span of the relation vectors contain a non-zero vector supported in S?"""
+    import itertools
+    import random
+
+    import flint
+
+    from hkproof.algebra.linalg import nullspace_q
+    from hkproof.experiments.relations import _support_test
+    rng = random.Random(3)
+    for trial in range(12):
+        width, count = 7, rng.randint(1, 5)
+        # vectors with planted sparse members, so that both answers occur
+        values = [[flint.fmpq(rng.randint(-3, 3)) if rng.random() < 0.5 or trial % 2 else flint.fmpq(0)
+                   for _ in range(width)] for _ in range(count)]
+        if flint.fmpq_mat(values).rank() < count:
+            continue
+        carries = _support_test(values)
+        for size in (1, 2, 3, 4):
+            for support in itertools.combinations(range(width), size):
+                outside = [j for j in range(width) if j not in support]
+                direct = bool(nullspace_q([[v[j] for v in values] for j in outside]))
+                assert carries(support) == direct, (values, support)
+
+
+def test_kernel_vectors_share_one_orbit_and_agree_with_kernel_vector():
+    from hkproof.experiments.profiles import ProfileProblem, kernel_vector, kernel_vectors
+    from hkproof.experiments.scene import make_scene
+    f = kahan_map("euler-top")
+    scene = make_scene(f, {"eps": "1/3", "a1": 2, "a2": -3, "a3": 5})
+    problems = [ProfileProblem(scene, [Frac.parse(f.ring, t) for t in b.split(", ")])
+                for b in ("x1**2, x2**2, x3**2", "x1**2, x2**2, 1")]
+    point = [1, 2, -1]
+    assert kernel_vectors(problems, point) == [kernel_vector(p, point) for p in problems]
+    other = ProfileProblem(make_scene(f, {"eps": 1, "a1": 1, "a2": 2, "a3": 3}), problems[0].basis)
+    with pytest.raises(ValueError, match="share one scene"):
+        kernel_vectors([problems[0], other], point)

@@ -80,7 +80,12 @@ class FieldArithmetic(Arithmetic):
     def profile(self, scene: Scene, basis: Sequence[tuple[CompiledPoly, CompiledPoly]],
                 point: Sequence[flint.fmpq]) -> RawProfile:
         prep = self.prepare(scene, basis)
-        orbit = self.orbit(prep, point, len(basis) - 1)
+        return self.profile_on(scene, basis, self.orbit(prep, point, len(basis) - 1))
+
+    def profile_on(self, scene: Scene, basis: Sequence[tuple[CompiledPoly, CompiledPoly]],
+                   orbit: Sequence[Sequence[Number]]) -> RawProfile:
+        """`profile` on a given orbit of this scene (its first l points), so that several bases share one orbit."""
+        prep = self.prepare(scene, basis)
         rows = [self.basis_row(prep, x) for x in orbit]
         ranks, certainty = self.prefix_ranks(rows)
         return RawProfile(ranks, rows, {"arithmetic": self.name, **certainty})

@@ -121,15 +121,28 @@ class ProfileProblem:
 
 def kernel_vector(problem: ProfileProblem, point: Sequence[Rational]) -> list[flint.fmpq] | None:
     """K_Phi(x) exactly with the last coordinate -1 when dim K_Phi(x) = 1 (recipe (B)); None otherwise."""
+    return kernel_vectors([problem], point)[0]
+
+
+def kernel_vectors(problems: Sequence[ProfileProblem], point: Sequence[Rational]) -> list[list[flint.fmpq] | None]:
+    """`kernel_vector` for several bases of one scene at one point, the exact orbit computed once for all
+    (None for every basis if the longest orbit meets a singular point)."""
+    scene = problems[0].scene
+    if any(p.scene is not scene for p in problems):
+        raise ValueError("kernel_vectors: the problems must share one scene")
     arithmetic = ExactQ()
+    values = point_values(scene, point)
+    longest = max(problems, key=lambda p: len(p.basis))
     try:
-        raw = arithmetic.profile(problem.scene, problem.compiled, point_values(problem.scene, point))
+        orbit = arithmetic.orbit(arithmetic.prepare(scene, longest.compiled), values, len(longest.basis) - 1)
     except SingularPointError:
-        return None
-    verdict, d = fundamental_finite(raw.ranks)
-    if verdict != HK_BASIS or d != 1:
-        return None
-    return arithmetic.kernel(raw, 1)[0]
+        return [None] * len(problems)
+    out: list[list[flint.fmpq] | None] = []
+    for problem in problems:
+        raw = arithmetic.profile_on(scene, problem.compiled, orbit[:len(problem.basis)])
+        verdict, d = fundamental_finite(raw.ranks)
+        out.append(arithmetic.kernel(raw, 1)[0] if verdict == HK_BASIS and d == 1 else None)
+    return out
 
 
 def exact_profiles(kmap: KahanMap, basis: Sequence[Frac],

@@ -15,7 +15,7 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import rank_q
 from hkproof.algebra.ring import Rational
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.experiments.profiles import ProfileProblem, kernel_vector, parse_basis
+from hkproof.experiments.profiles import ProfileProblem, kernel_vectors, parse_basis
 from hkproof.experiments.relations import FoundRelation
 from hkproof.experiments.scene import make_scene
 
@@ -51,8 +51,7 @@ def _coordinates(problems: Sequence[ProfileProblem], point) -> list | None:
     """Kernel coordinates (last coordinate -1 dropped) of every basis at one point, exactly, then rounded to
     the working precision: the data PSLQ sees is known to exactly that many digits."""
     out = []
-    for problem in problems:
-        c = kernel_vector(problem, point)
+    for c in kernel_vectors(problems, point):
         if c is None:
             return None
         out += [mpmath.mpf(int(v.p)) / int(v.q) for v in c[:-1]]

@@ -3,9 +3,10 @@ coefficients (null spaces of exact samples, then polynomial interpolation in eps
 from __future__ import annotations
 
 import itertools
+import math
 import random
 from dataclasses import dataclass, field
-from typing import Mapping, Sequence
+from typing import Callable, Mapping, Sequence
 
 import flint
 import sympy
@@ -17,7 +18,7 @@ from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
 from hkproof.experiments.points import random_point, random_rational
-from hkproof.experiments.profiles import ProfileProblem, kernel_vector, parse_basis
+from hkproof.experiments.profiles import ProfileProblem, kernel_vectors, parse_basis
 from hkproof.experiments.scene import make_scene
 from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.hk.reduced import Relation
@@ -91,8 +92,7 @@ class CoordinateSampler:
         """(c^(1)_1, ..., c^(1)_(l1-1), c^(2)_1, ..., 1) at a random point, or None at a bad point."""
         point = random_point(self.kmap, self.rng, size=99)
         out = []
-        for problem in problems:
-            c = kernel_vector(problem, point)
+        for problem, c in zip(problems, kernel_vectors(problems, point), strict=True):
             if c is None:
                 return None
             if c[-1] != -1:
@@ -246,12 +246,11 @@ def _sparsest(fit: _Interpolation, found: list[list[Polynomial]], max_degree: in
     lowest degree, then fewest columns, while they add to the span; `found` completes the span if needed."""
     if not found:
         return found
-    values = [fit.value(r) for r in found]
+    carries = _support_test([fit.value(r) for r in found])
     candidates = []
     for size in range(2, max_support + 1):
         for support in itertools.combinations(range(fit.width), size):
-            outside = [j for j in range(fit.width) if j not in support]
-            if outside and not nullspace_q([[v[j] for v in values] for j in outside]):
+            if size < fit.width and not carries(support):
                 continue
             rel, degree = fit.relations(support, [], 1, max_degree)
             if rel:
@@ -261,6 +260,27 @@ def _sparsest(fit: _Interpolation, found: list[list[Polynomial]], max_degree: in
         if len(chosen) < len(found) and _rank_at(chosen + [one], fit.generic_t) > len(chosen):
             chosen.append(one)
     return chosen
+
+
+def _support_test(values: Sequence[Sequence[flint.fmpq]]) -> Callable[[Sequence[int]], bool]:
+    """Does the span W of the relation vectors `values` contain a non-zero vector supported in S? With K a basis of
+    the annihilator of W (rows), that is rank K_S < |S| (K_S: the columns in S). Screened by the rank mod a prime
+    (never above the rank over Q, so a full rank mod p settles it), confirmed over Q otherwise."""
+    integral = []
+    for row in nullspace_q(values):
+        scale = math.lcm(*(int(c.q) for c in row))
+        integral.append([int(c.p) * (scale // int(c.q)) for c in row])
+    prime = 2 ** 61 - 1
+
+    def carries(support: Sequence[int]) -> bool:
+        if not integral:
+            return True
+        sub = [[row[j] for j in support] for row in integral]
+        if flint.nmod_mat(sub, prime).rank() == len(support):
+            return False
+        return flint.fmpq_mat([[flint.fmpq(v) for v in r] for r in sub]).rank() < len(support)
+
+    return carries
 
 
 def _default_names(bases: Sequence[Sequence[Frac]]) -> list[str]:
