@@ -11,6 +11,7 @@ from hkproof.algebra.linalg import rank_over_fraction_field
 from hkproof.cli import main
 from hkproof.dynamics import kahan_map
 from hkproof.experiments.pslq import agreement, pslq_relations
+from hkproof.errors import HKProofError
 from hkproof.experiments.relations import find_relations
 
 PSI = "p1**2, p2**2, p3**2, m1*p1, m2*p2, m3*p3"
@@ -161,5 +162,5 @@ def test_kernel_vectors_share_one_orbit_and_agree_with_kernel_vector():
     point = [1, 2, -1]
     assert kernel_vectors(problems, point) == [kernel_vector(p, point) for p in problems]
     other = ProfileProblem(make_scene(f, {"eps": 1, "a1": 1, "a2": 2, "a3": 3}), problems[0].basis)
-    with pytest.raises(ValueError, match="share one scene"):
+    with pytest.raises(HKProofError, match="in one scene"):
         kernel_vectors([problems[0], other], point)

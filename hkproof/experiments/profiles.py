@@ -13,7 +13,7 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.algebra.linalg import rank_q
-from hkproof.errors import DependentBasisError, ParseError, SingularPointError
+from hkproof.errors import DependentBasisError, HKProofError, ParseError, SingularPointError
 from hkproof.experiments.arithmetics import Arithmetic, ExactQ
 from hkproof.experiments.scene import Scene, make_scene, point_values
 
@@ -129,7 +129,7 @@ def kernel_vectors(problems: Sequence[ProfileProblem], point: Sequence[Rational]
     (None for every basis if the longest orbit meets a singular point)."""
     scene = problems[0].scene
     if any(p.scene is not scene for p in problems):
-        raise ValueError("kernel_vectors: the problems must share one scene")
+        raise HKProofError("kernel_vectors: the bases must be profiled in one scene (the same eps and parameters)")
     arithmetic = ExactQ()
     values = point_values(scene, point)
     longest = max(problems, key=lambda p: len(p.basis))
