@@ -106,10 +106,10 @@ def main() -> None:
              "Cited claims of other groups (part I's `dc-theta` and its own citations) are proven inside the first "
              "row that needs them. Without the slow claims (`--no-slow`) the group is the sum of the unmarked rows. "
              "The slow ones: "
-             "the discovery of the 23 relations in L (recipe (E) on six bases), the proof of Phi1, Phi2, Phi3 with w "
-             "symbolic (the candidate over factored denominators, the row i = 1 by Horner) and the conjecture for "
-             "every flow (its transport); the Theta proof for the second flow (about 20 s) is in the default suite, "
-             "and `flow-general-phi0` and `flow-theta-all` cost little of their own.", "",
+             "the proof of Phi1, Phi2, Phi3 with w symbolic (the candidate over factored denominators, the row i = 1 "
+             "by Horner) and the conjecture for every flow (its transport); the Theta proof for the second flow "
+             "(about 20 s) and the discovery of the 23 relations in L (recipe (E) on six bases, about 13 s) are in "
+             "the default suite, and `flow-general-phi0` and `flow-theta-all` cost little of their own.", "",
              *rows, "",
              f"## Both cores: {parallel:.1f} s", "",
              f"`hkproof prove --group {GROUP} --jobs 2` in a fresh process (exit code {code}): the scheduler runs "

@@ -142,13 +142,6 @@ def test_second_flow_relations_perturbed(key, text):
     assert cert.status < Status.EVIDENCE_EXACT
 
 
-@pytest.mark.slow
-def test_second_flow_l_relations_found_is_evidence():
-    cert = get_claim("flow-second-l-relations-found").prove()
-    assert cert.status is Status.EVIDENCE_EXACT, cert.render()
-
-
-@pytest.mark.slow
 @pytest.mark.parametrize("key,text", [
     ("phirel_11", "-La2*eps**2 + La3*eps**2 + a2*w1 - a3*w1 - a5*w1*(w1 - w3) + a6*w1*(w1 + w2) = 0"),
     ("rows0", "18"),

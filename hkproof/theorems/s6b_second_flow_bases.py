@@ -120,7 +120,7 @@ def screen_at_samples(s: StepRecorder, f: KahanMap, claimed: Mapping[str, str], 
        "among alpha, beta, gamma with coefficients in Q(eps, w)[L] they have rank `relations`; at a rational point "
        "the rows i = 0 add up to rank `rows0` and the rows i = 0, 1 to `rows01` (so alpha, beta, gamma would follow "
        "from one row with an iterate, by Prop. \"prop: even\"). Evidence, not proof.",
-       claimed={**SECOND_PHI_RELATIONS, **RANKS}, slow=True, expected=Status.EVIDENCE_EXACT, uses=["flow-second-theorem"])
+       claimed={**SECOND_PHI_RELATIONS, **RANKS}, expected=Status.EVIDENCE_EXACT, uses=["flow-second-theorem"])
 def prove_l_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(FLOW2)
     r = f.ring
@@ -135,14 +135,6 @@ def prove_l_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> No
     with cert.step("the claimed relations at two rational points", "exact kernels of X_[0,6] (fmpq_mat)", r,
                    fixed={"points": len(SAMPLES)}) as s:
         screen_at_samples(s, f, claimed, big_l)
-    with cert.step("recipe (E) with the columns L alpha, L beta, L gamma: the space is spanned by the claimed "
-                   "relations", "exact kernels at rational points, interpolation in eps and w, fresh checks", r) as s:
-        search = find_relations(f, [*phis, *[b[:6] + [big_l * b[6]] for b in phis]], names=names)
-        found = [Relation(rel.coefficients, rel.rhs) for rel in search.relations]
-        s.require(search.dimension == len(rels) == len(found),
-                  f"relation space of dimension {search.dimension}, {len(found)} reconstructed, {len(rels)} claimed")
-        s.require(relation_rank(found + rels) == len(rels), "a claimed relation is not in the space found")
-        s.evidence(Status.EVIDENCE_EXACT, points=search.samples)
     combined = [_combined(rel, big_l) for rel in rels]
     with cert.step("ranks: the relations, with rows i = 0, with rows i = 0, 1", "exact ranks at a rational point "
                    "(values of Phi_k o f^i and of the relations' coefficients)", "Q at one rational point") as s:
@@ -156,6 +148,14 @@ def prove_l_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> No
         s.note("rank 18 with rows i = 0, 1 only and relations whose coefficients are even integrals: the hypotheses of "
                "Prop. \"prop: even\" hold; what remains for a proof is the symbolic solve (one row with an iterate "
                "after eliminating 17 unknowns) and the substitution of the solution into the rows i = 1")
+    with cert.step("recipe (E) with the columns L alpha, L beta, L gamma: the space is spanned by the claimed "
+                   "relations", "exact kernels at rational points, interpolation in eps and w, fresh checks", r) as s:
+        search = find_relations(f, [*phis, *[b[:6] + [big_l * b[6]] for b in phis]], names=names)
+        found = [Relation(rel.coefficients, rel.rhs) for rel in search.relations]
+        s.require(search.dimension == len(rels) == len(found),
+                  f"relation space of dimension {search.dimension}, {len(found)} reconstructed, {len(rels)} claimed")
+        s.require(relation_rank(found + rels) == len(rels), "a claimed relation is not in the space found")
+        s.evidence(Status.EVIDENCE_EXACT, points=search.samples)
 
 
 # ---------------------------------------------------------------- Phi1, Phi2, Phi3 with w symbolic: Prop. "prop: even" ---
