@@ -119,3 +119,16 @@ def test_kernel_direction_determines_the_components_where_it_vanishes():
     assert cert.status is Status.REFUTED and "row i = 0" in cert.error
     with pytest.raises(HKProofError, match="one shape"):
         determined_components(Certificate("t", "t", "-", "-"), system, [[frac("x2**2")]], POINT)
+
+
+def test_prove_block_in_the_full_ring_and_on_a_slice_agree():
+    sol = solution()
+    got: list[Frac] = []
+    cert = run(lambda c: got.extend(prove_block(c, SYSTEM, 1, {}, ["d1", "d2"], "")))
+    assert cert.status is Status.VERIFIED and got == sol[2:]
+    # the Euler top's map is not invariant under a common shift of a1, a2, a3: the slice is refused, the full ring used
+    sliced: list[Frac] = []
+    cert = run(lambda c: sliced.extend(prove_block(c, SYSTEM, 1, {}, ["d1", "d2"], "",
+                                                   ParameterTranslation(("a1", "a2", "a3"), "a3"))))
+    assert cert.status is Status.VERIFIED and sliced == sol[2:]
+    assert any("not invariant" in step.detail for step in cert.steps)
