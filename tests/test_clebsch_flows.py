@@ -195,15 +195,20 @@ def test_second_flow_kernel_coordinates_by_an_independent_route():
     values = {"eps": Fraction(1, 5), "w1": Fraction(3, 2), "w2": -2, "w3": Fraction(7, 3), "m1": 1, "m2": -2,
               "m3": Fraction(1, 3), "p1": 2, "p2": Fraction(-1, 2), "p3": 3}
     orbit = kahan_orbit([str(c) for c in f.field.rhs], f.variables, values, 4)
+    _kernel_rows_hold(cert, values, orbit)
+
+
+def _kernel_rows_hold(cert, at, orbit) -> None:
+    """alpha, beta, gamma of `cert`, evaluated at the parameters `at`, annihilate the rows of Phi1, Phi2, Phi3 at
+    every point of `orbit` (sympy arithmetic on the printed monomials)."""
     common = ("p1**2", "p2**2", "p3**2", "m1**2", "m2**2", "m3**2")
     for block, (letter, target) in enumerate(zip("abc", ("m1*p1", "m2*p2", "m3*p3"))):
-        coords = [cert.values[f"{letter}{j}"].evaluate(values) for j in range(1, 7)]
-        for y in orbit:
-            env = {k: sympy.Rational(v) for k, v in y.items()}
+        coords = [cert.values[f"{letter}{j}"].evaluate(at) for j in range(1, 7)]
+        for point in orbit:
+            env = {k: sympy.Rational(v) for k, v in point.items()}
             row = [sympy.sympify(t).subs(env) for t in common]
             lhs = sum(sympy.Rational(int(c.p), int(c.q)) * v for c, v in zip(coords, row))
-            assert lhs == sympy.sympify(target).subs(env), (block, y)
-
+            assert lhs == sympy.sympify(target).subs(env), (block, point)
 
 
 @pytest.mark.slow
@@ -225,11 +230,4 @@ def test_transported_kernel_coordinates_by_an_independent_route():
          for k, i, j in ((0, 1, 2), (1, 2, 0), (2, 0, 1))}
     orbit = kahan_orbit([str(c) for c in general.rhs], general.variables, {**x, **w, **b, "eps": eps}, 3)
     moved = {**x, "eps": z * eps, **{k: v + y / z for k, v in w.items()}}
-    common = ("p1**2", "p2**2", "p3**2", "m1**2", "m2**2", "m3**2")
-    for block, (letter, target) in enumerate(zip("abc", ("m1*p1", "m2*p2", "m3*p3"))):
-        coords = [cert.values[f"{letter}{j}"].evaluate(moved) for j in range(1, 7)]
-        for point in orbit:
-            env = {k: sympy.Rational(v) for k, v in point.items()}
-            row = [sympy.sympify(t).subs(env) for t in common]
-            lhs = sum(sympy.Rational(int(c.p), int(c.q)) * v for c, v in zip(coords, row))
-            assert lhs == sympy.sympify(target).subs(env), (block, point)
+    _kernel_rows_hold(cert, moved, orbit)

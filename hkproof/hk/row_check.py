@@ -11,7 +11,7 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import lcm
 from hkproof.algebra.ring import flint_threads
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.hk.reduced import Relation, linear_combination_equals
+from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals
 
 Monomial = tuple[int, ...]
 
@@ -27,7 +27,8 @@ def row_holds(kmap: KahanMap, basis: Sequence[Frac], target: Frac, i: int, solut
     if i == 0:
         return linear_combination_equals(basis, solution, target)
     if any(phi.den_variables_in(kmap.variables) for phi in (*basis, target)):
-        return linear_combination_equals([kmap.pullback(phi, i) for phi in basis], solution, kmap.pullback(target, i))
+        row, rhs = hk_row(kmap, basis, target, i)
+        return linear_combination_equals(row, solution, rhs)
     ring = kmap.ring
     coefficients: dict[Monomial, Frac] = {}
     for a, phi in [*zip(solution, basis, strict=True), (Frac(ring, -1), target)]:

@@ -3,7 +3,6 @@ from __future__ import annotations
 
 from typing import Mapping, Sequence
 
-
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import rank_over_fraction_field, solve_by_inverse
 from hkproof.algebra.ring import Ring

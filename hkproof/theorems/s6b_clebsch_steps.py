@@ -7,10 +7,10 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import rank_q
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
-from hkproof.hk.expansion import homogeneous_eps_pieces
-from hkproof.hk.independence import sample_point
 from hkproof.errors import ParseError
 from hkproof.hk.block_system import BlockSystem, check_block, prove_block
+from hkproof.hk.expansion import homogeneous_eps_pieces
+from hkproof.hk.independence import sample_point
 from hkproof.hk.reduced import Relation, linear_combination_equals
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate
@@ -43,9 +43,12 @@ def _m2_rows(abcd: Certificate, r) -> list[Relation]:
             for name in (f"{c}{j}" for c in "abc" for j in (4, 5, 6))]
 
 
-def part_two(f, abcd: Certificate, relations: Sequence[Relation]) -> BlockSystem:
-    """Phi1, Phi2, Phi3 with the rows i = 0, 1, eq. "M2" and further `relations` (the systems of Steps 3-5)."""
-    return BlockSystem(f, tuple(tuple(b) for b in bases(f)), (*_m2_rows(abcd, f.ring), *relations), (0, 1))
+def part_two(f, abcd: Certificate, relations: Sequence[Relation]) -> tuple[BlockSystem, BlockSystem]:
+    """Phi1, Phi2, Phi3 with the rows i = 0, 1, eq. "M2" and further `relations` (the systems of Steps 3-5), and
+    with the rows i = -1, 0, 1 and eq. "M2" alone (the symmetric systems of Step 2)."""
+    m2 = _m2_rows(abcd, f.ring)
+    system = BlockSystem(f, tuple(tuple(b) for b in bases(f)), (*m2, *relations), (0, 1))
+    return system, system.with_(relations=m2, iterates=SYMMETRIC)
 
 
 def _bigint_form(s, f, h: Frac, name: str, leading: str, delta: Frac) -> None:
@@ -64,19 +67,18 @@ def _solve_block(cert: Certificate, system: BlockSystem, c: str, known: Mapping[
     return sol
 
 
-def _symmetric_step(cert: Certificate, system: BlockSystem, c: str, sol: Sequence[Frac], abcd: Certificate,
-                    delta: Frac, claimed: Mapping[str, str]) -> None:
+def _symmetric_step(cert: Certificate, symmetric: BlockSystem, c: str, sol: Sequence[Frac], delta: Frac,
+                    claimed: Mapping[str, str]) -> None:
     """Step 2: the solution also solves the symmetric system i = -1, 0, 1, uniquely; eqs. "bigint_form", "alpha123"."""
-    f = system.kmap
+    f = symmetric.kmap
     r = f.ring
     b = "abc".index(c)
-    m2 = system.with_(relations=_m2_rows(abcd, r), iterates=SYMMETRIC)
     with cert.step(f"Step 2 ({c}): the symmetric system i = -1, 0, 1 has this unique solution",
                    "substitution into the row i = -1 (f^-1(x, eps) = f(x, -eps)), on the slice w3 = 0 when "
                    "everything is invariant under w -> w + c; det at a rational point", r) as s:
-        s.require(check_block(system.with_(relations=(), iterates=(-1,)), b, {}, sol, TRANSLATION),
+        s.require(check_block(symmetric.with_(relations=(), iterates=(-1,)), b, {}, sol, TRANSLATION),
                   "the row i = -1 fails")
-        det = m2.block_det_at(b, sample_point(r.names, seed=3))
+        det = symmetric.block_det_at(b, sample_point(r.names, seed=3))
         s.require(det != 0, "the symmetric system is singular at the sample point")
         s.note(f"det = {det} at a rational point: the symmetric system determines {c}1, {c}2, {c}3")
     with cert.step(f"eqs. \"bigint_form\" and \"alpha123\" for {c}1, {c}2, {c}3",
@@ -115,9 +117,9 @@ def prove_alpha(cert: Certificate, claimed: Mapping[str, str]) -> None:
                                         "2 eps^2 Delta F/(w2 - w3)")
         s.require_equal(pieces[0], named(f, claimed["F_leading"]), "F^(0)")
     (frow,) = relation_rows(f, f"{claimed['F_row']} = 0")
-    system = part_two(f, abcd, [Relation(frow.coefficients, F + frow.rhs, "dc345-alpha, Step 3")])
+    system, symmetric = part_two(f, abcd, [Relation(frow.coefficients, F + frow.rhs, "dc345-alpha, Step 3")])
     sol = _solve_block(cert, system, "a", {}, "")
-    _symmetric_step(cert, system, "a", sol, abcd, delta, claimed)
+    _symmetric_step(cert, symmetric, "a", sol, delta, claimed)
 
 
 @claim("dc345-step5", GROUP, "Proof of Th. \"dC bases 345\", Step 5: beta_j and gamma_j, with eps and w symbolic",
@@ -136,11 +138,11 @@ def prove_step5(cert: Certificate, claimed: Mapping[str, str]) -> None:
     links = relation_rows(f, claimed["rel18_6"])
     if len(links) != 2:
         raise ParseError(f"eq. \"rel18_6\" must be a chain of three members, not {claimed['rel18_6']!r}")
-    system = part_two(f, abcd, links)
+    system, symmetric = part_two(f, abcd, links)
     known = {k: recall(al, UNKNOWNS[k], r) for k in BLOCK["a"]}
     for c, source in (("b", "dc345-alpha"), ("c", "dc345-step5 (beta)")):
         sol = _solve_block(cert, system, c, known, source)
-        _symmetric_step(cert, system, c, sol, abcd, delta, claimed)
+        _symmetric_step(cert, symmetric, c, sol, delta, claimed)
         known.update(zip(BLOCK[c], sol, strict=True))
 
 
