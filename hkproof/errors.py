@@ -51,3 +51,17 @@ class UsageError(HKProofError):
 
 class ShapeError(HKProofError):
     """Matrices or vectors whose sizes do not fit (a row of another length, a vector of the wrong dimension)."""
+
+
+class ResourceLimitError(HKProofError):
+    """A computation would exceed one of hkproof's documented limits (not bad input: the input is fine, the search is
+    too large). The message names the limit and how to raise it."""
+
+
+class BudgetExhausted(ResourceLimitError):
+    """The time or memory budget ran out; what was covered so far is reported."""
+
+
+class UnluckyPrimeError(SingularPointError):
+    """A computation mod p failed where it may succeed over Q (a denominator or det M divisible by p): try another
+    prime."""

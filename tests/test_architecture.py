@@ -12,7 +12,7 @@ PACKAGE = ROOT / "hkproof"
 
 # lowest first; a module may import its own layer and the layers below it
 LAYERS = [
-    ("errors", ("hkproof.errors",)),
+    ("base", ("hkproof.errors", "hkproof.exit_codes", "hkproof.budget")),
     ("algebra", ("hkproof.algebra",)),
     ("dynamics", ("hkproof.dynamics",)),
     ("proof kernel", ("hkproof.proof",)),

@@ -1,0 +1,91 @@
+"""Arithmetic modulo a word-size prime: random primes, residues of rationals, ranks, kernels and solves (nmod_mat).
+
+Every modular computation of hkproof (screening, degrees, Darboux searches, reconstruction) uses these; a rank mod p
+is a lower bound of the rank over Q, which is what makes a modular screen exact in one direction.
+
+>>> residue(flint.fmpq(1, 3), 7), residue_or_none(flint.fmpq(1, 7), 7)
+(5, None)
+>>> rank_mod_p([[1, 2], [2, 4]], 7), kernel_mod_p([[1, 2], [2, 4]], 7)
+(1, [[2, 6]])
+"""
+from __future__ import annotations
+
+import random
+from typing import Sequence
+
+import flint
+
+from hkproof.errors import UnluckyPrimeError
+
+__all__ = ["free_kernel_mod_p", "kernel_mod_p", "random_prime", "rank_mod_p", "residue", "residue_or_none",
+           "solve_mod_p"]
+
+
+def random_prime(rng: random.Random, bits: int = 62) -> int:
+    """A random prime of exactly `bits` bits (nmod types take moduli below 2^64)."""
+    while True:
+        n = flint.fmpz(rng.getrandbits(bits) | (1 << (bits - 1)) | 1)
+        if n.is_prime():
+            return int(n)
+
+
+def residue_or_none(q: flint.fmpq | flint.fmpz | int, p: int) -> int | None:
+    """q mod p, or None when p divides its denominator."""
+    if isinstance(q, (int, flint.fmpz)):
+        return int(q) % p
+    den = int(q.q) % p
+    return None if den == 0 else int(q.p) * pow(den, -1, p) % p
+
+
+def residue(q: flint.fmpq | flint.fmpz | int, p: int) -> int:
+    """q mod p; UnluckyPrimeError when p divides its denominator (another prime will do)."""
+    r = residue_or_none(q, p)
+    if r is None:
+        raise UnluckyPrimeError(f"the denominator of {q} is divisible by p = {p}")
+    return r
+
+
+def rank_mod_p(rows: Sequence[Sequence[int]], p: int) -> int:
+    """The rank over Z/p of integer rows (0 for no rows)."""
+    if not rows:
+        return 0
+    return flint.nmod_mat([[int(v) % p for v in r] for r in rows], p).rank()
+
+
+def free_kernel_mod_p(rows: Sequence[Sequence[int]], p: int, free_value: int = -1) -> list[tuple[int, list[int]]]:
+    """A basis of the right kernel mod p from the reduced row echelon form, one vector per free column: that column
+    set to `free_value` (recipe (B)'s normalization -1 by default), the other free columns 0; (free column, vector)."""
+    if not rows:
+        return []
+    r, rank = flint.nmod_mat([[int(v) % p for v in row] for row in rows], p).rref()
+    ncols = r.ncols()
+    pivots: list[int] = []
+    j = 0
+    for i in range(rank):
+        while int(r[i, j]) == 0:
+            j += 1
+        pivots.append(j)
+    scale = free_value % p
+    out = []
+    for free in (j for j in range(ncols) if j not in pivots):
+        v = [0] * ncols
+        v[free] = scale
+        for i, pj in enumerate(pivots):
+            v[pj] = -int(r[i, free]) * scale % p
+        out.append((free, v))
+    return out
+
+
+def kernel_mod_p(rows: Sequence[Sequence[int]], p: int, free_value: int = -1) -> list[list[int]]:
+    """A basis of the right kernel mod p (free columns set to `free_value`, -1 by default)."""
+    return [v for _, v in free_kernel_mod_p(rows, p, free_value)]
+
+
+def solve_mod_p(matrix: Sequence[Sequence[int]], rhs: Sequence[int], p: int) -> list[int] | None:
+    """The solution of a square system mod p, None when it is singular mod p."""
+    try:
+        sol = flint.nmod_mat([[int(v) % p for v in r] for r in matrix], p).solve(
+            flint.nmod_mat([[int(v) % p] for v in rhs], p))
+    except ZeroDivisionError:
+        return None
+    return [int(sol[i, 0]) for i in range(len(rhs))]

@@ -1,0 +1,74 @@
+"""Monomials as exponent vectors: enumeration, counts, values at points and text (one home for every search).
+
+>>> exponents_upto(2, 2)
+[(2, 0), (1, 1), (0, 2), (1, 0), (0, 1), (0, 0)]
+>>> count_upto(2, 2), text(("x", "y"), (2, 1))
+(6, 'x**2*y')
+>>> value((2, 1), [3, 5]), value_mod_p((2, 1), [3, 5], 7)
+(45, 3)
+"""
+from __future__ import annotations
+
+import math
+from typing import Any, Sequence
+
+__all__ = ["Exponents", "count_upto", "exponents_of_degree", "exponents_upto", "text", "value", "value_mod_p",
+           "values_mod_p"]
+
+Exponents = tuple[int, ...]
+
+
+def exponents_of_degree(n: int, degree: int) -> list[Exponents]:
+    """The monomials of total degree exactly `degree` in n variables, the first variable's exponent descending."""
+    if n == 0:
+        return [()] if degree == 0 else []
+    out: list[Exponents] = []
+
+    def rec(prefix: Exponents, left: int) -> None:
+        if len(prefix) == n - 1:
+            out.append(prefix + (left,))
+            return
+        for e in range(left, -1, -1):
+            rec(prefix + (e,), left - e)
+    rec((), degree)
+    return out
+
+
+def exponents_upto(n: int, degree: int) -> list[Exponents]:
+    """All monomials of total degree <= `degree` in n variables, highest degree first, the constant 1 last (so that
+    constants are the free columns of a kernel, and a basis ends with 1 as the paper writes them)."""
+    return [e for d in range(degree, -1, -1) for e in exponents_of_degree(n, d)]
+
+
+def count_upto(n: int, degree: int) -> int:
+    """How many monomials of degree <= `degree` there are in n variables: C(n + degree, n)."""
+    return math.comb(n + degree, n)
+
+
+def value(e: Exponents, point: Sequence[Any]) -> Any:
+    """x^e at a point (any ring: ints, fmpq, Frac)."""
+    out: Any = 1
+    for x, k in zip(point, e, strict=True):
+        if k:
+            out = out * x ** k
+    return out
+
+
+def value_mod_p(e: Exponents, point: Sequence[int], p: int) -> int:
+    """x^e mod p at a point of residues."""
+    v = 1
+    for x, k in zip(point, e, strict=True):
+        if k:
+            v = v * pow(x, k, p) % p
+    return v
+
+
+def values_mod_p(monomials: Sequence[Exponents], point: Sequence[int], p: int) -> list[int]:
+    """The values mod p of several monomials at one point."""
+    return [value_mod_p(e, point, p) for e in monomials]
+
+
+def text(names: Sequence[str], e: Exponents) -> str:
+    """x^e as hkproof's parser reads it ('x**2*y'; '1' for the constant)."""
+    parts = [v if k == 1 else f"{v}**{k}" for v, k in zip(names, e, strict=True) if k]
+    return "*".join(parts) or "1"

@@ -1,0 +1,93 @@
+"""A cooperative budget: a deadline (and a memory ceiling) that long computations check inside their loops.
+
+Every long loop of hkproof (orbits, eliminations, reconstructions, Groebner steps, searches) calls
+`budget.check(what)`; when the deadline has passed, `BudgetExhausted` says what was being done, and the caller
+reports what it covered. The front end says how to raise the budget (`raise_with`); nothing below it names an option.
+
+>>> b = Budget(None)
+>>> b.check("nothing"); b.expired, b.remaining() == float("inf")
+(False, True)
+>>> Budget(0.0).expired
+True
+"""
+from __future__ import annotations
+
+import math
+import os
+import time
+
+from hkproof.errors import BudgetExhausted, HKProofError
+
+__all__ = ["Budget", "UNLIMITED"]
+
+_PAGE_MB = os.sysconf("SC_PAGE_SIZE") / 2**20 if hasattr(os, "sysconf") else 4 / 1024
+
+
+def resident_mb() -> float | None:
+    """This process's resident memory now, in MB (None where /proc is not available)."""
+    try:
+        with open("/proc/self/statm", "rb") as fh:
+            return int(fh.read().split()[1]) * _PAGE_MB
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+class Budget:
+    """A deadline `seconds` from now (None: no deadline) and a memory ceiling in MB (None: none)."""
+
+    def __init__(self, seconds: float | None = None, *, memory_mb: float | None = None,
+                 raise_with: str = "a larger budget", _deadline: float | None = None):
+        if seconds is not None and (not isinstance(seconds, (int, float)) or math.isnan(seconds) or seconds < 0):
+            raise HKProofError(f"a time budget must be a number of seconds >= 0, got {seconds!r}")
+        if memory_mb is not None and (math.isnan(memory_mb) or memory_mb <= 0):
+            raise HKProofError(f"a memory ceiling must be a positive number of MB, got {memory_mb!r}")
+        self.started = time.monotonic()
+        self.seconds = seconds
+        self.deadline = _deadline if _deadline is not None else (
+            math.inf if seconds is None else self.started + seconds)
+        self.memory_mb = memory_mb
+        self.raise_with = raise_with
+        self._memory_checked = 0.0
+
+    def __repr__(self) -> str:
+        return f"Budget(seconds={self.seconds}, memory_mb={self.memory_mb})"
+
+    @property
+    def elapsed(self) -> float:
+        return time.monotonic() - self.started
+
+    @property
+    def expired(self) -> bool:
+        return time.monotonic() >= self.deadline
+
+    def remaining(self) -> float:
+        """Seconds left (inf without a deadline, 0 when expired)."""
+        return max(0.0, self.deadline - time.monotonic())
+
+    def check(self, doing: str) -> None:
+        """Raise BudgetExhausted (saying what was being done) once the deadline or the memory ceiling is passed."""
+        now = time.monotonic()
+        if now >= self.deadline:
+            raise BudgetExhausted(f"the time budget of {self.seconds:g} s ran out while {doing} (give "
+                                  f"{self.raise_with} to go further)")
+        if self.memory_mb is not None and now - self._memory_checked > 0.2:
+            self._memory_checked = now
+            used = resident_mb()
+            if used is not None and used > self.memory_mb:
+                raise BudgetExhausted(f"the memory ceiling of {self.memory_mb:g} MB was passed ({used:.0f} MB) "
+                                      f"while {doing} (give {self.raise_with} to go further)")
+
+    def child(self, seconds: float | None = None, *, share: float | None = None) -> Budget:
+        """A budget for one part of the work: at most `seconds` (or `share` of what is left), never past this
+        budget's own deadline; the memory ceiling is shared."""
+        limit = self.deadline
+        now = time.monotonic()
+        if seconds is not None:
+            limit = min(limit, now + seconds)
+        if share is not None and math.isfinite(self.deadline):
+            limit = min(limit, now + share * max(0.0, self.deadline - now))
+        total = None if not math.isfinite(limit) else max(0.0, limit - now)
+        return Budget(total, memory_mb=self.memory_mb, raise_with=self.raise_with, _deadline=limit)
+
+
+UNLIMITED = Budget(None)
