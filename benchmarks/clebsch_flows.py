@@ -26,8 +26,8 @@ from hkproof.hk.reduced import check_solution
 from hkproof.hk.row_check import check_solution_by_rows
 from hkproof.orchestration.registry import REGISTRY, load_all, proven
 from hkproof.theorems._clebsch import named, recall
-from hkproof.theorems._flows import yz_map
-from hkproof.theorems.s6c_clebsch_flows import (FLOW2, GROUP, REDUCTION_CLAIM, THETA_NAMES, reduction_substitutions)
+from hkproof.theorems.clebsch_flows.data import yz_map
+from hkproof.theorems.clebsch_flows.general import (FLOW2, GROUP, REDUCTION_CLAIM, THETA_NAMES, reduction_substitutions)
 
 ORDER = ["flow-general-map", "flow-reduction", "flow-second-theorem", "flow-second-recipe-g", "flow-general-phi0",
          "flow-second-theta", "flow-theta-all", "flow-second-relations-found", "flow-second-l-relations-found",

@@ -25,8 +25,8 @@ from hkproof.hk.reduced import Relation, hk_row
 from hkproof.hk.second_iterate import interpolated_gcd
 from hkproof.orchestration.registry import get_claim, proven, select
 from hkproof.theorems._clebsch import TRANSLATION, X, named, recall
-from hkproof.theorems.s6a_clebsch_bases import THETA_BASIS, THETA_TARGET, theta_relation
-from hkproof.theorems.s6a_clebsch_f2 import OMEGA_POINTS, w_form_degree
+from hkproof.theorems.clebsch_bases import THETA_BASIS, THETA_TARGET, theta_relation
+from hkproof.theorems.clebsch_f2 import OMEGA_POINTS, w_form_degree
 
 GROUPS = ["clebsch-map", "clebsch-bases", "clebsch-kernels"]
 # the claims of items 1, 2, 4, 5, 6 of the issue (the continuous system, the map, Th. "dC basis 1", "dC basis 2",

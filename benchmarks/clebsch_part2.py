@@ -19,7 +19,7 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.hk.reduced import hk_row
 from hkproof.orchestration.registry import load_all, proven
 from hkproof.theorems._clebsch import recall
-from hkproof.theorems.s6b_clebsch_bases_345 import F_TEXT, bases, relation_rows
+from hkproof.theorems.clebsch_bases_345.data import F_TEXT, bases, relation_rows
 
 CITED = ["dc-basis1-relations", "dc-basis2", "dc-theta"]
 OURS = ["dc345-abcd", "dc345-alpha", "dc345-step5", "dc345-step1", "dc345-relations", "dc345-relations-found",

@@ -16,10 +16,14 @@ import flint
 
 from timebox import in_child
 
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.monomials import exponents_upto, text
+from hkproof.budget import Budget
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import QuadraticField
 from hkproof.experiments.arithmetics import ExactQ
-from hkproof.experiments.discovery import discover, monomial_exponents, monomial_frac, screen
+from hkproof.pipelines.discover import discover
+from hkproof.pipelines.discover.screen import screen
 from hkproof.experiments.profiles import ProfileProblem
 from hkproof.experiments.scene import make_scene
 
@@ -39,7 +43,7 @@ def run_cases(quick: bool) -> list[dict]:
         if quick and label.startswith("clebsch"):
             budget = 30.0
         start = time.perf_counter()
-        r = discover(system, degree, seconds=budget)
+        r = discover(system, degree, budget=Budget(budget))
         total = time.perf_counter() - start
         rows.append({"label": label, "degree": degree, "budget": budget, "total": total, "stages": r.stages,
                      "verified": len(r.verified), "independent": r.independent,
@@ -53,7 +57,7 @@ def _exact_profiles(system, degree: int, values: dict, points: list, out) -> Non
     """Worker: exact (N) on the union basis at the given points; puts the seconds per point on `out`."""
     kmap = kahan_map(system)
     scene = make_scene(kmap, values)
-    basis = [monomial_frac(kmap.ring, kmap.variables, e) for e in monomial_exponents(len(kmap.variables), degree)]
+    basis = [Frac.parse(kmap.ring, text(kmap.variables, e)) for e in exponents_upto(len(kmap.variables), degree)]
     problem = ProfileProblem(scene, basis)
     start = time.perf_counter()
     for pt in points:

@@ -20,8 +20,8 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.hk.integrals import check_integral
 from hkproof.hk.recipe_g import adjugate_data, delta_polynomial, groebner_membership, recipe_g
 from hkproof.theorems._clebsch import named
-from hkproof.theorems._flows import yz_map
-from hkproof.theorems.s6c_clebsch_flows import E_PAPER, GENERAL_CLAIM, GENERAL_NAMES, SECOND
+from hkproof.theorems.clebsch_flows.data import yz_map
+from hkproof.theorems.clebsch_flows.general import E_PAPER, GENERAL_CLAIM, GENERAL_NAMES, SECOND
 
 J = "(p1**2 + p2**2 + p3**2)/(1 - eps**2*(w1*p1**2 + w2*p2**2 + w3*p3**2))"
 C1 = "(a3*x2**2 - a2*x3**2)/(a1*x2**2 - a2*x1**2)"

@@ -1,8 +1,5 @@
-"""Certify the end of section 6: the general Clebsch flow, the second-flow theorem, the Phi0 claim for all flows.
-
-The group also holds two open claims: the conjecture for the general flow (exact evidence) and Theta for every
-flow with w fixed (verified(specialized), slow); they succeed when they reach that promised status.
-"""
+"""Certify the end of section 6: the general Clebsch flow, the second-flow theorem, the Phi0 and Theta claims for
+all flows, the second flow's bases Phi1, Phi2, Phi3, and the paper's closing conjecture for every flow."""
 import sys
 
 from hkproof.orchestration.runner import run_script

@@ -18,6 +18,7 @@ LAYERS = [
     ("proof kernel", ("hkproof.proof",)),
     ("hk", ("hkproof.hk",)),
     ("experiments", ("hkproof.experiments",)),
+    ("pipelines", ("hkproof.pipelines",)),
     # theorems register themselves with @claim: the registry sits below them (it loads them by name, not by import)
     ("registry", ("hkproof.orchestration.registry",)),
     ("theorems", ("hkproof.theorems",)),
@@ -112,3 +113,26 @@ def test_no_formula_is_evaluated_as_code():
 
 def test_the_eval_check_can_fail():
     assert evaluating_calls("import sympy\nx = sympy.sympify(text)\ny = eval(t)\n") == ["sympify (line 2)", "eval (line 3)"]
+
+
+def test_theorem_groups_are_units():
+    """Each theorem group is one module or package of hkproof.theorems whose name is the group id, with one script
+    proofs/<name>.py that certifies that group and one test file tests/test_<name>.py; nothing else in proofs/."""
+    import pkgutil
+
+    import hkproof.theorems as pkg
+    from hkproof.orchestration.registry import load_all
+
+    modules = sorted(m.name for m in pkgutil.iter_modules(pkg.__path__) if not m.name.startswith("_"))
+    assert modules == sorted(pkg.GROUPS)
+    groups = {}
+    for c in load_all().values():
+        groups.setdefault(c.group, set()).add(c.prover.__module__.split(".")[2])
+    assert {g.replace("-", "_") for g in groups} == set(modules)
+    for group, homes in groups.items():
+        name = group.replace("-", "_")
+        assert homes == {name}, f"claims of {group} live in {homes}"
+        script = ROOT / "proofs" / f"{name}.py"
+        assert f'run_script(groups=["{group}"])' in script.read_text(), f"{script} does not certify {group}"
+        assert (ROOT / "tests" / f"test_{name}.py").exists(), f"no tests/test_{name}.py"
+    assert sorted(p.stem for p in (ROOT / "proofs").glob("*.py")) == modules

@@ -7,6 +7,7 @@ from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.catalogue import get_system
 from hkproof.hk.integrals import lie_derivative
 from hkproof.proof.status import Status
+from tests.conftest import assert_group_certified
 
 # (system, continuous integrals: Casimirs and Hamiltonians) -- conventions of docs/atlas.md
 CONTINUOUS = {
@@ -76,3 +77,7 @@ def test_negative_results_are_evidence_not_verified():
     ring = get_system("toda-3").ring
     times_sum = Frac.parse(ring, cert.formulas["I1"]) * Frac.parse(ring, "b1 + b2 + b3")
     assert not times_sum.variables()                   # a constant: I1 is a function of b1 + b2 + b3 alone
+
+
+def test_the_script_certifies_the_group(monkeypatch, capsys):
+    assert_group_certified("atlas", monkeypatch, capsys)

@@ -6,9 +6,10 @@ import pytest
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.orchestration.registry import get_claim, proven
 from hkproof.proof.status import Status
-from hkproof.theorems.s6a_clebsch_bases import G1_VIA_ABCD
-from hkproof.theorems.s6b_clebsch_bases_345 import REL18, relation_rows
+from hkproof.theorems.clebsch_bases import G1_VIA_ABCD
+from hkproof.theorems.clebsch_bases_345.data import REL18, relation_rows
 from tests.conftest import THEOREM_RESULTS
+from tests.conftest import assert_group_certified
 
 @pytest.mark.parametrize("claim_id,expected", [("dc345-abcd", Status.VERIFIED),
                                                ("dc345-step1", Status.VERIFIED),
@@ -49,3 +50,7 @@ def test_perturbed_refuted(claim_id, key, text):
 def test_relation_chain_parsed_as_two_rows():
     f = kahan_map("clebsch")
     assert len(relation_rows(f, REL18["rel18_4"])) == 2 and len(relation_rows(f, REL18["rel18_6"])) == 2
+
+
+def test_the_script_certifies_the_group(monkeypatch, capsys):
+    assert_group_certified("clebsch-bases-345", monkeypatch, capsys)

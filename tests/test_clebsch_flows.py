@@ -6,7 +6,8 @@ import sympy
 
 from hkproof.orchestration.registry import get_claim, proven
 from hkproof.proof.status import Status
-from hkproof.theorems.s6c_clebsch_flows import GENERAL_CLAIM, SECOND, THETA_RELATION
+from hkproof.theorems.clebsch_flows.general import GENERAL_CLAIM, SECOND, THETA_RELATION
+from tests.conftest import assert_group_certified
 
 
 def test_second_flow_verified_with_correction():
@@ -69,8 +70,8 @@ def test_theta_perturbed_relation_refuted():
 
 
 def test_the_general_flow_is_invariant_under_the_combined_shift():
-    from hkproof.theorems._flows import yz_map
-    from hkproof.theorems.s6c_clebsch_flows import YZ_SHIFT
+    from hkproof.theorems.clebsch_flows.data import yz_map
+    from hkproof.theorems.clebsch_flows.general import YZ_SHIFT
     assert all(YZ_SHIFT.is_invariant(c) for c in yz_map().components())
     assert "y -> y + (-z) c" in str(YZ_SHIFT)
 
@@ -100,7 +101,7 @@ def test_substitution_refuses_bad_input():
     from hkproof.dynamics.catalogue import kahan_map
     from hkproof.errors import HKProofError
     from hkproof.hk.transport import Substitution
-    from hkproof.theorems._flows import yz_map
+    from hkproof.theorems.clebsch_flows.data import yz_map
     g, f2 = yz_map(), kahan_map("clebsch-flow2")
     with pytest.raises(HKProofError):
         Substitution(f2.ring, g.ring, {"nope": Frac(g.ring, 1)})            # not a variable of the source
@@ -162,7 +163,7 @@ def test_second_flow_bases_345_with_w_symbolic():
 @pytest.mark.parametrize("old,new", [("a6*w1*(w1 - w2)", "a6*w1*(w1 + w2)"),      # changes the rank
                                      ("-La2*eps**2", "-2*La2*eps**2")])           # keeps the rank
 def test_second_flow_bases_345_perturbed(old, new):
-    from hkproof.theorems.s6b_second_flow_bases import SECOND_PHI_RELATIONS
+    from hkproof.theorems.clebsch_flows.second_flow_bases import SECOND_PHI_RELATIONS
     bad = SECOND_PHI_RELATIONS["phirel_11"].replace(old, new)
     assert bad != SECOND_PHI_RELATIONS["phirel_11"]
     assert get_claim("flow-second-bases-345").prove({"phirel_11": bad}).status < Status.VERIFIED
@@ -171,8 +172,8 @@ def test_second_flow_bases_345_perturbed(old, new):
 def test_substitution_injectivity_is_checked():
     """w1, w2 -> the same image is not injective; the flow reduction's substitution is."""
     from hkproof.dynamics.catalogue import kahan_map
-    from hkproof.theorems._flows import REDUCTION, substitution, yz_map
-    from hkproof.theorems.s6c_clebsch_flows import RANK_POINT
+    from hkproof.theorems.clebsch_flows.data import REDUCTION, substitution, yz_map
+    from hkproof.theorems.clebsch_flows.general import RANK_POINT
     f2, g = kahan_map("clebsch-flow2"), yz_map()
     point = {k: v for k, v in RANK_POINT.items() if k in g.ring.names}
     moved = ("eps", "w1", "w2", "w3")
@@ -231,3 +232,7 @@ def test_transported_kernel_coordinates_by_an_independent_route():
     orbit = kahan_orbit([str(c) for c in general.rhs], general.variables, {**x, **w, **b, "eps": eps}, 3)
     moved = {**x, "eps": z * eps, **{k: v + y / z for k, v in w.items()}}
     _kernel_rows_hold(cert, moved, orbit)
+
+
+def test_the_script_certifies_the_group(monkeypatch, capsys):
+    assert_group_certified("clebsch-flows", monkeypatch, capsys)

@@ -10,8 +10,10 @@ from hkproof.algebra.fraction import Frac
 from hkproof.cli import main
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import QuadraticField
-from hkproof.experiments import discovery
-from hkproof.experiments.discovery import circuits, discover, without_conserved
+from hkproof.budget import Budget
+from hkproof.pipelines.discover import discover, reconstruct
+from hkproof.pipelines.discover.circuits import circuits
+from hkproof.pipelines.discover.screen import without_conserved
 from hkproof.hk.discover import certify
 from hkproof.hk.integrals import check_integral
 from hkproof.proof.status import Status
@@ -37,7 +39,7 @@ def test_euler_top_two_independent_verified_integrals():
 
 @pytest.mark.parametrize("field", [PLANAR, RANDOM_3D])
 def test_non_integrable_fields_report_no_integral(field):
-    r = discover(field, 2, seconds=60)
+    r = discover(field, 2, budget=Budget(60))
     assert r.complete and not r.integrals and r.independent == 0
     assert "evidence(exact)" in r.negative
     assert all(k["dimension"] == 0 for k in r.kernels)
@@ -50,12 +52,12 @@ def test_lotka_volterra_has_no_integral_up_to_degree_three():
 
 def test_forged_candidate_is_refuted_not_verified(monkeypatch):
     """A reconstruction that returns a wrong formula must come out refuted."""
-    real = discovery.restore_weights
+    real = reconstruct.restore_weights
 
     def forged(h, weights, weight):
         good = real(h, weights, weight)
         return None if good is None else good + Frac.parse(good.ring, "eps*x1")
-    monkeypatch.setattr(discovery, "restore_weights", forged)
+    monkeypatch.setattr(reconstruct, "restore_weights", forged)
     r = discover("euler-top", 2)
     assert r.integrals and all(i.status == Status.REFUTED for i in r.integrals)
     assert r.independent == 0 and not r.verified
@@ -112,7 +114,7 @@ def test_user_toml_example():
 
 
 def test_budget_reports_what_was_covered(capsys):
-    r = discover("volterra-4", 2, seconds=0.0)
+    r = discover("volterra-4", 2, budget=Budget(0.0))
     assert not r.complete and any("budget" in c for c in r.covered)
     assert [k["new"] for k in r.kernels] == [1, 2]    # screening always runs before the budget is checked
     assert not r.integrals
@@ -182,7 +184,7 @@ def test_recipe_e_refuses_a_relation_that_is_not_even_in_eps():
 
 @pytest.mark.slow
 def test_discover_first_clebsch_flow_finds_three_independent_integrals_by_recipe_e():
-    report = discover("clebsch", 2, seconds=300)
+    report = discover("clebsch", 2, budget=Budget(300))
     proven = [i for i in report.integrals if i.status is Status.VERIFIED and i.independent]
     assert len(proven) >= 3 and report.expected_independent == 4
     assert any("recipe (E)" in i.method for i in proven)

@@ -10,7 +10,8 @@ from hkproof.algebra.fraction import Frac
 from hkproof.cli import main
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.hk.darboux import Cofactor, check_darboux, cofactor_value, jacobian_atoms, search_darboux
+from hkproof.hk.darboux import Cofactor, check_darboux, cofactor_value, jacobian_atoms
+from hkproof.pipelines.darboux import search_darboux
 from hkproof.hk.integrals import check_integral
 from hkproof.hk.jacobian import jacobian_determinant, matrix_identity_holds
 from hkproof.proof.status import Status

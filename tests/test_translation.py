@@ -86,7 +86,7 @@ def test_check_solution_on_slice():
 
 
 def test_a_shift_that_moves_another_parameter_along():
-    from hkproof.theorems._flows import yz_map
+    from hkproof.theorems.clebsch_flows.data import yz_map
     g = yz_map()
     shift = ParameterTranslation(("w1", "w2", "w3"), "w3", (("y", "-z"),))
     c1 = named(g, "(y + z*w1)/(w2 - w3 + y*p1)")

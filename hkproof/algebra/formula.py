@@ -343,13 +343,31 @@ def parse_matrix(ring: Ring, text: str, known: Mapping[str, Frac] | None = None)
     return [[Frac.parse(ring, e, known) for e in r] for r in rows]
 
 
+STRUCTURE = "[],;="     # the separators of printed lists, matrices and relations 'lhs = rhs'
+
+
 def rename(text: str, names: Mapping[str, str]) -> str:
-    """The formula with whole names replaced (by tokens, never inside a longer name): a cyclic shift of indices, or
-    a name replaced by a parenthesized formula.
+    """The formula (or list, matrix, relation of formulas) with whole names replaced (by tokens, never inside a
+    longer name): a cyclic shift of indices, or a name replaced by a parenthesized formula.
 
     >>> rename("x1*x12 + a1", {"x1": "x2", "a1": "(b + 1)"})
     'x2*x12 + (b + 1)'
+    >>> rename("[[c1, c12], [c2 = 0]]", {"c1": "y"})
+    '[[y, c12], [c2 = 0]]'
     """
+    out: list[str] = []
+    piece: list[str] = []
+    for ch in text + STRUCTURE[0]:
+        if ch in STRUCTURE:
+            out.append(_rename_formula("".join(piece), names))
+            out.append(ch)
+            piece = []
+        else:
+            piece.append(ch)
+    return "".join(out)[:-1]
+
+
+def _rename_formula(text: str, names: Mapping[str, str]) -> str:
     out, last = [], 0
     for tok in tokens(text):
         if tok.kind == "name" and tok.text in names:

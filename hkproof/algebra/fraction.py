@@ -275,6 +275,14 @@ class Frac:
             raise SingularPointError(f"the denominator {self.den} vanishes at {dict(values)}")
         return self.ring.evaluate(self.num, values) / d
 
+    def residue_at(self, point: Sequence[int], p: int) -> int | None:
+        """The value mod p at a point of residues (one per ring variable, in order); None where the denominator
+        vanishes mod p."""
+        den = int(self.den(*point)) % p
+        if den == 0:
+            return None
+        return int(self.num(*point)) % p * pow(den, -1, p) % p
+
     def specialize(self, values: Mapping[str, Rational], target: Ring) -> "Frac":
         """The function with some variables fixed, as an element over the smaller ring `target`."""
         p, a = self.ring.specialize_poly(self.num, values, target)

@@ -284,13 +284,6 @@ def nullspace_q(rows: Sequence[Sequence[Rational]]) -> list[list[flint.fmpq]]:
     return basis
 
 
-def rank_mod_p(rows: Sequence[Sequence[int]], p: int) -> int:
-    """Rank over Z/p."""
-    if not rows:
-        return 0
-    return flint.nmod_mat([[int(v) % p for v in r] for r in rows], p).rank()
-
-
 def solve_overdetermined(system: flint.fmpq_mat, values: Sequence[Rational]) -> list[flint.fmpq]:
     """The exact solution of a consistent overdetermined system A y = v by the normal equations A^T A y = A^T v
     (A of full column rank; the solution is only a candidate until the caller checks it)."""

@@ -34,10 +34,11 @@ def exponents_of_degree(n: int, degree: int) -> list[Exponents]:
     return out
 
 
-def exponents_upto(n: int, degree: int) -> list[Exponents]:
-    """All monomials of total degree <= `degree` in n variables, highest degree first, the constant 1 last (so that
-    constants are the free columns of a kernel, and a basis ends with 1 as the paper writes them)."""
-    return [e for d in range(degree, -1, -1) for e in exponents_of_degree(n, d)]
+def exponents_upto(n: int, degree: int, *, highest_first: bool = True) -> list[Exponents]:
+    """All monomials of total degree <= `degree` in n variables, by total degree (highest first by default, so that
+    the constant 1 comes last: the free column of a kernel, the last element of a basis as the paper writes them)."""
+    degrees = range(degree, -1, -1) if highest_first else range(degree + 1)
+    return [e for d in degrees for e in exponents_of_degree(n, d)]
 
 
 def count_upto(n: int, degree: int) -> int:
@@ -46,8 +47,8 @@ def count_upto(n: int, degree: int) -> int:
 
 
 def value(e: Exponents, point: Sequence[Any]) -> Any:
-    """x^e at a point (any ring: ints, fmpq, Frac)."""
-    out: Any = 1
+    """x^e at a point (any ring: ints, fmpq, Frac); the empty product is the point's own 1."""
+    out: Any = point[0] ** 0 if len(point) else 1
     for x, k in zip(point, e, strict=True):
         if k:
             out = out * x ** k

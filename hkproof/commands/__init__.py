@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from dataclasses import dataclass
 from typing import Any, Callable
 
@@ -92,3 +93,10 @@ def fixed_values(args: argparse.Namespace) -> dict[str, str]:
     if args.eps is not None:
         values["eps"] = args.eps
     return values
+
+
+def progress_printer(args: argparse.Namespace) -> Callable[[str], None] | None:
+    """Progress lines on stderr for a person at a terminal (not under --json or --no-progress)."""
+    if getattr(args, "no_progress", False) or getattr(args, "json", False) or not sys.stderr.isatty():
+        return None
+    return lambda line: print(line, file=sys.stderr, flush=True)

@@ -5,9 +5,9 @@ import argparse
 
 from hkproof.algebra.fraction import Frac
 from hkproof.commands import Result, add_command, add_param_option, add_system_argument, specialized_map
-from hkproof.commands._geometry import EPS_CONVENTION, specialized_status
+from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.hk.modified_hamiltonian import parse_matrix, verify
-from hkproof.proof.status import Status
+from hkproof.proof.status import Status, specialized_label
 
 FORMULA = "H~ = H + (h/3) grad H^T (I - (h/2) F')^(-1) F, density 1/det(I - (h/2) F'), h = 2 eps"
 
@@ -35,13 +35,13 @@ def run_hamiltonian(args: argparse.Namespace) -> Result:
     res = verify(f, h, j)
     payload = {"system": f.field.name, "eps_convention": EPS_CONVENTION, "formula": FORMULA,
                "hamiltonian": str(h), "fixed": {k: str(v) for k, v in fixed.items()},
-               "modified_hamiltonian": {"expr": str(res.h_tilde), "status": specialized_status(res.integral, fixed)},
+               "modified_hamiltonian": {"expr": str(res.h_tilde), "status": specialized_label(res.integral, fixed)},
                "density": {"expr": f"1/({res.density_denominator})",
-                           "status": specialized_status(res.measure, fixed)},
+                           "status": specialized_label(res.measure, fixed)},
                "jacobian_identity": "verified" if res.jacobian_identity else "refuted"}
     lines = [f"Kahan map of {f.field.name}; {FORMULA} ({EPS_CONVENTION})",
-             f"[{specialized_status(res.integral, fixed)}] H~ o f = H~ with H~ = {res.h_tilde}",
-             f"[{specialized_status(res.measure, fixed)}] the density 1/({res.density_denominator}) is invariant: "
+             f"[{specialized_label(res.integral, fixed)}] H~ o f = H~ with H~ = {res.h_tilde}",
+             f"[{specialized_label(res.measure, fixed)}] the density 1/({res.density_denominator}) is invariant: "
              "rho(f(x)) det Df(x) = rho(x), det Df = det M(f(x), -eps)/det M(x, eps)"]
     ok = res.integral is Status.VERIFIED and res.measure is Status.VERIFIED
     return Result(payload, "\n".join(lines), 0 if ok else 1)

@@ -10,59 +10,20 @@ from typing import Mapping, Sequence
 
 import flint
 
-from hkproof.algebra.ring import Rational, to_fmpq
+from hkproof.algebra.modular import random_prime, residue_or_none
+from hkproof.algebra.ring import Rational
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ParseError
 
-HOM = "_hom"
 MAX_DEGREE = 50_000       # polynomials in t of higher degree are not computed (Lotka-Volterra stops at n = 15)
-
-
-def random_prime(rng: random.Random, bits: int = 62) -> int:
-    """A random prime below 2^bits (machine-word arithmetic with nmod)."""
-    while True:
-        p = flint.fmpz(rng.getrandbits(bits) | (1 << (bits - 1)) | 1)
-        if p.is_prime():
-            return int(p)
-
-
-def value_mod(value: Rational, prime: int) -> int | None:
-    """value mod prime, or None when its denominator is divisible by the prime."""
-    q = to_fmpq(value)
-    if int(q.q) % prime == 0:
-        return None
-    return int(q.p) * pow(int(q.q), -1, prime) % prime
-
-
-def homogenized_map_mod(kmap: KahanMap, values: Mapping[str, int], prime: int
-                        ) -> tuple[list[flint.nmod_mpoly], int]:
-    """[W^d N_i(X/W), W^d Delta(X/W)] over Z/p with eps and the parameters fixed: the projective map of f, degree d."""
-    nums, delta = kmap.explicit
-    names = kmap.ring.names
-    xi = [names.index(v) for v in kmap.variables]
-    fixed = [(names.index(k), v) for k, v in values.items()]
-    d = max(sum(m[i] for i in xi) for p in (*nums, delta) for m in p.monoms())
-    ctx = flint.nmod_mpoly_ctx.get(kmap.variables + (HOM,), prime, "degrevlex")  # type: ignore[call-arg, arg-type]  # flint's stubs lag the API
-    out = []
-    for p in (*nums, delta):
-        data: dict[tuple[int, ...], int] = {}
-        for m, c in p.to_dict().items():
-            coeff = int(c) % prime
-            for j, v in fixed:
-                coeff = coeff * pow(v, m[j], prime) % prime
-            key = tuple(m[i] for i in xi)
-            key = key + (d - sum(key),)
-            data[key] = (data.get(key, 0) + coeff) % prime
-        out.append(ctx.from_dict({k: c for k, c in data.items() if c}))
-    return out, d
 
 
 def degrees_on_line(kmap: KahanMap, values: Mapping[str, int], prime: int, iterates: int,
                     rng: random.Random, max_degree: int = MAX_DEGREE) -> list[int]:
     """deg f^n, n = 1..iterates: the map iterated on x = a + t b (a, b random mod p), common factors in t cancelled;
     stops early when the next degree could exceed max_degree (d times the last one)."""
-    hom, d = homogenized_map_mod(kmap, values, prime)
+    hom, d = kmap.mod(prime, values).homogenized()
     tctx = flint.nmod_mpoly_ctx.get(("t",), prime, "lex")  # type: ignore[call-arg, arg-type]  # flint's stubs lag the API
     t = tctx.gen(0)
     point = [rng.randrange(prime) + rng.randrange(1, prime) * t for _ in kmap.variables] + [tctx.constant(1)]
@@ -203,7 +164,7 @@ def degree_growth(kmap: KahanMap, iterates: int, fixed: Mapping[str, Rational] |
         prime = random_prime(rng)
         values = {}
         for name in names:
-            v = value_mod(fixed[name], prime) if name in fixed else rng.randrange(1, prime)
+            v = residue_or_none(fixed[name], prime) if name in fixed else rng.randrange(1, prime)
             if v is None:
                 break
             values[name] = v

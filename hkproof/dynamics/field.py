@@ -18,6 +18,8 @@ TILDE = "_t"
 
 
 STEPS = ("eps", "h")
+STEP_CONVENTION = ("hkproof's eps is HALF the time step: x~ - x = 2 eps * (polarized field), i.e. h = 2 eps in the "
+                   "convention of Celledoni-McLachlan-Owren-Quispel")
 
 
 @dataclass(frozen=True)
@@ -69,6 +71,11 @@ class QuadraticField:
     def ring(self) -> Ring:
         """Z[x, eps, parameters]: where the Kahan map and its integrals live."""
         return get_ring(self.variables + (EPS,) + self.parameters)
+
+    @property
+    def control_names(self) -> tuple[str, ...]:
+        """eps and the parameters: the names a scene or a modular map fixes."""
+        return (EPS,) + self.parameters
 
     @property
     def tilde_variables(self) -> tuple[str, ...]:

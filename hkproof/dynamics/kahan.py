@@ -10,6 +10,7 @@ from hkproof.algebra.fraction import Frac, homogenized_compose, normalize_sign
 from hkproof.algebra.linalg import cramer_polynomials
 from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import EPS, TILDE, QuadraticField
+from hkproof.dynamics.modular_map import ModularKahanMap
 from hkproof.errors import ParseError, SingularPointError
 
 
@@ -53,6 +54,39 @@ class KahanMap:
                               for w in self.field.tilde_variables))
             rhs.append(-(e.subs(zero_tilde)).project_to_context(r.ctx))
         return tuple(rows), tuple(rhs)
+
+    @cached_property
+    def affine_matrix(self) -> tuple[tuple[tuple[dict, ...], ...], tuple[dict, ...]]:
+        """Each entry of M and b split as e0 + sum_k x_k e_k (keys None and k), the e's polynomials in eps and
+        the parameters: M and b are affine in x (eq. "Kahan gen" is bilinear)."""
+        m, b = self.matrix
+        return (tuple(tuple(self._split_affine(e) for e in row) for row in m),
+                tuple(self._split_affine(e) for e in b))
+
+    def _split_affine(self, e: flint.fmpz_mpoly) -> dict:
+        ring = self.ring
+        idx = [ring.index(v) for v in self.variables]
+        pieces: dict[int | None, dict] = {}
+        for mono, c in e.to_dict().items():
+            deg = [mono[i] for i in idx]
+            if sum(deg) > 1:
+                raise ParseError(f"{self} is not affine in the phase variables: entry {e}")
+            k = next((j for j, d in enumerate(deg) if d), None)
+            rest = list(mono)
+            if k is not None:
+                rest[idx[k]] = 0
+            pieces.setdefault(k, {})[tuple(rest)] = c
+        return {k: ring.ctx.from_dict(d) for k, d in pieces.items()}
+
+    def mod(self, p: int, values: Mapping[str, Rational]) -> ModularKahanMap:
+        """This map with eps and every parameter fixed, reduced mod the prime p (the last few are kept)."""
+        key = (p, tuple(sorted((k, str(v)) for k, v in values.items())))
+        cache = self.__dict__.setdefault("_modular", {})
+        if key not in cache:
+            if len(cache) > 8:
+                cache.clear()
+            cache[key] = ModularKahanMap(self, values, p)
+        return cache[key]
 
     @cached_property
     def explicit(self) -> tuple[tuple[flint.fmpz_mpoly, ...], flint.fmpz_mpoly]:

@@ -8,7 +8,6 @@ guessed in the parameters, is proven by an exact identity elsewhere.
 """
 from __future__ import annotations
 
-import itertools
 import random
 from dataclasses import dataclass
 from typing import Mapping, Sequence
@@ -17,6 +16,7 @@ import flint
 import sympy
 
 from hkproof.algebra.fraction import Frac
+from hkproof.algebra.monomials import exponents_upto
 from hkproof.algebra.linalg import nullspace_q
 from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.errors import HKProofError, SingularPointError
@@ -71,7 +71,7 @@ class DependenceSearch:
 def monomials(names: Sequence[str], degree: int, max_degree: Mapping[str, int] | None = None) -> list[Monomial]:
     """Exponent vectors of total degree <= degree, with optional caps per name (e.g. D <= 1 modulo a quadric)."""
     caps = [min(degree, (max_degree or {}).get(n, degree)) for n in names]
-    return [m for m in itertools.product(*(range(c + 1) for c in caps)) if sum(m) <= degree]
+    return sorted(m for m in exponents_upto(len(names), degree) if all(e <= c for e, c in zip(m, caps, strict=True)))
 
 
 def find_rational_relations(target: Frac, knowns: Mapping[str, Frac], values: Mapping[str, Rational],

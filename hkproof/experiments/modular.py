@@ -6,21 +6,12 @@ from typing import Sequence
 
 import flint
 
-from hkproof.errors import SingularPointError
-from hkproof.experiments.arithmetics import (Arithmetic, FieldArithmetic, Prepared, RawProfile, free_kernel,
-                                             pivot_columns, ranks_from_pivots)
+from hkproof.algebra.modular import kernel_mod_p, random_prime, residue
+from hkproof.errors import SingularPointError, UnluckyPrimeError
+from hkproof.experiments.arithmetics import Arithmetic, FieldArithmetic, Prepared, RawProfile, pivot_columns, \
+    ranks_from_pivots
 
-
-class UnluckyPrimeError(SingularPointError):
-    """A computation mod p failed where it may succeed over Q (a denominator or det M divisible by p)."""
-
-
-def random_prime(rng: random.Random, bits: int = 62) -> int:
-    """A random prime of the given size (nmod_mat takes moduli below 2^64)."""
-    while True:
-        n = flint.fmpz(rng.getrandbits(bits) | (1 << (bits - 1)) | 1)
-        if n.is_prime():
-            return int(n)
+__all__ = ["ModP", "Modular", "UnluckyPrimeError"]
 
 
 class ModP(FieldArithmetic):
@@ -32,30 +23,17 @@ class ModP(FieldArithmetic):
         self.name = f"mod {p}"
 
     def number(self, q: flint.fmpq) -> int:
-        den = int(q.q) % self.p
-        if den == 0:
-            raise UnluckyPrimeError(f"the denominator {q.q} is divisible by p = {self.p}")
-        return int(q.p) * pow(den, -1, self.p) % self.p
+        return residue(q, self.p)
 
     def prepare(self, scene, basis) -> Prepared:
         prep = super().prepare(scene, basis)
         if prep.matrices is None:
-            n = len(prep.rhs)
-            mat = lambda rows: flint.nmod_mat(rows, self.p)  # noqa: E731
-            prep.matrices = (mat([[e[0] for e in row] for row in prep.matrix]),
-                             [mat([[dict(e[1]).get(k, 0) for e in row] for row in prep.matrix]) for k in range(n)],
-                             mat([[e[0]] for e in prep.rhs]),
-                             mat([[dict(e[1]).get(k, 0) for k in range(n)] for e in prep.rhs]))
+            prep.matrices = scene.kmap.mod(self.p, scene.fixed)
         return prep
 
     def step(self, prep: Prepared, x: Sequence[int]) -> list[int]:
-        """M(x) = M0 + sum_k x_k M_k and b(x) = b0 + B x as nmod_mat operations, then one solve."""
-        m0, mk, b0, bmat = prep.matrices
-        m = m0
-        for k, v in enumerate(x):
-            if v:
-                m = m + mk[k] * v
-        return self._solve(m, b0 + bmat * flint.nmod_mat([[v] for v in x], self.p))
+        """x~ by the modular Kahan map (one nmod_mat solve)."""
+        return prep.matrices.step(x)
 
     def _solve(self, m: flint.nmod_mat, b: flint.nmod_mat) -> list[int]:
         try:
@@ -90,9 +68,7 @@ class ModP(FieldArithmetic):
         return ranks_from_pivots(pivot_columns(r, rank), len(rows)), {"prime": self.p}
 
     def kernel(self, raw: RawProfile, d: int) -> list[list[int]]:
-        rows = raw.rows[:len(raw.rows[0]) - d]
-        r, rank = flint.nmod_mat(rows, self.p).rref()
-        return free_kernel(r, rank, len(rows[0]), lambda i, j: 0 if i is None else int(r[i, j]), self.p - 1)
+        return kernel_mod_p(raw.rows[:len(raw.rows[0]) - d], self.p)
 
 
 class Modular(Arithmetic):

@@ -6,7 +6,7 @@ generic line, found by univariate interpolation in a handful of samples (`line_d
 = 0 with those degrees is linear in the coefficients; each exact sample gives one row. A rank test mod p comes first
 (full column rank mod p means no solution over Q either), then the one-dimensional null space is found exactly
 (fraction-free) and the result is checked at fresh samples. The caller sets scaled names to 1 while sampling and
-restores them by weighted homogeneity (hkproof.experiments.discovery.restore_weights).
+restores them by weighted homogeneity (hkproof.pipelines.discover.reconstruct.restore_weights).
 """
 from __future__ import annotations
 
@@ -18,9 +18,10 @@ from typing import Callable, Sequence
 import flint
 
 from hkproof.algebra.fraction import Frac
+from hkproof.algebra.modular import kernel_mod_p, residue_or_none
+from hkproof.algebra.monomials import count_upto, exponents_upto, value
 from hkproof.algebra.ring import Ring
-from hkproof.experiments.arithmetics import free_kernel, integer_rows
-from hkproof.experiments.relations import _monomial_value
+from hkproof.experiments.arithmetics import integer_rows
 
 Point = dict[str, flint.fmpq]
 # sample(outer values, inner points) -> the function's value at each point (None where it is undefined)
@@ -37,30 +38,6 @@ class Reconstruction:
     samples: int
     checks: int = 0
     notes: list[str] = field(default_factory=list)
-
-
-def monomials_upto(count: int, degree: int) -> list[tuple[int, ...]]:
-    """Exponent vectors in `count` variables of total degree <= degree, highest degree first."""
-    out: list[tuple[int, ...]] = []
-
-    def rec(prefix: tuple[int, ...], left: int) -> None:
-        if len(prefix) == count - 1:
-            out.append(prefix + (left,))
-            return
-        for e in range(left, -1, -1):
-            rec(prefix + (e,), left - e)
-    for total in range(degree, -1, -1):
-        if count == 0:
-            if total == 0:
-                out.append(())
-            continue
-        rec((), total)
-    return out
-
-
-def _mod(q: flint.fmpq, p: int) -> int | None:
-    den = int(q.q) % p
-    return None if den == 0 else int(q.p) * pow(den, -1, p) % p
 
 
 class _Samples:
@@ -151,14 +128,6 @@ def _fit(ts: Sequence[int], vs: Sequence, e: int, modulus: int | None) -> tuple[
     return top(p), top(q)
 
 
-def kernel_mod_p(rows: list[list[int]], p: int) -> list[list[int]]:
-    """A basis of the right kernel mod p (free columns set to -1)."""
-    if not rows:
-        return []
-    r, rank = flint.nmod_mat(rows, p).rref()
-    return free_kernel(r, rank, len(rows[0]), lambda i, j: 0 if i is None else int(r[i, j]), p - 1)
-
-
 def _kernel_vector_mod_p(rows: list[list[int]], p: int) -> list[int] | None:
     kernel = kernel_mod_p(rows, p)
     return kernel[0] if len(kernel) == 1 else None
@@ -166,7 +135,7 @@ def _kernel_vector_mod_p(rows: list[list[int]], p: int) -> list[int] | None:
 
 def dense_size(variables: int, degrees: tuple[int, int]) -> int:
     """Unknowns of the dense ansatz h Q - P = 0 with deg P <= degrees[0], deg Q <= degrees[1]."""
-    return sum(math.comb(variables + d, d) for d in degrees)
+    return sum(count_upto(variables, d) for d in degrees)
 
 
 def reconstruct_rational(ring: Ring, outer: Sequence[str], inner: Sequence[str], sample: Sampler,
@@ -177,13 +146,13 @@ def reconstruct_rational(ring: Ring, outer: Sequence[str], inner: Sequence[str],
     names = list(outer) + list(inner)
     samples = _Samples(sample, outer, inner, random.Random(seed), size)
     result = Reconstruction(None, None, 0)
-    p_monos, q_monos = (monomials_upto(len(names), d) for d in degrees)
+    p_monos, q_monos = (exponents_upto(len(names), d) for d in degrees)
     unknowns = len(p_monos) + len(q_monos)
-    outer_draws = len(monomials_upto(len(outer), max(degrees))) + 2 if outer else 1
+    outer_draws = count_upto(len(outer), max(degrees)) + 2 if outer else 1
     samples.extend(unknowns + 6, outer_draws)
     hs = [v for _, v in samples.rows]
-    vals = ([_monomial_value(m, pt) for m in q_monos] for pt, _ in samples.rows)
-    pvals = ([_monomial_value(m, pt) for m in p_monos] for pt, _ in samples.rows)
+    vals = ([value(m, pt) for m in q_monos] for pt, _ in samples.rows)
+    pvals = ([value(m, pt) for m in p_monos] for pt, _ in samples.rows)
     rows = [[h * v for v in qv] + [-v for v in pv] for h, qv, pv in zip(hs, vals, pvals, strict=True)]
     result.samples = len(samples.rows)
     if not _has_kernel_mod_p(rows):
@@ -208,7 +177,7 @@ def _has_kernel_mod_p(rows: list[list[flint.fmpq]]) -> bool:
     """False only when the matrix has full column rank mod p (then also over Q)."""
     red: list[list[int]] = []
     for row in rows:
-        r = [_mod(v, PRIME) for v in row]
+        r = [residue_or_none(v, PRIME) for v in row]
         if any(v is None for v in r):
             return True
         red.append([v for v in r if v is not None])

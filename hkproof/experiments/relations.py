@@ -13,6 +13,7 @@ import sympy
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import nullspace_q, q_matrix
+from hkproof.algebra.monomials import exponents_upto, value as monomial_value
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
@@ -123,26 +124,6 @@ class CoordinateSampler:
         return [[echelon[i, j] for j in range(self.width)] for i in range(rank)]
 
 
-def _monomials(names: Sequence[str], degree: int) -> list[tuple[int, ...]]:
-    """Exponent vectors of total degree <= degree."""
-    out = []
-    for total in range(degree + 1):
-        for combo in itertools.combinations_with_replacement(range(len(names)), total):
-            e = [0] * len(names)
-            for i in combo:
-                e[i] += 1
-            out.append(tuple(e))
-    return out
-
-
-def _monomial_value(exps: Sequence[int], point: Sequence[flint.fmpq]) -> flint.fmpq:
-    v = flint.fmpq(1)
-    for x, e in zip(point, exps, strict=True):
-        if e:
-            v *= x ** e
-    return v
-
-
 def find_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], *, names: Sequence[str] | None = None,
                    values: Mapping[str, Rational] | None = None, max_degree: int = 6, checks: int = 3,
                    seed: int = 0) -> RelationSearch:
@@ -216,12 +197,12 @@ class _Interpolation:
         columns = list(columns)
         found = list(found)
         for degree in range(max_degree + 1):
-            monos = _monomials(self.free, degree)
+            monos = exponents_upto(len(self.free), degree, highest_first=False)
             while sum(len(s) for _, s in self.samples) < len(columns) * len(monos) + 8:
                 self.samples.append(self.sample())
             equations = []
             for t, space in self.samples:
-                mvals = [_monomial_value(m, t) for m in monos]
+                mvals = [monomial_value(m, t) for m in monos]
                 for row in space:
                     equations.append([row[k] * mv for k in columns for mv in mvals])
             for vec in sorted(nullspace_q(equations), key=lambda v: sum(1 for c in v if c != 0)):
@@ -291,7 +272,7 @@ def _default_names(bases: Sequence[Sequence[Frac]]) -> list[str]:
 
 
 def _eval(poly: dict[tuple[int, ...], flint.fmpq], t: Sequence[flint.fmpq]) -> flint.fmpq:
-    return sum((c * _monomial_value(m, t) for m, c in poly.items()), flint.fmpq(0))
+    return sum((c * monomial_value(m, t) for m, c in poly.items()), flint.fmpq(0))
 
 
 def _rank_at(relations, t) -> int:

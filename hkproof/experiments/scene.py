@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import Mapping, Sequence
 
 import flint
@@ -48,33 +47,10 @@ def make_scene(kmap: KahanMap, values: Mapping[str, Rational]) -> Scene:
     if missing:
         raise ParseError(f"a scene of {kmap.field.name} needs values for {missing}")
     fixed = tuple((n, to_fmpq(values[n])) for n in names)
-    m_parts, b_parts = affine_parts(kmap)
+    m_parts, b_parts = kmap.affine_matrix
     matrix = tuple(tuple(_evaluate_affine(kmap, e, fixed) for e in row) for row in m_parts)
     rhs = tuple(_evaluate_affine(kmap, e, fixed) for e in b_parts)
     return Scene(kmap, fixed, matrix, rhs)
-
-
-@lru_cache(maxsize=None)
-def affine_parts(kmap: KahanMap) -> tuple:
-    """Each entry of M and b split as e0 + sum_k x_k e_k, the e's polynomials in eps and parameters."""
-    m, b = kmap.matrix
-    return tuple(tuple(_split_affine(kmap, e) for e in row) for row in m), tuple(_split_affine(kmap, e) for e in b)
-
-
-def _split_affine(kmap: KahanMap, e: flint.fmpz_mpoly) -> dict:
-    ring = kmap.ring
-    idx = [ring.index(v) for v in kmap.variables]
-    pieces: dict[int | None, dict] = {}
-    for mono, c in e.to_dict().items():
-        deg = [mono[i] for i in idx]
-        if sum(deg) > 1:
-            raise ParseError(f"{kmap} is not affine in the phase variables: entry {e}")
-        k = next((j for j, d in enumerate(deg) if d), None)
-        rest = list(mono)
-        if k is not None:
-            rest[idx[k]] = 0
-        pieces.setdefault(k, {})[tuple(rest)] = c
-    return {k: ring.ctx.from_dict(d) for k, d in pieces.items()}
 
 
 def _evaluate_affine(kmap: KahanMap, parts: dict, fixed: tuple) -> AffineEntry:

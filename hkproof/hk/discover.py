@@ -1,18 +1,15 @@
-"""`discover`, the exact half: certify reconstructed integrals, sort out trivial ones, prove independence, report.
+"""`discover`, the exact half: certify reconstructed integrals, sort out trivial ones, prove independence.
 
-The search (algorithm (N) on monomial bases, kernels, reconstruction) lives in hkproof.experiments.discovery;
+The search (algorithm (N) on monomial bases, kernels, reconstruction) lives in hkproof.pipelines.discover;
 everything it finds passes through here before it is called an integral: h o f = h by substitution
 (`check_integral`, every remaining parameter symbolic) and functional independence by an exact Jacobian rank at
 a rational point (a full rank at one point proves independence).
 """
 from __future__ import annotations
 
-import time
-from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
 import flint
-import sympy
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational
@@ -26,35 +23,7 @@ from hkproof.hk.reduced import Relation, solve_reduced_system
 from hkproof.hk.row_check import check_solution_by_rows
 from hkproof.proof.status import Status
 
-
-SKIPPED_SHOWN = 40       # kernel coordinates too large to reconstruct: the first ones are listed, all are counted
-
-
-@dataclass
-class FoundIntegral:
-    """A candidate integral: its formula (None if not reconstructed), its status and where it came from."""
-
-    name: str
-    frac: Frac | None
-    status: Status
-    kind: str                     # "kernel coordinate" or "conserved coordinate"
-    basis: list[str] = field(default_factory=list)
-    coordinate: str = ""
-    seconds: float = 0.0
-    method: str = ""
-    notes: list[str] = field(default_factory=list)
-    independent: bool | None = None
-
-    def latex(self) -> str:
-        if self.frac is None:
-            return ""
-        return sympy.latex(sympy.factor(self.frac.to_sympy()), symbol_names={sympy.Symbol("eps"): r"\varepsilon"})
-
-    def to_dict(self) -> dict:
-        return {"name": self.name, "expr": None if self.frac is None else str(self.frac),
-                "status": self.status.label, "kind": self.kind, "basis": self.basis, "coordinate": self.coordinate,
-                "seconds": round(self.seconds, 3), "method": self.method, "independent": self.independent,
-                "notes": self.notes}
+__all__ = ["certify", "independent_subset", "is_phase_constant", "jacobian_points", "solve_by_evenness"]
 
 
 def certify(kmap: KahanMap, h: Frac, fixed: Mapping[str, Rational] | None = None) -> tuple[Status, str]:
@@ -118,49 +87,6 @@ def independent_subset(functions: Sequence[Frac], variables: Sequence[str],
             except SingularPointError:
                 continue
     return chosen
-
-
-@dataclass
-class DiscoveryReport:
-    """What `discover` found and how far it got (JSON: see docs/discover.md)."""
-
-    system: str
-    variables: list[str]
-    parameters: list[str]
-    degree: int
-    fixed: dict[str, str] = field(default_factory=dict)
-    integrals: list[FoundIntegral] = field(default_factory=list)
-    bases: list[dict] = field(default_factory=list)
-    kernels: list[dict] = field(default_factory=list)
-    conserved: list[str] = field(default_factory=list)
-    trivial: list[dict] = field(default_factory=list)
-    skipped: list[dict] = field(default_factory=list)
-    expected_independent: int | None = None
-    negative: str = ""
-    covered: list[str] = field(default_factory=list)
-    complete: bool = True
-    stages: dict[str, float] = field(default_factory=dict)
-    probes: list[dict] = field(default_factory=list)
-    started: float = field(default_factory=time.perf_counter)
-
-    @property
-    def independent(self) -> int:
-        return sum(1 for i in self.integrals if i.independent)
-
-    @property
-    def verified(self) -> list[FoundIntegral]:
-        return [i for i in self.integrals if i.status >= Status.VERIFIED_SPECIALIZED]
-
-    def to_dict(self) -> dict:
-        return {"system": self.system, "degree": self.degree, "dimension": len(self.variables),
-                "variables": self.variables, "parameters": self.parameters, "fixed": self.fixed,
-                "integrals": [i.to_dict() for i in self.integrals], "independent": self.independent,
-                "independent_expected_from_kernels": self.expected_independent,
-                "bases": self.bases, "kernels": self.kernels, "conserved": self.conserved, "trivial": self.trivial,
-                "skipped": self.skipped[:SKIPPED_SHOWN], "skipped_total": len(self.skipped),
-                "negative_result": self.negative or None, "covered": self.covered, "complete": self.complete,
-                "stages": {k: round(v, 3) for k, v in self.stages.items()}, "probes": self.probes,
-                "seconds": round(time.perf_counter() - self.started, 3)}
 
 
 def jacobian_points(names: Sequence[str], count: int = 3, seed: int = 11) -> list[dict[str, flint.fmpq]]:

@@ -4,10 +4,10 @@
 are preserved by the Kahan map.  Both are constructed here and checked exactly."""
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from typing import Sequence
 
+from hkproof.algebra import formula
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import cramer, det, lcm
 from hkproof.dynamics.field import EPS
@@ -24,13 +24,13 @@ class NotHamiltonianError(ParseError):
 
 def parse_matrix(kmap: KahanMap, text: str) -> list[list[Frac]]:
     """A square matrix written '[[a, b], [c, d]]' or 'a, b; c, d', entries read by Frac.parse."""
-    body = re.sub(r"\]\s*,\s*\[", ";", text.strip())
-    body = body.strip()
-    while body.startswith("[") and body.endswith("]"):
-        body = body[1:-1].strip()
-    if "[" in body or "]" in body:
+    body = text.strip()
+    if body.startswith("["):
+        rows = formula.parse_matrix(kmap.ring, body)
+    elif "[" in body or "]" in body:
         raise ParseError(f"cannot read the matrix {text!r}: write it as [[a, b], [c, d]] or 'a, b; c, d'")
-    rows = [[Frac.parse(kmap.ring, e) for e in row.split(",")] for row in body.split(";")]
+    else:
+        rows = [[Frac.parse(kmap.ring, e) for e in formula.split_list(row, "row")] for row in body.split(";")]
     n = len(kmap.variables)
     if len(rows) != n or any(len(r) != n for r in rows):
         raise NotHamiltonianError(f"the Poisson matrix must be {n} x {n} for {kmap.field.name} "

@@ -85,11 +85,14 @@ def claim(id: str, group: str, title: str, paper_ref: str, statement: str,
 
 
 def load_all() -> dict[str, Claim]:
-    """Import every module of hkproof.theorems, which registers its claims (loaded by name, like plug-ins: the
-    theorems sit above the registry and import it, never the other way)."""
+    """Import every theorem group of hkproof.theorems (in the paper's order, hkproof.theorems.GROUPS, then any other),
+    which registers its claims (loaded by name, like plug-ins: the theorems sit above the registry and import it,
+    never the other way)."""
     pkg = importlib.import_module("hkproof.theorems")
-    for mod in pkgutil.iter_modules(pkg.__path__):
-        importlib.import_module(f"{pkg.__name__}.{mod.name}")
+    names = [m.name for m in pkgutil.iter_modules(pkg.__path__) if not m.name.startswith("_")]
+    ordered = [g for g in getattr(pkg, "GROUPS", ()) if g in names] + sorted(set(names) - set(pkg.GROUPS))
+    for name in ordered:
+        importlib.import_module(f"{pkg.__name__}.{name}")
     return REGISTRY
 
 

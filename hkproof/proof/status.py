@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from enum import IntEnum
+from typing import Mapping
 
 
 class Status(IntEnum):
@@ -28,3 +29,14 @@ class Status(IntEnum):
     @property
     def is_verified(self) -> bool:
         return self is Status.VERIFIED
+
+
+def specialized_label(status: Status, fixed: Mapping[str, object]) -> str:
+    """The label of a status, as verified(specialized: a=1, ...) when a verified result holds at fixed values only.
+
+    >>> specialized_label(Status.VERIFIED, {"a": 1}), specialized_label(Status.VERIFIED, {})
+    ('verified(specialized: a=1)', 'verified')
+    """
+    if fixed and status >= Status.VERIFIED_SPECIALIZED:
+        return f"verified(specialized: {', '.join(f'{k}={v}' for k, v in fixed.items())})"
+    return status.label

@@ -3,11 +3,11 @@ from __future__ import annotations
 
 import itertools
 import random
-import re
 from typing import Mapping, Sequence
 
 import flint
 
+from hkproof.algebra.formula import indexed, rename
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import cramer, nullspace_q, rank_over_fraction_field
 from hkproof.algebra.ring import Rational
@@ -40,7 +40,7 @@ from hkproof.proof.certificate import Certificate, StepRecorder
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import H, named, recall, record, shift_frac
 from hkproof.theorems._common import parse_matrix
-from hkproof.theorems._flows import (
+from hkproof.theorems.clebsch_flows.data import (
     B_OF_YZ,
     C_OF_YZ,
     CYCLIC,
@@ -54,9 +54,9 @@ from hkproof.theorems._flows import (
     yz_map,
     yz_map_at_z0,
 )
-from hkproof.theorems.s6b_clebsch_bases_345 import REL18, relation_rows
-from hkproof.theorems.s6b_clebsch_bases_345 import UNKNOWNS as ABC_NAMES
-from hkproof.theorems.s6b_clebsch_bases_345 import bases as phi_bases
+from hkproof.theorems.clebsch_bases_345.data import REL18, relation_rows
+from hkproof.theorems.clebsch_bases_345.data import UNKNOWNS as ABC_NAMES
+from hkproof.theorems.clebsch_bases_345.data import bases as phi_bases
 
 GROUP = "clebsch-flows"
 FLOW2 = "clebsch-flow2"
@@ -85,10 +85,12 @@ M_PAPER = ("[[1, eps*c23*m3, eps*c23*m2, 0, eps*b23*p3, eps*b23*p2],"
            " [eps*c1*p2, -eps*c2*p1, 0, -eps*c2*m2, eps*c1*m1, 1]]")
 
 
+DIFFERENCES = {f"{x}{i}{j}": f"({x}{i} - {x}{j})" for x in "cb" for i in "123" for j in "123"}   # c_ij, b_ij
+
+
 def _with_c(text: str) -> str:
     """Replace c_ij, b_ij and c_k by their expressions through b and w (eq. "c thru b")."""
-    text = re.sub(r"\b([cb])([123])([123])\b", lambda m: f"({m.group(1)}{m.group(2)} - {m.group(1)}{m.group(3)})", text)
-    return re.sub(r"\bc([123])\b", lambda m: f"({C_THRU_B['c' + m.group(1)]})", text)
+    return rename(rename(text, DIFFERENCES), {k: f"({v})" for k, v in C_THRU_B.items()})
 
 
 @claim("flow-general-map", GROUP, "The general Clebsch flow: Kahan map, eq. \"dC2\", matrix M, flows 1 and 2",
@@ -230,10 +232,6 @@ SECOND = {
 }
 
 
-def _ijk(text: str, i: int, j: int, k: int) -> str:
-    """The formula with the index placeholders _i, _j, _k set."""
-    return text.replace("_i", str(i)).replace("_j", str(j)).replace("_k", str(k))
-
 
 
 def _e_as_functions_of_l(cert: Certificate, s: StepRecorder, f: KahanMap, rels: Sequence, names: Sequence[str],
@@ -351,18 +349,18 @@ def _continuous_limit(cert: Certificate, f: KahanMap, claimed: Mapping[str, str]
         cert.formula("L(x,0)", "-2*w1*w2*w3*H1 + (w1*w2 + w2*w3 + w3*w1)*H2 + 2*w1*w2*w3*(w1 + w2 + w3)*H3")
     with cert.step("w_j E_i - w_i E_j = (w_i - w_j) E_k", "exact, all six permutations (i, j, k)", r) as s:
         for i, j, k in itertools.permutations((1, 2, 3)):
-            s.require(named(f, _ijk(claimed["identity"], i, j, k), known).is_zero(), f"identity fails for {(i, j, k)}")
+            s.require(named(f, indexed(claimed["identity"], i=i, j=j, k=k), known).is_zero(), f"identity fails for {(i, j, k)}")
     with cert.step("eq. \"c thru b\" for the coefficients of L(x, 0)", "exact; printed and corrected b_i", r) as s:
         def holds(b_text: str) -> bool:
-            bs = {f"b{i}": named(f, _ijk(b_text, i, j, k), known) for i, j, k in ((1, 2, 3), (2, 3, 1), (3, 1, 2))}
-            cs = {i: named(f, _ijk(claimed["c_of_L0"], i, j, k), known)
+            bs = {f"b{i}": named(f, indexed(b_text, i=i, j=j, k=k), known) for i, j, k in ((1, 2, 3), (2, 3, 1), (3, 1, 2))}
+            cs = {i: named(f, indexed(claimed["c_of_L0"], i=i, j=j, k=k), known)
                   for i, j, k in ((1, 2, 3), (2, 3, 1), (3, 1, 2))}
             return all(cs[i] == named(f, C_THRU_B[f"c{i}"], bs) for i in (1, 2, 3))
-        corrected = claimed["b_of_L0"].replace("E_j", "E_i")     # the one wrong index of the printed b_i
-        readings = (claimed["b_of_L0"], claimed["b_of_L0"].replace("E_j", "E_k"))    # (i, j, k) cyclic or not
+        corrected = rename(claimed["b_of_L0"], {"E_j": "E_i"})     # the one wrong index of the printed b_i
+        readings = (claimed["b_of_L0"], rename(claimed["b_of_L0"], {"E_j": "E_k"}))    # (i, j, k) cyclic or not
         printed_ok = any(holds(b_text) for b_text in readings)
         s.require(holds(corrected), f"eq. \"c thru b\" fails for b_i = {corrected}, c_i = {claimed['c_of_L0']}")
-        parts = {i: named(f, _ijk(f"{claimed['c_of_L0']}*m_i**2 + ({corrected})*p_i**2", i, j, k), known)
+        parts = {i: named(f, indexed(f"{claimed['c_of_L0']}*m_i**2 + ({corrected})*p_i**2", i=i, j=j, k=k), known)
                  for i, j, k in ((1, 2, 3), (2, 3, 1), (3, 1, 2))}
         s.require_equal(sum(parts.values(), Frac(r, 0)), l0, "L(x, 0) = sum c_i m_i^2 + b_i p_i^2")
         if not printed_ok:
@@ -376,17 +374,12 @@ def _continuous_limit(cert: Certificate, f: KahanMap, claimed: Mapping[str, str]
 
 # ---------------------------------------------------------------- every flow: b symbolic ------------------------
 def _cyc(text: str) -> dict[str, str]:
-    """Three cyclic instances of a template with _i, _j, _k (keys suffixed 1, 2, 3)."""
-    return {str(i + 1): _ijk(text, i + 1, j + 1, k + 1) for i, j, k in CYCLIC}
-
-
-def _fix_plus3(text: str) -> str:
-    """e{_i+3} in a template -> e4, e5, e6 after the index was set."""
-    return re.sub(r"e\{(\d)\+3\}", lambda m: f"e{int(m.group(1)) + 3}", text)
+    """Three cyclic instances of a template with indices _i, _j, _k and _l = _i + 3 (keys 1, 2, 3)."""
+    return {str(i + 1): indexed(text, i=i + 1, j=j + 1, k=k + 1, l=i + 4) for i, j, k in CYCLIC}
 
 
 GENERAL_CLAIM = {
-    **{f"rel{n}": _fix_plus3(v) for n, v in _cyc("z*c_i*e_i - c_j*c_k*e{_i+3} = 0").items()},
+    **{f"rel{n}": f"{v} = 0" for n, v in _cyc("z*c_i*e_i - c_j*c_k*e_l").items()},
     "rel4": "e1 - e2 - (w1 - w2)*e6 = eps**2*c3**2*(w1 - w2)",
     "rel5": "e3 - e1 - (w3 - w1)*e5 = eps**2*c2**2*(w3 - w1)",
     "rel6": "e2 - e3 - (w2 - w3)*e4 = eps**2*c1**2*(w2 - w3)",
@@ -459,7 +452,7 @@ def prove_general_phi0(cert: Certificate, claimed: Mapping[str, str]) -> None:
 
 def _substitute_c(text: str) -> str:
     """c_k -> (y + z w_k) in a relation's text (E_k do not occur in relations)."""
-    return re.sub(r"\bc([123])\b", lambda m: C_OF_YZ[int(m.group(1)) - 1], text)
+    return rename(text, {f"c{k + 1}": c for k, c in enumerate(C_OF_YZ)})
 
 
 # ---------------------------------------------------------------- the second flow's Phi1, Phi2, Phi3: discovery ---
@@ -676,7 +669,7 @@ def _theta_relation(cert: Certificate, f: KahanMap, c_of: Sequence[str], big_l: 
     with cert.step("the relation in L", "coefficients polynomials in L (an even integral); parameters symbolic",
                    r) as s:
         s.require(big_l.is_even_in("eps"), "L is not even in eps")
-        lhs = re.sub(r"\bc([123])\b", lambda m: c_of[int(m.group(1)) - 1], relation.split("=")[0])
+        lhs = rename(relation.split("=")[0], {f"c{k + 1}": c for k, c in enumerate(c_of)})
         unit = {n: Frac(r, 0) for n in THETA_NAMES}
         coefficients = [named(f, lhs, {"L": big_l, **unit, k: Frac(r, 1)}) for k in THETA_NAMES]
         s.require(named(f, relation.split("=")[1], {"L": big_l}).is_zero(), "the relation is not homogeneous")

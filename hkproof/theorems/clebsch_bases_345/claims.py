@@ -1,7 +1,7 @@
 """Section 6.7: Th. "dC bases 345" (bases Phi1, Phi2, Phi3): relations rel18, M2 with A, B, C, D, Step 1."""
 from __future__ import annotations
 
-from typing import Mapping, Sequence
+from typing import Mapping
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import rank_over_fraction_field, solve_by_inverse
@@ -13,65 +13,15 @@ from hkproof.experiments.relations import find_relations
 from hkproof.hk.block_system import BlockSystem, determined_components
 from hkproof.hk.expansion import homogeneous_eps_pieces
 from hkproof.hk.independence import jacobian_rank_at, sample_point
-from hkproof.hk.linear_relations import (
-    parse_relation_chain,
-    relation_rank,
-    same_relation,
-)
+from hkproof.hk.linear_relations import relation_rank, same_relation
 from hkproof.hk.reduced import Relation, linear_combination_equals
 from hkproof.hk.transport import Substitution
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate, Refuted
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import SYSTEM, X, named, recall, record
-
-GROUP = "clebsch-bases-345"
-COMMON = ("p1**2", "p2**2", "p3**2", "m1**2", "m2**2", "m3**2")
-TARGETS = ("m1*p1", "m2*p2", "m3*p3")
-UNKNOWNS = tuple(f"{c}{j}" for c in "abc" for j in range(1, 7))   # a_j = alpha_j, b_j = beta_j, c_j = gamma_j
-
-REL18 = {
-    "rel18_1": "(w1 - w3)*a5 = (w1 - w2)*a6",
-    "rel18_2": "(w2 - w3)*b4 = (w2 - w1)*b6",
-    "rel18_3": "(w3 - w2)*c4 = (w3 - w1)*c5",
-    "rel18_4": "a4 = b5 = c6",
-    "rel18_6": "(a2 - a3 - (w2 - w3)*a4)/(w2 - w3) = (b2 - b3 - (w2 - w3)*b4)/(w3 - w1)"
-               " = (c2 - c3 - (w2 - w3)*c4)/(w1 - w2)",
-    "rel18_8": "(a3 - a1 - (w3 - w1)*a5)/(w2 - w3) = (b3 - b1 - (w3 - w1)*b5)/(w3 - w1)"
-               " = (c3 - c1 - (w3 - w1)*c5)/(w1 - w2)",
-}
-REL18_EXTRA = ("(a1 - a2 - (w1 - w2)*a6)/(w2 - w3) = (b1 - b2 - (w1 - w2)*b6)/(w3 - w1)"
-               " = (c1 - c2 - (w1 - w2)*c6)/(w1 - w2)")
-F_TEXT = "(w2 - w3)*a1 + (w3 - w1)*a2 + (w1 - w2)*a3"
-M2 = ("a4 = D, a5 = A/(w1 - w3), a6 = A/(w1 - w2), b4 = B/(w2 - w3), b5 = D, b6 = B/(w2 - w1), "
-      "c4 = C/(w3 - w2), c5 = C/(w3 - w1), c6 = D")
-ADD = {
-    "add_1": "a4 - b4 - c4 = d7/2", "add_2": "-a5 + b5 - c5 = d8/2", "add_3": "-a6 - b6 + c6 = d9/2",
-    "add_4": "a4 + b4 + c4 = g4", "add_5": "a5 + b5 + c5 = g5", "add_6": "a6 + b6 + c6 = g6",
-}
-ADD_ABCD = {
-    "add_1_abcd": "D - (B - C)/(w2 - w3) = d7/2", "add_2_abcd": "D - (C - A)/(w3 - w1) = d8/2",
-    "add_3_abcd": "D - (A - B)/(w1 - w2) = d9/2", "add_4_abcd": "D + (B - C)/(w2 - w3) = g4",
-    "add_5_abcd": "D + (C - A)/(w3 - w1) = g5", "add_6_abcd": "D + (A - B)/(w1 - w2) = g6",
-}
-ABCD_DEPENDENCE = ("D**2 - A*B/((w1 - w3)*(w2 - w3)) - B*C/((w2 - w1)*(w3 - w1)) "
-                   "- C*A/((w3 - w2)*(w1 - w2)) = 0")
-A_2 = "m1**2 + m2**2 + m3**2 + (w2 + w3 - 2*w1)*p1**2 + (w3 + w1 - 2*w2)*p2**2 + (w1 + w2 - 2*w3)*p3**2"
-D_4 = ("(m1*p1 + m2*p2 + m3*p3)**2 + (p1**2 + p2**2 + p3**2)*((w2 + w3 - 2*w1)*p1**2 "
-       "+ (w3 + w1 - 2*w2)*p2**2 + (w1 + w2 - 2*w3)*p3**2)")
-
-
-def bases(f) -> list[list[Frac]]:
-    """Phi1, Phi2, Phi3 of eqs. "dC basis Psi1" ... "dC basis Psi3" (the last element is the normalized one)."""
-    common = [Frac.parse(f.ring, t) for t in COMMON]
-    return [common + [Frac.parse(f.ring, t)] for t in TARGETS]
-
-
-def relation_rows(f, text: str, unknowns: Sequence[str] = UNKNOWNS,
-                  known: Mapping[str, Frac] | None = None) -> list[Relation]:
-    """A printed chain of this section as relations among alpha_j, beta_j, gamma_j (the default unknowns)."""
-    return parse_relation_chain(f.ring, text, unknowns, known)
-
+from hkproof.theorems.clebsch_bases_345.data import (ABCD_DEPENDENCE, ADD, ADD_ABCD, A_2, BLOCK, COMMON, D_4, GROUP, M2,
+                                                     REL18, REL18_EXTRA, UNKNOWNS, bases, relation_rows)
 
 # -- rel18: the nine relations, found again by recipe (E) ---------------------------------------------------------
 @claim("dc345-relations", GROUP,
@@ -249,7 +199,6 @@ def prove_abcd(cert: Certificate, claimed: Mapping[str, str]) -> None:
 
 # -- Step 1: the 17 x 18 system ---------------------------------------------------------------------------------
 STEP1_RELATIONS = ("rel18_1", "rel18_2", "rel18_3", "rel18_4", "rel18_6", "rel18_8")
-BLOCK = {c: [UNKNOWNS.index(f"{c}{j}") for j in range(1, 7)] for c in "abc"}
 J456 = [BLOCK[c][j] for c in "abc" for j in (3, 4, 5)]
 
 

@@ -15,16 +15,8 @@ from hkproof.hk.reduced import Relation, linear_combination_equals
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate
 from hkproof.theorems._clebsch import SYSTEM, TRANSLATION, X, named, recall, record
-from hkproof.theorems.s6a_clebsch_kernels import POINTS, phi_max_profiles
-from hkproof.theorems.s6b_clebsch_bases_345 import (
-    BLOCK,
-    F_TEXT,
-    GROUP,
-    REL18,
-    UNKNOWNS,
-    bases,
-    relation_rows,
-)
+from hkproof.theorems.clebsch_bases_345.data import BLOCK, F_TEXT, GROUP, REL18, UNKNOWNS, bases, relation_rows
+from hkproof.theorems.clebsch_kernels import POINTS, phi_max_profiles
 
 ALPHA123 = {"a1": "H3 - I1", "a2": "-I1", "a3": "-I1", "b1": "-I2", "b2": "H3 - I2", "b3": "-I2",
             "c1": "-I3", "c2": "-I3", "c3": "H3 - I3"}

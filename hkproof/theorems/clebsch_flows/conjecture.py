@@ -16,11 +16,11 @@ from hkproof.hk.transport import Substitution
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate
 from hkproof.theorems._clebsch import recall
-from hkproof.theorems.s6b_clebsch_bases_345 import UNKNOWNS
-from hkproof.theorems.s6b_clebsch_steps import kernel_vectors
-from hkproof.theorems.s6b_second_flow_bases import embedded_vectors, max_basis_facts
-from hkproof.theorems.s6c_clebsch_flows import FIRST, FLOW2, GROUP, PHI_MAX_TEXT, RANK_POINT, reduction_substitutions
-from hkproof.theorems._flows import yz_map, yz_map_at_z0
+from hkproof.theorems.clebsch_bases_345.data import UNKNOWNS
+from hkproof.theorems.clebsch_bases_345.steps import kernel_vectors
+from hkproof.theorems.clebsch_flows.second_flow_bases import embedded_vectors, max_basis_facts
+from hkproof.theorems.clebsch_flows.general import FIRST, FLOW2, GROUP, PHI_MAX_TEXT, RANK_POINT, reduction_substitutions
+from hkproof.theorems.clebsch_flows.data import yz_map, yz_map_at_z0
 
 STATEMENT = ("For every flow of the Clebsch system (b_k = s + y w_k - z w_i w_j, i.e. b and w arbitrary; w, y, z, eps "
              "symbolic): Phi0 = (p^2, m^2, 1) and Phi_k = (p^2, m^2, m_k p_k) are HK-bases with one-dimensional "

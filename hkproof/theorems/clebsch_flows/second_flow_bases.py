@@ -27,8 +27,8 @@ from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate, Refuted, StepRecorder
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import commutes_with_shift, recall, record, shift_frac
-from hkproof.theorems.s6b_clebsch_bases_345 import UNKNOWNS, bases
-from hkproof.theorems.s6c_clebsch_flows import (
+from hkproof.theorems.clebsch_bases_345.data import UNKNOWNS, bases
+from hkproof.theorems.clebsch_flows.general import (
     FLOW2,
     GROUP,
     PHI_MAX_TEXT,

@@ -13,10 +13,11 @@ from functools import lru_cache
 from typing import Mapping
 
 from hkproof.dynamics.catalogue import get_system, kahan_map
-from hkproof.experiments.discovery import discover
-from hkproof.hk.discover import DiscoveryReport, jacobian_points
+from hkproof.budget import Budget
+from hkproof.hk.discover import jacobian_points
 from hkproof.hk.independence import max_jacobian_rank
 from hkproof.orchestration.registry import claim
+from hkproof.pipelines.discover import DiscoveryReport, discover
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 
@@ -37,7 +38,7 @@ class Entry:
 @lru_cache(maxsize=None)
 def run(entry: Entry) -> DiscoveryReport:
     """discover on one atlas entry, once per process (both claims of the entry read the same report)."""
-    return discover(entry.system, entry.degree, params=dict(entry.params), seconds=entry.seconds)
+    return discover(entry.system, entry.degree, params=dict(entry.params), budget=Budget(entry.seconds))
 
 
 def prove_integrals(cert: Certificate, claimed: Mapping[str, str], entry: Entry) -> None:

@@ -1,0 +1,123 @@
+"""What `discover` found and how far it got: the integrals with their status, the kernels, the bases, the coverage.
+
+The report is filled stage by stage by hkproof.pipelines.discover.run; it renders itself as text and LaTeX (the
+front ends only print it) and as JSON (docs/discover.md).
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import sympy
+
+from hkproof.algebra.fraction import Frac
+from hkproof.proof.status import Status
+
+__all__ = ["DiscoveryReport", "FoundIntegral", "SKIPPED_SHOWN"]
+
+SKIPPED_SHOWN = 40       # kernel coordinates too large to reconstruct: the first ones are listed, all are counted
+
+
+@dataclass
+class FoundIntegral:
+    """A candidate integral: its formula (None if not reconstructed), its status and where it came from."""
+
+    name: str
+    frac: Frac | None
+    status: Status
+    kind: str                     # "kernel coordinate" or "conserved coordinate"
+    basis: list[str] = field(default_factory=list)
+    coordinate: str = ""
+    seconds: float = 0.0
+    method: str = ""
+    notes: list[str] = field(default_factory=list)
+    independent: bool | None = None
+
+    def latex(self) -> str:
+        if self.frac is None:
+            return ""
+        return sympy.latex(sympy.factor(self.frac.to_sympy()), symbol_names={sympy.Symbol("eps"): r"\varepsilon"})
+
+    def to_dict(self) -> dict:
+        return {"name": self.name, "expr": None if self.frac is None else str(self.frac),
+                "status": self.status.label, "kind": self.kind, "basis": self.basis, "coordinate": self.coordinate,
+                "seconds": round(self.seconds, 3), "method": self.method, "independent": self.independent,
+                "notes": self.notes}
+
+
+@dataclass
+class DiscoveryReport:
+    """What `discover` found and how far it got (JSON: see docs/discover.md)."""
+
+    system: str
+    variables: list[str]
+    parameters: list[str]
+    degree: int
+    fixed: dict[str, str] = field(default_factory=dict)
+    integrals: list[FoundIntegral] = field(default_factory=list)
+    bases: list[dict] = field(default_factory=list)
+    kernels: list[dict] = field(default_factory=list)
+    conserved: list[str] = field(default_factory=list)
+    trivial: list[dict] = field(default_factory=list)
+    skipped: list[dict] = field(default_factory=list)
+    expected_independent: int | None = None
+    negative: str = ""
+    covered: list[str] = field(default_factory=list)
+    complete: bool = True
+    stages: dict[str, float] = field(default_factory=dict)
+    probes: list[dict] = field(default_factory=list)
+    started: float = field(default_factory=time.perf_counter)
+
+    @property
+    def independent(self) -> int:
+        return sum(1 for i in self.integrals if i.independent)
+
+    @property
+    def verified(self) -> list[FoundIntegral]:
+        return [i for i in self.integrals if i.status >= Status.VERIFIED_SPECIALIZED]
+
+    def to_dict(self) -> dict:
+        return {"system": self.system, "degree": self.degree, "dimension": len(self.variables),
+                "variables": self.variables, "parameters": self.parameters, "fixed": self.fixed,
+                "integrals": [i.to_dict() for i in self.integrals], "independent": self.independent,
+                "independent_expected_from_kernels": self.expected_independent,
+                "bases": self.bases, "kernels": self.kernels, "conserved": self.conserved, "trivial": self.trivial,
+                "skipped": self.skipped[:SKIPPED_SHOWN], "skipped_total": len(self.skipped),
+                "negative_result": self.negative or None, "covered": self.covered, "complete": self.complete,
+                "stages": {k: round(v, 3) for k, v in self.stages.items()}, "probes": self.probes,
+                "seconds": round(time.perf_counter() - self.started, 3)}
+
+    def text(self) -> str:
+        """The integrals with their status, the kernels, the bases and what the search covered."""
+        fixed = f" at {', '.join(f'{k}={v}' for k, v in self.fixed.items())}" if self.fixed else ""
+        lines = [f"discover {self.system}{fixed}: monomials of degree <= {self.degree} in {', '.join(self.variables)}"]
+        for k in self.kernels:
+            lines.append(f"  degree {k['degree']}: {k['monomials']} monomials, kernel dimension {k['dimension']} "
+                         f"({k['trivial']} trivial, {k['new']} new)")
+        if self.bases:
+            lines.append(f"  {len(self.bases)} minimal HK-bases, e.g. " + "; ".join(
+                f"({', '.join(b['basis'])}) d={b.get('dimension')}" for b in self.bases[:4]))
+        for i in self.integrals:
+            expr = "not reconstructed" if i.frac is None else str(i.frac)
+            flag = " [independent]" if i.independent else ""
+            lines.append(f"  {i.name} = {expr}: {i.status.label}{flag} ({i.kind}"
+                         + (f" of ({', '.join(i.basis)})" if i.basis else "") + ")")
+        lines.append(f"{self.independent} functionally independent verified integrals in dimension "
+                     f"{len(self.variables)}" + (f"; the kernels carry {self.expected_independent} (gradients mod p)"
+                                                 if self.expected_independent is not None else ""))
+        if self.negative:
+            lines.append(self.negative)
+        if self.skipped:
+            lines.append(f"{len(self.skipped)} kernel coordinates skipped as too large for dense reconstruction")
+        lines.append(("complete: " if self.complete else "budget ran out: ") + "; ".join(self.covered))
+        return "\n".join(lines)
+
+    def latex(self) -> str:
+        """One LaTeX equation per integral found (reconstructed ones only), with its status as a comment."""
+        out = [f"% integrals of the Kahan map of {self.system} (hkproof discover, degree {self.degree})"]
+        for i in self.integrals:
+            if i.frac is not None:
+                out.append(f"% {i.name}: {i.status.label}\n\\[ \\mathrm{{{i.name}}} = {i.latex()} \\]")
+        if len(out) == 1:
+            out.append("% no integral found")
+        return "\n".join(out)

@@ -1,0 +1,165 @@
+"""`discover`: from a quadratic field to certified integrals, by the paper's method run end to end.
+
+1. Screening (hkproof.pipelines.discover.screen): algorithm (N) mod p on all monomials of degree <= D.
+2. Minimal HK-bases (bases, circuits): the circuits of the new part of each kernel.
+3. Candidates (candidates): which kernel coordinates carry independent integrals, by gradients mod p.
+4. Reconstruction (reconstruct): dense interpolation of exact samples, or recipe (E) with Prop. "prop: even".
+5. Certification (hkproof.hk.discover): substitution with every parameter symbolic, independence by an exact
+   Jacobian rank. Nothing is called an integral before step 5 says so.
+"""
+from __future__ import annotations
+
+import random
+import time
+from typing import Mapping
+
+import flint
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.modular import rank_mod_p
+from hkproof.algebra.monomials import count_upto
+from hkproof.algebra.ring import Rational, to_fmpq
+from hkproof.budget import Budget
+from hkproof.dynamics.catalogue import get_system, kahan_map
+from hkproof.dynamics.field import EPS, QuadraticField
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.errors import BudgetExhausted, ParseError
+from hkproof.experiments.scene import make_scene
+from hkproof.experiments.weights import scaling_weights
+from hkproof.hk.discover import certify, independent_subset, jacobian_points
+from hkproof.pipelines.discover.bases import confirm_basis, minimal_bases
+from hkproof.pipelines.discover.context import SearchContext
+from hkproof.pipelines.discover.reconstruct import reconstruct_candidates
+from hkproof.pipelines.discover.report import DiscoveryReport, FoundIntegral
+from hkproof.pipelines.discover.screen import screen, without_conserved
+from hkproof.pipelines.stages import Progress, Stages
+from hkproof.proof.status import Status
+
+__all__ = ["MAX_CONFIRMED", "discover"]
+
+MAX_CONFIRMED = 24          # minimal bases confirmed by algorithm (N) over Q; the rest are listed
+MAX_SEARCH_DEGREE = 6
+
+
+def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[str, Rational] | None = None,
+             budget: Budget | None = None, seed: int = 0, progress: Progress | None = None, max_degree: int = 16,
+             max_unknowns: int = 2500) -> DiscoveryReport:
+    """Integrals of the Kahan map of `system` whose HK-bases are monomials of degree <= `degree`, certified; when the
+    budget runs out, the report says what was covered ("complete": false)."""
+    if not 1 <= degree <= MAX_SEARCH_DEGREE:
+        raise ParseError(f"the degree of the basis monomials must be between 1 and {MAX_SEARCH_DEGREE}, got {degree}")
+    base = get_system(system) if isinstance(system, str) else system
+    unknown = sorted(set(params or {}) - set(base.parameters))
+    if unknown:
+        raise ParseError(f"{unknown} are not parameters of {base.name} ({list(base.parameters)})")
+    fixed = base.check_values(params or {})
+    original = base.specialize(fixed) if fixed else base
+    report = DiscoveryReport(base.name, list(original.variables), list(original.parameters), degree,
+                             {k: str(v) for k, v in fixed.items()})
+    stages = Stages("discover", progress)
+    stages.started = report.started
+    budget = budget or Budget(None)
+    full_map = kahan_map(original)
+    field, conserved = without_conserved(original)
+    rng = random.Random(seed)
+    try:
+        report.integrals += _conserved(full_map, conserved, fixed)
+        report.conserved += conserved
+        if len(conserved) == len(original.variables):
+            report.covered.append("every coordinate is conserved")
+            return report
+        kmap = kahan_map(field)
+        weights = scaling_weights(kmap)
+        free = [m for m in (EPS,) + field.parameters if m not in weights.normalized]
+        ctx = SearchContext(kmap, full_map, weights, free, fixed, rng, budget, stages, max_degree, max_unknowns)
+        _search(ctx, report)
+    except BudgetExhausted as exc:
+        report.complete = False
+        report.covered.append(str(exc))
+    finally:
+        _independence(report, full_map, stages)
+        stages.stop()
+        report.stages = stages.seconds
+    return report
+
+
+def _conserved(kmap: KahanMap, conserved: list[str], fixed: Mapping[str, flint.fmpq]) -> list[FoundIntegral]:
+    """Conserved coordinates (x_i' = 0) are integrals, proven by the same substitution."""
+    out = []
+    for v in conserved:
+        start = time.perf_counter()
+        h = Frac.parse(kmap.ring, v)
+        status, method = certify(kmap, h, fixed)
+        out.append(FoundIntegral(v, h, status, "conserved coordinate", [], v, time.perf_counter() - start, method))
+    return out
+
+
+def _search(ctx: SearchContext, report: DiscoveryReport) -> None:
+    """Screen, find minimal bases and candidates, confirm the bases, reconstruct and certify."""
+    kmap, rng, stages = ctx.kmap, ctx.rng, ctx.stages
+    n = len(kmap.variables)
+    degree = report.degree
+    # a generic scene: normalized names 1 (as in reconstruction), the others random
+    values = {m: flint.fmpq(1) for m in ctx.weights.normalized}
+    values.update({m: to_fmpq(rng.choice([-1, 1]) * rng.randint(2, 29)) / rng.randint(2, 31) for m in ctx.free})
+    scene = make_scene(kmap, values)
+
+    stages.start("screening", f"screening monomials of degree <= {degree} mod p (algorithm (N))")
+    probes = [screen(scene, n, degree, rng), screen(scene, n, degree, rng)]
+    if len(probes[0].kernels[degree]) != len(probes[1].kernels[degree]):
+        probes.append(screen(scene, n, degree, rng))
+    probe = min(probes, key=lambda pr: len(pr.kernels[degree]))
+    report.probes = [{"prime": pr.p, "point": [str(v) for v in pr.point],
+                      "dimensions": {d: len(k) for d, k in pr.kernels.items()}} for pr in probes]
+    new_degrees = []
+    for d in range(1, degree + 1):
+        dim, triv = len(probe.kernels[d]), probe.trivial_rank[d]
+        report.kernels.append({"degree": d, "monomials": count_upto(n, d), "dimension": dim, "trivial": triv,
+                               "new": dim - triv, "verdict": probe.verdict[d]})
+        if dim > triv:
+            new_degrees.append(d)
+    report.covered.append(f"screened all {count_upto(n, degree)} monomials of degree <= {degree} "
+                          f"at {len(probes)} points mod p (values {', '.join(f'{k}={v}' for k, v in values.items())})")
+    if not new_degrees:
+        report.negative = (f"no non-zero polynomial of degree <= {degree} in {', '.join(kmap.variables)} vanishes on "
+                           f"the first {count_upto(n, degree) + 3} points of an orbit (exact: the rank "
+                           "mod p bounds the rank over Q), so there is no integral P/Q with deg P, deg Q <= "
+                           f"{degree} at these parameter values: evidence(exact)")
+        stages.say(report.negative)
+        return
+
+    stages.start("minimal bases", "minimal HK-bases (circuits of the kernel)")
+    found = minimal_bases(ctx, probe, new_degrees)
+    report.bases += found.bases
+    report.trivial += found.trivial
+    report.covered += found.covered
+    candidates = found.candidates
+    # how many independent integrals the kernels carry (gradients mod p), and which coordinates show them
+    chosen_rank = rank_mod_p([c.gradient for c in candidates], probe.p) if candidates else 0
+    report.expected_independent = chosen_rank
+    stages.say(f"{len(report.bases)} minimal HK-bases; their kernel coordinates carry {chosen_rank} independent "
+               "integrals (gradients mod p)")
+
+    stages.start("confirm bases", "confirming the minimal HK-bases by algorithm (N)")
+    for k, entry in enumerate(report.bases):
+        ctx.budget.check("confirming every minimal HK-basis")
+        entry.update(confirm_basis(scene, [Frac.parse(kmap.ring, t) for t in entry["basis"]])
+                     if k < MAX_CONFIRMED else
+                     {"dimension": None, "status": Status.UNKNOWN.label, "check": "not confirmed (cap)"})
+
+    done = reconstruct_candidates(ctx, report, candidates, chosen_rank, probe.p)
+    report.skipped += done.skipped
+    report.covered.append(done.covered)
+
+
+def _independence(report: DiscoveryReport, full_map: KahanMap, stages: Stages) -> None:
+    """Mark a maximal set of verified integrals with an exact full-rank Jacobian as independent."""
+    stages.start("independence", "functional independence (exact Jacobian rank)")
+    proven = [i for i in report.integrals if i.status >= Status.VERIFIED_SPECIALIZED and i.frac is not None]
+    chosen = independent_subset([i.frac for i in proven if i.frac is not None], list(full_map.variables),
+                                jacobian_points(full_map.ring.names))
+    for k, i in enumerate(proven):
+        i.independent = k in chosen
+    for i in report.integrals:
+        if i.independent is None:
+            i.independent = False
