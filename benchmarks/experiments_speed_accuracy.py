@@ -22,7 +22,8 @@ import numpy as np  # noqa: E402
 
 from hkproof.dynamics import kahan_map  # noqa: E402
 from hkproof.experiments import ExactQ, Float64, Modular, MPMath, ProfileProblem, make_scene, parse_basis, scan  # noqa: E402
-from hkproof.experiments.points import near_singular_point, random_point  # noqa: E402
+from hkproof.algebra.sampling import random_rationals  # noqa: E402
+from hkproof.experiments.points import near_singular_point  # noqa: E402
 from hkproof.experiments.pslq import agreement, pslq_relations  # noqa: E402
 from hkproof.experiments.relations import find_relations  # noqa: E402
 
@@ -45,9 +46,9 @@ def profiles(n: int = 12) -> dict:
     f = kahan_map("clebsch")
     rng = random.Random(7)
     classes = {
-        "easy (Phi0, eps 1/10)": (VALUES, PHI0, lambda sc: random_point(f, rng)),
-        "long orbits (10 functions)": (VALUES, MAX, lambda sc: random_point(f, rng)),
-        "large eps (10 functions, eps 1)": ({**VALUES, "eps": "1"}, MAX, lambda sc: random_point(f, rng)),
+        "easy (Phi0, eps 1/10)": (VALUES, PHI0, lambda sc: random_rationals(rng, len(f.variables))),
+        "long orbits (10 functions)": (VALUES, MAX, lambda sc: random_rationals(rng, len(f.variables))),
+        "large eps (10 functions, eps 1)": ({**VALUES, "eps": "1"}, MAX, lambda sc: random_rationals(rng, len(f.variables))),
         "near Delta = 0 (Phi0)": (VALUES, PHI0, lambda sc: near_singular_point(sc, rng, Fraction(1, 10**9))),
     }
     arithmetics = [ExactQ(), Modular(), Float64(), MPMath(30), MPMath(60), _named(MPMath(30, confirm="never"),
@@ -197,7 +198,7 @@ def timing(n: int = 20) -> dict:
     f = kahan_map("clebsch")
     problem = ProfileProblem(make_scene(f, VALUES), parse_basis(f.ring, MAX))
     rng = random.Random(11)
-    points = [_fmpq(random_point(f, rng)) for _ in range(n)]
+    points = [_fmpq(random_rationals(rng, len(f.variables))) for _ in range(n)]
     out = {}
     for name, ar in [("exact", ExactQ()), ("modular (2 primes)", Modular()), ("modular (1 prime)", Modular(checks=0)),
                      ("float", Float64()), ("mpmath(30)", MPMath(30))]:

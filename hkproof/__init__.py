@@ -1,0 +1,30 @@
+"""hkproof: exact, certified proofs of integrability of Kahan / Hirota-Kimura discretizations of quadratic ODEs.
+
+The notebook API (`import hkproof as hk`): `hk.system`, `hk.kahan_map`, `hk.discover`, `hk.measure`, `hk.degrees`,
+`hk.check_integral`, `hk.prove`, and the classes `QuadraticField` and `KahanMap`. Names are loaded on first use, so
+`import hkproof` stays light. hkproof's eps is half the time step (x~ - x = 2 eps * polarized field).
+"""
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+__all__ = ["KahanMap", "QuadraticField", "check_integral", "degrees", "discover", "kahan_map", "measure", "prove",
+           "system"]
+
+_HOMES = {"KahanMap": "hkproof.dynamics.kahan", "QuadraticField": "hkproof.dynamics.field"}
+
+if TYPE_CHECKING:
+    from hkproof.api import check_integral, degrees, discover, kahan_map, measure, prove, system
+    from hkproof.dynamics.field import QuadraticField
+    from hkproof.dynamics.kahan import KahanMap
+
+
+def __getattr__(name: str) -> Any:
+    if name not in __all__:
+        raise AttributeError(f"module 'hkproof' has no attribute {name!r}")
+    return getattr(importlib.import_module(_HOMES.get(name, "hkproof.api")), name)
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

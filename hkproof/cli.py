@@ -15,6 +15,8 @@ from typing import NoReturn, Sequence
 
 from hkproof.errors import HKProofError, UsageError
 
+__all__ = ["build_parser", "main"]
+
 EXIT_VERIFIED, EXIT_REFUTED, EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
 
 

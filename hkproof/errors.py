@@ -1,5 +1,10 @@
 """Exceptions of hkproof: each message says what was wrong and what to do about it."""
 
+__all__ = ["BudgetExhausted", "DependentBasisError", "FormulaTooLargeError", "HKProofError", "NotQuadraticError",
+           "ParseError", "ResourceLimitError", "RingMismatchError", "ShapeError", "SingularPointError",
+           "SingularSystemError", "UnknownClaimError", "UnknownSymbolError", "UnknownSystemError", "UnluckyPrimeError",
+           "UsageError"]
+
 
 class HKProofError(Exception):
     """Base class of every error hkproof raises on purpose."""

@@ -1,7 +1,7 @@
 """Certify the atlas beyond the paper: integrals of Kahan maps found by `hkproof discover` (docs/atlas.md)."""
 import sys
 
-from hkproof.orchestration.runner import run_script
+from hkproof.commands.theorems import run_script
 
 if __name__ == "__main__":
     sys.exit(run_script(groups=["atlas"]))

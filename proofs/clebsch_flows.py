@@ -2,7 +2,7 @@
 all flows, the second flow's bases Phi1, Phi2, Phi3, and the paper's closing conjecture for every flow."""
 import sys
 
-from hkproof.orchestration.runner import run_script
+from hkproof.commands.theorems import run_script
 
 if __name__ == "__main__":
     sys.exit(run_script(groups=["clebsch-flows"]))

@@ -2,7 +2,7 @@
 symmetries, reversibility and size."""
 import sys
 
-from hkproof.orchestration.runner import run_script
+from hkproof.commands.theorems import run_script
 
 if __name__ == "__main__":
     sys.exit(run_script(groups=["clebsch-map"]))

@@ -1,7 +1,7 @@
 """Certify the remark of section 7: the Kahan maps of the two Clebsch flows do not commute, and what they share."""
 import sys
 
-from hkproof.orchestration.runner import run_script
+from hkproof.commands.theorems import run_script
 
 if __name__ == "__main__":
     sys.exit(run_script(groups=["commuting-flows"]))

@@ -23,7 +23,7 @@ LAYERS = [
     ("registry", ("hkproof.orchestration.registry",)),
     ("theorems", ("hkproof.theorems",)),
     ("orchestration", ("hkproof.orchestration",)),
-    ("front ends", ("hkproof.commands", "hkproof.cli", "hkproof.__main__")),
+    ("front ends", ("hkproof.commands", "hkproof.cli", "hkproof.__main__", "hkproof.api")),
 ]
 
 
@@ -136,3 +136,23 @@ def test_theorem_groups_are_units():
         assert f'run_script(groups=["{group}"])' in script.read_text(), f"{script} does not certify {group}"
         assert (ROOT / "tests" / f"test_{name}.py").exists(), f"no tests/test_{name}.py"
     assert sorted(p.stem for p in (ROOT / "proofs").glob("*.py")) == modules
+
+
+def test_public_modules_declare_all():
+    """Each public module of hkproof declares __all__, and every name it lists exists."""
+    import importlib
+
+    missing, unknown = [], []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        name = module_name(path)
+        if any(part.startswith("_") for part in name.split(".")[1:]) and not path.name == "__init__.py":
+            continue
+        tree = ast.parse(path.read_text())
+        if not any(isinstance(n, ast.Assign) and any(getattr(t, "id", None) == "__all__" for t in n.targets)
+                   for n in tree.body):
+            if path.name != "__init__.py" or name == "hkproof":
+                missing.append(name)
+            continue
+        module = importlib.import_module(name)
+        unknown += [f"{name}.{n}" for n in module.__all__ if not hasattr(module, n)]
+    assert missing == [] and unknown == []

@@ -13,7 +13,8 @@ from hkproof.algebra.linalg import rank_q
 from hkproof.dynamics import kahan_map
 from hkproof.experiments import ExactQ, Float64, Modular, MPMath, ProfileProblem, make_scene, parse_basis
 from hkproof.experiments.modular import ModP, UnluckyPrimeError
-from hkproof.experiments.points import near_singular_point, random_point
+from hkproof.algebra.sampling import random_rationals
+from hkproof.experiments.points import near_singular_point
 from hkproof.experiments.profiles import AMBIGUOUS, SINGULAR
 from hkproof.experiments.pslq import agreement, pslq_relations
 from hkproof.experiments.relations import find_relations
@@ -102,7 +103,7 @@ def test_pslq_at_a_single_rational_point_finds_a_spurious_relation():
     rng = random.Random(0)
     spurious = 0
     for _ in range(4):
-        x = [flint.fmpq(v.numerator, v.denominator) for v in random_point(f, rng)]
+        x = random_rationals(rng, len(f.variables))
         c = ExactQ().kernel(ExactQ().profile(problem.scene, problem.compiled, x), 1)[0]
         with mpmath.workdps(30):
             rel = mpmath.pslq([mpmath.mpf(int(v.p)) / int(v.q) for v in (c[0], c[1])] + [mpmath.mpf(1)],
@@ -139,7 +140,7 @@ def test_float_paths_are_never_wrong_on_hard_points():
     for values, basis, near in cases:
         problem = _problem("clebsch", values, basis)
         for _ in range(8):
-            x = near_singular_point(problem.scene, rng, Fraction(1, 10**9)) if near else random_point(f, rng)
+            x = near_singular_point(problem.scene, rng, Fraction(1, 10**9)) if near else random_rationals(rng, len(f.variables))
             exact = problem.profile(x, ExactQ(), with_kernel=False).dims
             for arithmetic in (Float64(), MPMath(30), MPMath(60)):
                 p = problem.profile(x, arithmetic, with_kernel=False)

@@ -10,6 +10,8 @@ from flint.utils.flint_exceptions import DomainError
 
 from hkproof.algebra.fraction import Frac, normalize_sign
 
+__all__ = ["factor", "sum_of_products"]
+
 
 _FACTORED: dict[tuple[int, str], tuple[flint.fmpz, list[tuple[flint.fmpz_mpoly, int]]]] = {}
 

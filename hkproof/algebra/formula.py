@@ -27,6 +27,9 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Ring, get_ring
 from hkproof.errors import FormulaTooLargeError, ParseError, UnknownSymbolError
 
+__all__ = ["check_name", "cycled", "indexed", "LIMITS", "Limits", "parse_formula", "parse_matrix", "parse_rational",
+           "read_number", "rename", "split_list", "STRUCTURE", "Token", "tokens"]
+
 
 @dataclass(frozen=True)
 class Limits:

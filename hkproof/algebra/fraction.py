@@ -12,6 +12,8 @@ import sympy
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.errors import ParseError, RingMismatchError, SingularPointError
 
+__all__ = ["Frac", "homogenized_compose", "normalize_sign", "Operand", "Parity", "poly_str"]
+
 
 Operand: TypeAlias = "Frac | int | flint.fmpz | flint.fmpq | Fraction | flint.fmpz_mpoly"
 

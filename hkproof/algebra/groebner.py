@@ -6,6 +6,8 @@ from typing import Sequence
 
 import flint
 
+__all__ = ["groebner_basis", "in_ideal", "MembershipCertificate"]
+
 
 @dataclass
 class MembershipCertificate:

@@ -9,6 +9,10 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.errors import ShapeError, SingularSystemError
 
+__all__ = ["clear_row_denominators", "cleared_system", "cramer", "cramer_polynomials", "det", "LAPLACE_MAX", "lcm",
+           "maximal_minors", "nullspace_q", "pivots_at", "PolyMatrix", "q_matrix", "rank_over_fraction_field", "rank_q",
+           "solve_by_inverse", "solve_cleared", "solve_overdetermined"]
+
 PolyMatrix = Sequence[Sequence[flint.fmpz_mpoly]]
 
 LAPLACE_MAX = 8

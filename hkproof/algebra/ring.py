@@ -12,6 +12,8 @@ import sympy
 
 from hkproof.errors import ParseError, UnknownSymbolError
 
+__all__ = ["flint_threads", "get_ring", "Rational", "Ring", "to_fmpq"]
+
 Rational = int | Fraction | flint.fmpq | str  # a str is read exactly by to_fmpq ('1/3', '0.1')
 
 

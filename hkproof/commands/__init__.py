@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from dataclasses import dataclass
 from typing import Any, Callable
@@ -12,6 +13,8 @@ from hkproof.dynamics.catalogue import SYSTEMS, kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ParseError
+from hkproof.orchestration.execution import EXECUTORS
+from hkproof.orchestration.runner import RunOptions
 
 
 @dataclass
@@ -57,7 +60,11 @@ def specialized_map(args: argparse.Namespace) -> tuple[KahanMap, KahanMap, dict[
 
 
 def at_least(minimum: int) -> Callable[[str], int]:
-    """An argparse type: an integer >= minimum (a bad count is a usage error, exit 2)."""
+    """An argparse type: an integer >= minimum (a bad count is a usage error, exit 2).
+
+    >>> at_least(1)("3")
+    3
+    """
     def read(text: str) -> int:
         try:
             value = int(text)
@@ -100,3 +107,20 @@ def progress_printer(args: argparse.Namespace) -> Callable[[str], None] | None:
     if getattr(args, "no_progress", False) or getattr(args, "json", False) or not sys.stderr.isatty():
         return None
     return lambda line: print(line, file=sys.stderr, flush=True)
+
+
+def add_run_options(parser: argparse.ArgumentParser) -> None:
+    """--jobs, --executor, --scheduler: where the claims (or a command's independent steps) run."""
+    parser.add_argument("--jobs", type=at_least(1), default=os.cpu_count() or 1, metavar="N",
+                        help="run up to N independent tasks at once (default: the machine's cores; 1: a plain loop "
+                             "in this process)")
+    parser.add_argument("--executor", choices=EXECUTORS, default="process",
+                        help="process: a pool of local processes; dask: Dask distributed (pip install "
+                             "'hkproof[dask]'), a LocalCluster of N workers unless --scheduler is given")
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="with --executor dask: the address of a running Dask scheduler, e.g. tcp://host:8786")
+
+
+def run_options(args: argparse.Namespace) -> RunOptions:
+    """The RunOptions of --jobs, --executor and --scheduler."""
+    return RunOptions(args.jobs, args.executor, args.scheduler)

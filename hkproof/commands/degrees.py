@@ -9,6 +9,8 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.degrees import MAX_DEGREE, degree_growth, fit_growth, symbolic_degree
 from hkproof.proof.status import Status
 
+__all__ = ["register", "run_degrees"]
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "degrees", "degree growth (algebraic entropy) of the Kahan map: deg f^n for n = 1..N as a "

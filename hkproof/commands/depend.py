@@ -14,6 +14,8 @@ from hkproof.experiments.dependence import find_rational_relations
 from hkproof.experiments.points import random_values
 from hkproof.orchestration.registry import proven
 
+__all__ = ["register", "run_depend"]
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "depend", "find relations T * P(U) = Q(U) among integrals, exactly, at fixed eps and "

@@ -8,6 +8,8 @@ from hkproof.budget import Budget
 from hkproof.dynamics.catalogue import get_system
 from hkproof.pipelines.discover import discover
 
+__all__ = ["register", "run_discover"]
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "discover", "search HK-bases among monomials of degree <= D, reconstruct the integrals "

@@ -9,6 +9,8 @@ from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.hk.modified_hamiltonian import parse_matrix, verify
 from hkproof.proof.status import Status, specialized_label
 
+__all__ = ["FORMULA", "register", "run_hamiltonian"]
+
 FORMULA = "H~ = H + (h/3) grad H^T (I - (h/2) F')^(-1) F, density 1/det(I - (h/2) F'), h = 2 eps"
 
 

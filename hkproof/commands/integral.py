@@ -11,6 +11,8 @@ from hkproof.hk.integrals import check_integral
 from hkproof.hk.recipe_g import recipe_g
 from hkproof.proof.status import Status
 
+__all__ = ["register", "run_integral"]
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "integral", "decide exactly whether EXPR is an integral of the Kahan map of SYSTEM "

@@ -7,6 +7,8 @@ from hkproof.algebra.fraction import poly_str
 from hkproof.commands import Result, add_command, add_system_argument
 from hkproof.dynamics.catalogue import SYSTEMS, kahan_map
 
+__all__ = ["register", "run_map", "run_systems"]
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "map", "print the explicit Kahan map x~ = N(x)/Delta(x) of a system", run_map)

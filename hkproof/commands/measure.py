@@ -7,6 +7,8 @@ from hkproof.commands import Result, add_command, add_param_option, add_system_a
 from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.pipelines.darboux import search_darboux
 
+__all__ = ["register", "run_measure"]
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "measure", "Darboux polynomials P o f = K P of degree <= D with cofactors K among the "

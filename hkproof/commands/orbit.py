@@ -13,6 +13,8 @@ from hkproof.dynamics.values import parse_point
 from hkproof.experiments.orbit_plot import check_plot_path, plot_orbit
 from hkproof.experiments.points import random_values
 
+__all__ = ["register", "run_orbit"]
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "orbit", "the exact orbit of a rational point under the Kahan map (over Q), stopped when it "

@@ -14,6 +14,8 @@ from hkproof.experiments.points import random_values
 from hkproof.experiments.pslq import agreement, pslq_relations
 from hkproof.experiments.relations import find_relations
 
+__all__ = ["register", "run_relations"]
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "relations", "recipe (E): constant-coefficient linear relations among the kernel "

@@ -6,11 +6,13 @@ import os
 import tempfile
 from pathlib import Path
 
-from hkproof.commands import Result, add_command
+from hkproof.commands import Result, add_command, add_run_options, run_options
 from hkproof.errors import HKProofError
 from hkproof.orchestration.registry import select
 from hkproof.orchestration.report import theorems_markdown
-from hkproof.orchestration.runner import add_run_options, execute
+from hkproof.orchestration.runner import execute
+
+__all__ = ["register", "run_report", "writable_target", "write_atomically"]
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -55,7 +57,7 @@ def _umask() -> int:
 def run_report(args: argparse.Namespace) -> Result:
     target = writable_target(args.write) if args.write else None
     claims = select()
-    run = execute([c for c in claims if not (c.slow and args.no_slow)], args)
+    run = execute([c for c in claims if not (c.slow and args.no_slow)], run_options(args))
     statuses = {cid: cert.status.label for cid, cert in run.certs.items()}
     if run.interrupted:
         return Result({"written": None, "interrupted": True, "statuses": statuses},

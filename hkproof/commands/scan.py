@@ -3,11 +3,13 @@ from __future__ import annotations
 
 import argparse
 
-from hkproof.commands import Result, add_command, add_system_argument, add_values_options, at_least, fixed_values
+from hkproof.commands import (Result, add_command, add_run_options, add_system_argument, add_values_options, at_least,
+                              fixed_values)
 from hkproof.experiments.profiles import HK_BASIS, SINGULAR, KernelProfile
 from hkproof.experiments.scan import ScanResult, scan
 from hkproof.orchestration.execution import map_executor
-from hkproof.orchestration.runner import add_run_options
+
+__all__ = ["add_scene_options", "format_scan", "register", "run_scan"]
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -1,11 +1,19 @@
-"""`hkproof list` and `hkproof prove`: the registry of the paper's theorems."""
+"""`hkproof list` and `hkproof prove`: the registry of the paper's theorems; and `run_script`, the body of proofs/*.py."""
 from __future__ import annotations
 
 import argparse
+import json
+import sys
+from typing import Callable, Sequence
 
-from hkproof.commands import Result, add_command
-from hkproof.orchestration.registry import select
-from hkproof.orchestration.runner import add_run_options, prove_claims
+from hkproof.commands import Result, add_command, add_run_options, run_options
+from hkproof.errors import HKProofError
+from hkproof.exit_codes import ExitCode
+from hkproof.orchestration.registry import Claim, select
+from hkproof.orchestration.runner import certificate_payload, execute
+from hkproof.proof.certificate import Certificate
+
+__all__ = ["prove_claims", "register", "run_list", "run_prove", "run_script", "streaming"]
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -37,3 +45,44 @@ def run_prove(args: argparse.Namespace) -> Result:
     claims = select(ids=args.ids, groups=args.group, include_slow=not args.no_slow)
     payload, closing, code = prove_claims(claims, args)  # certificates are printed as they complete
     return Result(payload, closing, code)
+
+
+def streaming(args: argparse.Namespace) -> Callable[[Certificate], None]:
+    """What to print as each certificate completes: its text, a JSON line, or nothing (--json prints at the end)."""
+    if getattr(args, "jsonl", False):
+        return lambda cert: print(json.dumps(certificate_payload(cert)), flush=True)
+    if args.json:
+        return lambda cert: None
+    return lambda cert: print(cert.render(), flush=True)
+
+
+def prove_claims(claims: Sequence[Claim], args: argparse.Namespace) -> tuple[list[dict], str, int]:
+    """Prove, streaming each certificate; the JSON payload, the closing text (summary; with --jsonl a JSON line),
+    and the exit code (0 all succeeded, 1 some did not, 130 interrupted)."""
+    if args.json and getattr(args, "jsonl", False):
+        raise HKProofError("--json (one JSON array at the end) and --jsonl (one JSON object per line) exclude each "
+                           "other: choose one")
+    run = execute(claims, run_options(args), streaming(args))
+    if run.interrupted and args.json:
+        print(run.summary().strip(), file=sys.stderr)
+    closing = json.dumps(run.summary_record()) if getattr(args, "jsonl", False) else run.summary()
+    return run.payload(), closing, run.exit_code
+
+
+def run_script(groups: Sequence[str], argv: Sequence[str] | None = None) -> int:
+    """The body of proofs/*.py: prove `groups`; --json/--jsonl for machine output, --no-slow to skip slow claims,
+    --jobs/--executor/--scheduler for where they run."""
+    parser = argparse.ArgumentParser(description=f"Certify the theorems of group(s) {', '.join(groups)}.")
+    output = parser.add_mutually_exclusive_group()
+    output.add_argument("--json", action="store_true", help="print the certificates as one JSON array at the end")
+    output.add_argument("--jsonl", action="store_true", help="print each certificate as a JSON line as it completes")
+    parser.add_argument("--no-slow", action="store_true", help="skip claims marked slow")
+    add_run_options(parser)
+    args = parser.parse_args(argv)
+    try:
+        payload, closing, code = prove_claims(select(groups=groups, include_slow=not args.no_slow), args)
+    except HKProofError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return ExitCode.BAD_INPUT
+    print(json.dumps(payload, indent=2) if args.json else closing)
+    return code

@@ -7,6 +7,8 @@ from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import UnknownSystemError
 
+__all__ = ["CLEBSCH_VARS", "get_system", "kahan_map", "SO4_VARS", "SYSTEMS"]
+
 CLEBSCH_VARS = ("m1", "m2", "m3", "p1", "p2", "p3")
 
 # general flow (eq. "gcl"): m' = m x Cm + p x Bp, p' = p x Cm, c_i from eq. "c thru b"

@@ -16,6 +16,9 @@ from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ParseError
 
+__all__ = ["degree_growth", "DegreeGrowth", "DegreeRun", "degrees_on_line", "differences", "fit_growth", "Growth",
+           "MAX_DEGREE", "NAMES", "symbolic_degree"]
+
 MAX_DEGREE = 50_000       # polynomials in t of higher degree are not computed (Lotka-Volterra stops at n = 15)
 
 

@@ -13,6 +13,8 @@ from hkproof.algebra.formula import check_name
 from hkproof.algebra.ring import Rational, Ring, get_ring, to_fmpq
 from hkproof.errors import NotQuadraticError, ParseError, UnknownSystemError
 
+__all__ = ["EPS", "QuadraticField", "STEP_CONVENTION", "STEPS", "TILDE"]
+
 EPS = "eps"
 TILDE = "_t"
 

@@ -13,9 +13,18 @@ from hkproof.dynamics.field import EPS, TILDE, QuadraticField
 from hkproof.dynamics.modular_map import ModularKahanMap
 from hkproof.errors import ParseError, SingularPointError
 
+__all__ = ["commutator_at", "KahanMap"]
+
 
 class KahanMap:
-    """x~ = f(x, eps) solving (x~ - x)/(2 eps) = Q(x, x~) + B(x + x~)/2 + c (eq. "Kahan gen")."""
+    """x~ = f(x, eps) solving (x~ - x)/(2 eps) = Q(x, x~) + B(x + x~)/2 + c (eq. "Kahan gen").
+
+    >>> riccati = KahanMap(QuadraticField("riccati", ("x",), (), ("x**2",)))   # x~ - x = 2 eps x x~
+    >>> [str(c) for c in riccati.components()]
+    ['(x)/(-2*x*eps + 1)']
+    >>> riccati.mod(101, {"eps": 1}).orbit([3], 2)                            # x~ = x / (1 - 2x) mod 101
+    [[3], [60], [64]]
+    """
 
     def __init__(self, field: QuadraticField):
         self.field = field

@@ -10,6 +10,8 @@ from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import SingularPointError
 
+__all__ = ["digits", "exact_orbit", "ExactOrbit"]
+
 
 @dataclass
 class ExactOrbit:

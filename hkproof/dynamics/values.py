@@ -10,6 +10,8 @@ from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import QuadraticField
 from hkproof.errors import ParseError
 
+__all__ = ["parse_point"]
+
 
 def parse_point(field: QuadraticField, text: str | Sequence[Rational | str]) -> dict[str, flint.fmpq]:
     """A phase point 'x1, x2, ...' (comma-separated exact rationals, one per variable) as {variable: value}."""

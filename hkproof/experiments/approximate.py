@@ -19,6 +19,8 @@ from hkproof.experiments.arithmetics import (
     RawProfile,
 )
 
+__all__ = ["Approximate", "Float64", "MPMath"]
+
 
 class Approximate(FieldArithmetic):
     """Floating point with unit roundoff u: a rank is decided only across a clear singular-value gap.

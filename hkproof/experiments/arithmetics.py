@@ -14,6 +14,9 @@ import flint
 from hkproof.errors import SingularPointError
 from hkproof.experiments.scene import AffineEntry, CompiledPoly, Scene
 
+__all__ = ["Arithmetic", "ExactQ", "FieldArithmetic", "free_kernel", "integer_rows", "Number", "pivot_columns",
+           "Prepared", "ranks_from_pivots", "RawProfile"]
+
 Number = Any
 
 @dataclass

@@ -5,6 +5,8 @@ from hkproof.experiments.approximate import Float64, MPMath
 from hkproof.experiments.arithmetics import Arithmetic, ExactQ
 from hkproof.experiments.modular import Modular
 
+__all__ = ["get_arithmetic"]
+
 
 def get_arithmetic(name: str, *, digits: int = 50, seed: int = 0) -> Arithmetic:
     """'exact', 'modular', 'float' or 'mpmath' (at `digits` decimal digits)."""

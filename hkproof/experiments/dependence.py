@@ -20,7 +20,10 @@ from hkproof.algebra.monomials import exponents_upto
 from hkproof.algebra.linalg import nullspace_q
 from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.errors import HKProofError, SingularPointError
-from hkproof.experiments.points import random_rational
+from hkproof.algebra.sampling import random_rational
+
+__all__ = ["DependenceSearch", "DependenceSearchError", "find_rational_relations", "Monomial", "monomials",
+           "RationalRelation"]
 
 Monomial = tuple[int, ...]
 
@@ -99,7 +102,7 @@ def find_rational_relations(target: Frac, knowns: Mapping[str, Frac], values: Ma
         if tries > 4 * (unknowns + extra) + 20:
             raise DependenceSearchError(f"only {len(rows)} of {unknowns + extra} exact samples: the functions have "
                                         "poles at almost every random point; check the parameter values")
-        point = {v: to_fmpq(random_rational(rng)) for v in phase}
+        point = {v: random_rational(rng) for v in phase}
         try:
             t, *u = (h.evaluate(point) for h in funcs)
         except SingularPointError:

@@ -12,6 +12,8 @@ from hkproof.experiments.approximate import Float64
 from hkproof.experiments.profiles import HK_BASIS, ProfileProblem
 from hkproof.experiments.scene import make_scene
 
+__all__ = ["euler_orbit", "kahan_orbit", "kernel_cloud"]
+
 
 def _exact(values: Mapping[str, float | str]) -> dict[str, Fraction]:
     """Decimal inputs such as 0.2 read as the rationals they denote (1/5)."""

@@ -12,6 +12,8 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ParseError, SingularPointError
 from hkproof.experiments.figures import kahan_orbit
 
+__all__ = ["check_plot_path", "float_orbit", "panels", "plot_orbit"]
+
 
 def float_orbit(kmap: KahanMap, values: Mapping[str, object], x0: Sequence[Rational], steps: int) -> np.ndarray:
     """The orbit in float64 (rows x_0..x_steps), by experiments.figures.kahan_orbit."""

@@ -5,29 +5,28 @@ import random
 from fractions import Fraction
 from typing import Mapping
 
+import flint
 import numpy as np
 
 from hkproof.algebra.ring import Rational
+from hkproof.algebra.sampling import random_rational, random_rationals
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ParseError
 from hkproof.experiments.approximate import Float64
 from hkproof.experiments.scene import Scene
 
-
-def random_rational(rng: random.Random, size: int = 9) -> Fraction:
-    """A non-zero rational a/b with |a| <= size and 1 <= b <= size."""
-    return Fraction(rng.choice([a for a in range(-size, size + 1) if a]), rng.randint(1, size))
+__all__ = ["near_singular_point", "random_values"]
 
 
 def random_values(kmap: KahanMap, rng: random.Random, fixed: Mapping[str, Rational] | None = None,
-                  size: int = 9) -> dict[str, Fraction]:
+                  size: int = 9) -> dict[str, flint.fmpq]:
     """eps and the parameters: the given ones (checked by QuadraticField.check_values), the others random (distinct,
     non-zero, eps in (0, 1], off the poles of the field's coefficients)."""
     field = kmap.field
-    given = {k: Fraction(str(v)) for k, v in field.check_values(fixed or {}).items()}
+    given = field.check_values(fixed or {})
     for _ in range(1000):
-        out: dict[str, Fraction] = {}
+        out: dict[str, flint.fmpq] = {}
         for name in (EPS,) + field.parameters:
             if name in given:
                 out[name] = given[name]
@@ -45,12 +44,7 @@ def random_values(kmap: KahanMap, rng: random.Random, fixed: Mapping[str, Ration
             continue
         return out
     raise ParseError(f"no random values of {sorted(set(field.parameters) - set(given))} avoid the poles of the "
-                     f"coefficients of {field.name} with {given}: fix them with --param")
-
-
-def random_point(kmap: KahanMap, rng: random.Random, size: int = 9) -> list[Fraction]:
-    """A phase point with small random rational coordinates (the paper's 'randomly chosen initial points')."""
-    return [random_rational(rng, size) for _ in kmap.variables]
+                     f"coefficients of {field.name} with {given}: fix their values")
 
 
 def near_singular_point(scene: Scene, rng: random.Random, offset: Fraction = Fraction(1, 10**9),
@@ -60,8 +54,8 @@ def near_singular_point(scene: Scene, rng: random.Random, offset: Fraction = Fra
     prep = arithmetic.prepare(scene, [])
     n = len(scene.variables)
     while True:
-        x0 = random_point(scene.kmap, rng, size)
-        v = random_point(scene.kmap, rng, size)
+        x0 = [Fraction(int(q.p), int(q.q)) for q in random_rationals(rng, len(scene.variables), size)]
+        v = [Fraction(int(q.p), int(q.q)) for q in random_rationals(rng, len(scene.variables), size)]
         ts = np.linspace(-2.0, 2.0, n + 1)
         dets = []
         for t in ts:

@@ -8,6 +8,7 @@ from typing import Mapping, Sequence
 
 import flint
 
+from hkproof.algebra.sampling import random_rational
 from hkproof.algebra.formula import split_list
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
@@ -16,6 +17,9 @@ from hkproof.algebra.linalg import rank_q
 from hkproof.errors import DependentBasisError, HKProofError, ParseError, SingularPointError
 from hkproof.experiments.arithmetics import Arithmetic, ExactQ
 from hkproof.experiments.scene import Scene, make_scene, point_values
+
+__all__ = ["AMBIGUOUS", "exact_profiles", "fundamental_finite", "HK_BASIS", "IRREGULAR", "kernel_vector",
+           "kernel_vectors", "KernelProfile", "NO_BASIS", "parse_basis", "ProfileProblem", "SINGULAR"]
 
 HK_BASIS = "hk-basis"          # condition "fundamental finite" holds with d >= 1
 NO_BASIS = "no-hk-basis"       # X_[0,l-1](x) has full rank: K_Phi(x) = 0
@@ -33,7 +37,11 @@ def parse_basis(ring: Ring, text: str | Sequence[str]) -> list[Frac]:
 
 
 def fundamental_finite(ranks: Sequence[int | None]) -> tuple[str, int | None]:
-    """Verdict and d from rank X_[0,s-1], s = 1..l: condition "fundamental finite" read off the ranks."""
+    """Verdict and d from rank X_[0,s-1], s = 1..l: condition "fundamental finite" read off the ranks.
+
+    >>> fundamental_finite([1, 2, 3, 3]), fundamental_finite([1, 2, 2, 3])[0]
+    (('hk-basis', 1), 'irregular')
+    """
     l = len(ranks)
     known = [r for r in ranks if r is not None]
     if len(known) != l:
@@ -84,7 +92,7 @@ class ProfileProblem:
         rng = random.Random(len(self.basis))
         rows = []
         for _ in range(len(self.basis) + 2):
-            point = [flint.fmpq(rng.randint(-99, 99), rng.randint(1, 99)) for _ in self.scene.variables]
+            point = [random_rational(rng, 99, zero=True) for _ in self.scene.variables]
             try:
                 rows.append(arithmetic.basis_row(prep, point))
             except ZeroDivisionError:

@@ -5,6 +5,8 @@ import sys
 import time
 from typing import TextIO
 
+__all__ = ["Progress"]
+
 
 class Progress:
     """`[#####.....] 12/40 points, 3.1 s` rewritten in place; silent when disabled."""

@@ -19,6 +19,8 @@ from hkproof.experiments.profiles import ProfileProblem, kernel_vectors, parse_b
 from hkproof.experiments.relations import FoundRelation
 from hkproof.experiments.scene import make_scene
 
+__all__ = ["agreement", "pslq_relations", "PSLQSearch"]
+
 
 @dataclass
 class PSLQSearch:

@@ -17,11 +17,15 @@ from typing import Callable, Sequence
 
 import flint
 
+from hkproof.algebra.sampling import random_rational
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.modular import kernel_mod_p, residue_or_none
 from hkproof.algebra.monomials import count_upto, exponents_upto, value
 from hkproof.algebra.ring import Ring
 from hkproof.experiments.arithmetics import integer_rows
+
+__all__ = ["dense_size", "line_degrees", "Point", "PRIME", "reconstruct_rational", "Reconstruction", "Sampler",
+           "univariate_degrees"]
 
 Point = dict[str, flint.fmpq]
 # sample(outer values, inner points) -> the function's value at each point (None where it is undefined)
@@ -49,10 +53,7 @@ class _Samples:
         self.failures = 0
 
     def _rational(self) -> flint.fmpq:
-        while True:
-            a = self.rng.randint(-self.size, self.size)
-            if a:
-                return flint.fmpq(a, self.rng.randint(1, self.size))
+        return random_rational(self.rng, self.size)
 
     def extend(self, wanted: int, outer_draws: int) -> None:
         """At least `wanted` samples in all, spread over `outer_draws` random outer values."""
@@ -79,7 +80,7 @@ def line_degrees(sample: Sampler, outer: Sequence[str], inner: Sequence[str], *,
     names = list(outer) + list(inner)
 
     def r() -> flint.fmpq:
-        return flint.fmpq(rng.randint(-size, size) or 1, rng.randint(1, size))
+        return random_rational(rng, size)
     a, b = [r() for _ in names], [r() for _ in names]
     ts: list[int] = []
     vs: list = []

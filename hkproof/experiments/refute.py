@@ -13,8 +13,11 @@ from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import SingularPointError
 from hkproof.experiments.modular import ModP, random_prime
-from hkproof.experiments.points import random_point, random_values
+from hkproof.algebra.sampling import random_rationals
+from hkproof.experiments.points import random_values
 from hkproof.experiments.scene import make_scene, point_values
+
+__all__ = ["modular_witness", "Witness"]
 
 
 @dataclass(frozen=True)
@@ -45,7 +48,7 @@ def modular_witness(kmap: KahanMap, h: Frac, seed: int = 0, tries: int = 4) -> W
         scene = make_scene(kmap, values)
         arithmetic = ModP(random_prime(rng))
         prep = arithmetic.prepare(scene, [scene.compile(h)])
-        point = random_point(kmap, rng)
+        point = random_rationals(rng, len(kmap.variables))
         try:
             x = [arithmetic.number(v) for v in point_values(scene, point)]
             (at_x,), (at_fx,) = arithmetic.basis_row(prep, x), arithmetic.basis_row(prep, arithmetic.step(prep, x))

@@ -18,11 +18,14 @@ from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
-from hkproof.experiments.points import random_point, random_rational
+from hkproof.algebra.sampling import random_rational, random_rationals
 from hkproof.experiments.profiles import ProfileProblem, kernel_vectors, parse_basis
 from hkproof.experiments.scene import make_scene
 from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.hk.reduced import Relation
+
+__all__ = ["CoordinateSampler", "find_relations", "FoundRelation", "Polynomial", "RelationSearch",
+           "RelationSearchError"]
 
 
 class RelationSearchError(HKProofError):
@@ -91,7 +94,7 @@ class CoordinateSampler:
 
     def row(self, problems: Sequence[ProfileProblem]) -> list[flint.fmpq] | None:
         """(c^(1)_1, ..., c^(1)_(l1-1), c^(2)_1, ..., 1) at a random point, or None at a bad point."""
-        point = random_point(self.kmap, self.rng, size=99)
+        point = random_rationals(self.rng, len(self.kmap.variables), 99)
         out = []
         for problem, c in zip(problems, kernel_vectors(problems, point), strict=True):
             if c is None:
@@ -147,7 +150,7 @@ def find_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], *, nam
 
     def sample() -> tuple[list[flint.fmpq], list[list[flint.fmpq]]]:
         for _ in range(20):
-            t = [to_fmpq(random_rational(rng, 30)) for _ in free]
+            t = [random_rational(rng, 30) for _ in free]
             vals = {**fixed, **{n: flint.fmpq(1) for n in weights.normalized}, **dict(zip(free, t, strict=True))}
             space = sampler.relation_space(vals)
             if space is not None:

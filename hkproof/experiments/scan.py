@@ -13,12 +13,15 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.experiments.choice import get_arithmetic
-from hkproof.experiments.points import random_point, random_values
+from hkproof.algebra.sampling import random_rationals
+from hkproof.experiments.points import random_values
 from hkproof.experiments.profiles import (AMBIGUOUS, HK_BASIS, IRREGULAR, NO_BASIS, SINGULAR, KernelProfile,
                                           ProfileProblem, parse_basis)
 from hkproof.experiments.progress import Progress
 from hkproof.experiments.scene import make_scene
 from hkproof.proof.status import Status
+
+__all__ = ["PARALLEL_MIN", "scan", "ScanResult"]
 
 PARALLEL_MIN = 16   # fewer points than this run in the calling process (a pool's workers cost ~0.3 s to start)
 
@@ -87,7 +90,7 @@ def scan(system: str | KahanMap, basis: str | Sequence[str], *, points: int | Se
     rng = random.Random(seed)
     scene_values = random_values(kmap, rng, values)
     basis_texts = tuple(str(phi) for phi in parse_basis(kmap.ring, basis))
-    pts = [random_point(kmap, rng) for _ in range(points)] if isinstance(points, int) else list(points)
+    pts = [random_rationals(rng, len(kmap.variables)) for _ in range(points)] if isinstance(points, int) else list(points)
     str_points = [[str(Fraction(str(v))) for v in pt] for pt in pts]
     args = (_field_spec(kmap.field), basis_texts, tuple((k, str(v)) for k, v in scene_values.items()),
             (arithmetic, digits, seed))

@@ -12,6 +12,8 @@ from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ParseError
 
+__all__ = ["AffineEntry", "compile_poly", "CompiledPoly", "make_scene", "point_values", "Scene"]
+
 # a polynomial in the phase variables at fixed eps and parameters: ((coefficient, exponents), ...)
 CompiledPoly = tuple[tuple[flint.fmpq, tuple[int, ...]], ...]
 # an affine entry c0 + sum_k c_k x_k: (c0, ((k, c_k), ...))

@@ -16,6 +16,8 @@ from hkproof.algebra.linalg import nullspace_q
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 
+__all__ = ["scaling_weights", "Weights"]
+
 
 @dataclass(frozen=True)
 class Weights:

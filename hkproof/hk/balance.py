@@ -9,6 +9,8 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational
 from hkproof.dynamics.kahan import KahanMap
 
+__all__ = ["orbit_matrix"]
+
 
 def orbit_matrix(kmap: KahanMap, functions: Sequence[Frac], point: Mapping[str, Rational], rows: int) -> flint.fmpq_mat:
     """X_[0, rows-1] at `point` (phase variables, eps and parameters all fixed): row i is phi(f^i(x)), exactly over Q.

@@ -38,6 +38,8 @@ from hkproof.hk.row_check import row_holds
 from hkproof.hk.translation import ParameterTranslation, check_solution_on_slice, prove_on_slice
 from hkproof.proof.certificate import Certificate
 
+__all__ = ["BlockSymmetry", "BlockSystem", "check_block", "determined_components", "prove_block", "verify_candidate"]
+
 
 @dataclass(frozen=True)
 class BlockSystem:

@@ -21,6 +21,8 @@ from hkproof.errors import HKProofError
 from hkproof.hk.reduced import Relation
 from hkproof.hk.transport import Substitution
 
+__all__ = ["complete_coordinates", "generic_point"]
+
 
 def generic_point(names: Sequence[str]) -> dict[str, flint.fmpq]:
     """Distinct rational values for `names` (where the relations' pivots are read off)."""

@@ -12,6 +12,7 @@ from typing import Sequence
 
 import flint
 
+from hkproof.algebra.sampling import random_point
 from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
@@ -117,7 +118,7 @@ def check_at_points(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, p
     ring = kmap.ring
     done = 0
     while done < points:
-        pt = {n: flint.fmpq(rng.randint(-9, 9) or 1, rng.randint(1, 7)) for n in ring.names}
+        pt = random_point(rng, ring.names, 9, denominator=7)
         pt.update(fixed or {})
         try:
             fx = kmap.step_exact(pt)

@@ -11,6 +11,7 @@ from typing import Mapping, Sequence
 
 import flint
 
+from hkproof.algebra.sampling import random_point
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational
 from hkproof.dynamics.field import EPS
@@ -93,5 +94,5 @@ def jacobian_points(names: Sequence[str], count: int = 3, seed: int = 11) -> lis
     """A few reproducible rational points fixing every name (for exact Jacobian ranks)."""
     import random
     rng = random.Random(seed)
-    return [{n: flint.fmpq(rng.choice([-1, 1]) * rng.randint(1, 97), rng.randint(1, 89)) for n in names}
+    return [random_point(rng, names, 97, denominator=89)
             for _ in range(count)]

@@ -9,6 +9,8 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Ring
 from hkproof.proof.certificate import Refuted
 
+__all__ = ["coefficients_in", "even_pieces", "homogeneous_eps_pieces", "support_stats", "taylor", "weighted_degrees"]
+
 
 def coefficients_in(ring: Ring, p: flint.fmpz_mpoly, name: str) -> list[flint.fmpz_mpoly]:
     """[p_0, p_1, ...] with p = sum_k p_k name^k, each p_k free of `name` (same ring)."""

@@ -9,6 +9,8 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational
 from hkproof.errors import SingularPointError
 
+__all__ = ["derivative_at", "jacobian_rank_at", "max_jacobian_rank", "sample_point"]
+
 
 def jacobian_rank_at(functions: Sequence[Frac], variables: Sequence[str], point: Mapping[str, Rational]) -> int:
     """Rank over Q of (d h_i / d x_j) at a point fixing every variable of the ring."""

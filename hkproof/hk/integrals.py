@@ -11,6 +11,9 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 
+__all__ = ["check_integral", "integral_difference", "IntegralVerdict", "lie_derivative", "point_text",
+           "shared_integrals"]
+
 
 @dataclass
 class IntegralVerdict:
@@ -32,7 +35,13 @@ def integral_difference(kmap: KahanMap, h: Frac) -> Frac:
 
 
 def check_integral(kmap: KahanMap, h: Frac) -> IntegralVerdict:
-    """Verified iff h(f(x)) = h(x) as rational functions; refuted otherwise (an exact statement either way)."""
+    """Verified iff h(f(x)) = h(x) as rational functions; refuted otherwise (an exact statement either way).
+
+    >>> from hkproof.dynamics.field import QuadraticField
+    >>> rotation = KahanMap(QuadraticField("rotation", ("x", "y"), (), ("-y", "x")))
+    >>> [check_integral(rotation, Frac.parse(rotation.ring, h)).status.label for h in ("x**2 + y**2", "x*y")]
+    ['verified', 'refuted']
+    """
     diff = integral_difference(kmap, h)
     ring = f"Q({', '.join(kmap.ring.names)})"
     if diff.is_zero():

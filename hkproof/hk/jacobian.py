@@ -12,6 +12,8 @@ from hkproof.algebra.fraction import Frac, homogenized_compose
 from hkproof.algebra.linalg import det
 from hkproof.dynamics.kahan import KahanMap
 
+__all__ = ["det_m", "jacobian_determinant", "matrix_identity_holds"]
+
 
 def det_m(kmap: KahanMap) -> flint.fmpz_mpoly:
     """det M(x, eps) in Z[x, eps, params]."""

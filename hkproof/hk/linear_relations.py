@@ -10,6 +10,8 @@ from hkproof.algebra.ring import Ring
 from hkproof.errors import ParseError
 from hkproof.hk.reduced import Relation
 
+__all__ = ["parse_relation", "parse_relation_chain", "relation_rank", "same_relation"]
+
 
 def parse_relation(ring: Ring, text: str, unknowns: Sequence[str]) -> Relation:
     """'lhs = rhs', linear in the unknowns with coefficients in Q(ring), as sum coef_k a_k = rhs."""

@@ -7,6 +7,8 @@ from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.proof.certificate import StepRecorder
 
+__all__ = ["require_matrix_form"]
+
 
 def require_matrix_form(s: StepRecorder, kmap: KahanMap, want_m: Sequence[Sequence[Frac]],
                         want_b: Sequence[Frac] | None = None, normalize_rows: bool = False) -> None:

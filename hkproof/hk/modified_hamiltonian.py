@@ -17,6 +17,9 @@ from hkproof.hk.integrals import check_integral
 from hkproof.hk.jacobian import jacobian_determinant, matrix_identity_holds
 from hkproof.proof.status import Status
 
+__all__ = ["check_inputs", "field_jacobian", "measure_denominator", "modified_hamiltonian", "ModifiedHamiltonianResult",
+           "NotHamiltonianError", "parse_matrix", "verify"]
+
 
 class NotHamiltonianError(ParseError):
     """H, J and the field do not fit: J not constant or not skew, H not cubic, or F != J grad H."""

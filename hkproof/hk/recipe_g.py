@@ -22,6 +22,9 @@ from hkproof.algebra.linalg import det
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.proof.status import Status
 
+__all__ = ["adjugate_data", "delta_polynomial", "eliminate", "groebner_membership", "recipe_g", "RecipeGResult",
+           "WHAT_IT_PROVES"]
+
 WHAT_IT_PROVES = ("Delta^k * delta = sum_i lambda_i E_i in Z[x, x~, eps, params] (checked by expansion), "
                   "Delta = det M; "
                   "hence on the open set Delta(x) != 0, where x~ = f(x) is the unique solution of the Kahan equations, "

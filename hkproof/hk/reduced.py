@@ -14,6 +14,10 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
 from hkproof.proof.certificate import Certificate
 
+__all__ = ["block_rows_at", "check_solution", "det_at_point", "even_components", "hk_row", "kernel_coordinates",
+           "linear_combination_equals", "orbit_points", "prop_even_hypotheses", "prove_by_evenness", "Relation",
+           "SolutionCheck", "solve_reduced_system", "system_at", "verify_by_evenness"]
+
 SolutionCheck = Callable[..., bool]
 
 

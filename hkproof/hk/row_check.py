@@ -13,6 +13,8 @@ from hkproof.algebra.ring import flint_threads
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals
 
+__all__ = ["check_solution_by_rows", "Monomial", "row_holds"]
+
 Monomial = tuple[int, ...]
 
 

@@ -14,6 +14,8 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
 from hkproof.hk.expansion import support_stats
 
+__all__ = ["interpolated_gcd", "plain_composition"]
+
 
 def plain_composition(kmap: KahanMap, polys: Mapping[str, flint.fmpz_mpoly]
                       ) -> tuple[dict[str, flint.fmpz_mpoly], dict[str, float]]:

@@ -17,6 +17,8 @@ from hkproof.errors import HKProofError
 from hkproof.hk.reduced import Relation, check_solution, prove_by_evenness, verify_by_evenness
 from hkproof.proof.certificate import Certificate, StepRecorder
 
+__all__ = ["check_solution_on_slice", "ParameterTranslation", "prove_on_slice", "slice_decides", "verify_on_slice"]
+
 
 @dataclass(frozen=True)
 class ParameterTranslation:

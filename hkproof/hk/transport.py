@@ -15,6 +15,8 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
 from hkproof.hk.independence import jacobian_rank_at
 
+__all__ = ["map_mismatches", "Substitution"]
+
 
 @dataclass(frozen=True)
 class Substitution:

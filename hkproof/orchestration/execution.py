@@ -19,6 +19,9 @@ from hkproof.orchestration.graph import in_dependency_order
 from hkproof.orchestration.registry import REGISTRY, cached, get_claim, load_all, remember
 from hkproof.proof.certificate import Certificate
 
+__all__ = ["dask_client", "DaskExecutor", "Executor", "EXECUTORS", "InProcessExecutor", "make_executor", "map_executor",
+           "ProcessPoolExecutor", "prove_citing", "run_graph", "worker_failed"]
+
 EXECUTORS = ("process", "dask")
 
 

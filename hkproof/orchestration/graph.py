@@ -6,6 +6,8 @@ from typing import Iterable, Mapping
 from hkproof.errors import UnknownClaimError
 from hkproof.orchestration.registry import Claim
 
+__all__ = ["CitationCycleError", "in_dependency_order"]
+
 
 class CitationCycleError(UnknownClaimError):
     """The declared citations of the registry form a cycle: no claim on it can be proven first."""
@@ -13,7 +15,12 @@ class CitationCycleError(UnknownClaimError):
 
 def in_dependency_order(ids: Iterable[str], registry: Mapping[str, Claim]) -> list[str]:
     """`ids` and every claim they cite, transitively, in layers: each layer cites only earlier ones, and keeps
-    registration order. A citation of an unregistered id or a cycle of citations is refused."""
+    registration order. A citation of an unregistered id or a cycle of citations is refused.
+
+    >>> from types import SimpleNamespace as C
+    >>> in_dependency_order(["c"], {"a": C(uses=()), "b": C(uses=("a",)), "c": C(uses=("b", "a"))})
+    ['a', 'b', 'c']
+    """
     position = {cid: k for k, cid in enumerate(registry)}
     wanted: set[str] = set()
     stack = list(ids)

@@ -12,6 +12,9 @@ from hkproof.errors import UnknownClaimError
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 
+__all__ = ["cached", "Claim", "claim", "get_claim", "load_all", "proven", "Prover", "REGISTRY", "remember",
+           "require_proven", "select"]
+
 Prover = Callable[[Certificate, Mapping[str, str]], None]
 
 

@@ -8,6 +8,8 @@ from typing import Sequence
 from hkproof.orchestration.registry import Claim
 from hkproof.proof.certificate import Certificate
 
+__all__ = ["theorems_markdown"]
+
 
 def _cell(text: str) -> str:
     return text.replace("|", "\\|").replace("\n", " ")

@@ -1,48 +1,31 @@
-"""Run claims for `hkproof prove`, `hkproof report` and proofs/*.py: on an executor, certificates printed as they
-complete (text or JSON Lines) or as one JSON array at the end, Ctrl-C ending cleanly with the partial results."""
+"""Run claims for `hkproof prove`, `hkproof report`, proofs/*.py and the Python API: on an executor, each certificate
+handed to a callback as it completes (the front ends print it), Ctrl-C ending cleanly with the partial results."""
 from __future__ import annotations
 
-import argparse
-import json
-import os
 import signal
-import sys
 import threading
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Callable, Iterator, Sequence
 
-from hkproof.errors import HKProofError
-from hkproof.orchestration.execution import EXECUTORS, make_executor, run_graph
+from hkproof.exit_codes import ExitCode
+from hkproof.orchestration.execution import make_executor, run_graph
 from hkproof.orchestration.graph import in_dependency_order
-from hkproof.orchestration.registry import REGISTRY, Claim, cached, select
+from hkproof.orchestration.registry import REGISTRY, Claim, cached
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 
-INTERRUPTED = 130  # the shell's code for a process ended by SIGINT
+__all__ = ["Run", "RunOptions", "certificate_payload", "execute"]
 
 
-def positive_int(text: str) -> int:
-    """An argparse type: a whole number >= 1."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"{value} is not a positive number of jobs")
-    return value
+@dataclass(frozen=True)
+class RunOptions:
+    """Where the claims run (the certificates do not depend on it): `jobs` at once, on the `executor` ("process":
+    local worker processes, "dask": Dask distributed, a LocalCluster unless `scheduler` gives an address)."""
 
-
-def add_run_options(parser: argparse.ArgumentParser) -> None:
-    """--jobs, --executor, --scheduler: where the claims run (the certificates do not depend on it)."""
-    parser.add_argument("--jobs", type=positive_int, default=os.cpu_count() or 1, metavar="N",
-                        help="prove up to N independent claims at once (default: the machine's cores; 1: a plain "
-                             "loop in this process)")
-    parser.add_argument("--executor", choices=EXECUTORS, default="process",
-                        help="process: a pool of local processes; dask: Dask distributed (pip install "
-                             "'hkproof[dask]'), a LocalCluster of N workers unless --scheduler is given")
-    parser.add_argument("--scheduler", metavar="ADDRESS",
-                        help="with --executor dask: the address of a running Dask scheduler, e.g. tcp://host:8786")
+    jobs: int = 1
+    executor: str = "process"
+    scheduler: str | None = None
 
 
 @dataclass
@@ -60,8 +43,8 @@ class Run:
     @property
     def exit_code(self) -> int:
         if self.interrupted:
-            return INTERRUPTED
-        return 0 if all(c.succeeded(cert) for c, cert in self.finished) else 1
+            return ExitCode.INTERRUPTED
+        return ExitCode.VERIFIED if all(c.succeeded(cert) for c, cert in self.finished) else ExitCode.REFUTED
 
     def payload(self) -> list[dict]:
         return [certificate_payload(cert) for _, cert in self.finished]
@@ -124,9 +107,10 @@ def _sigint_deferred() -> Iterator[None]:
         raise KeyboardInterrupt
 
 
-def execute(claims: Sequence[Claim], args: argparse.Namespace,
+def execute(claims: Sequence[Claim], options: RunOptions = RunOptions(),
             on_done: Callable[[Certificate], None] = lambda cert: None) -> Run:
-    """Prove `claims` (and what they cite) with the executor of `args`; Ctrl-C returns the partial run."""
+    """Prove `claims` (and what they cite) where `options` say, calling `on_done` with each certificate as it
+    completes; Ctrl-C returns the partial run."""
     run = Run(list(claims))
     ids = [c.id for c in run.claims]
     tasks = sum(cached(cid) is None for cid in in_dependency_order(ids, REGISTRY))
@@ -138,7 +122,7 @@ def execute(claims: Sequence[Claim], args: argparse.Namespace,
 
     executor = None
     try:
-        executor = make_executor(args.executor, args.jobs, args.scheduler, tasks)
+        executor = make_executor(options.executor, options.jobs, options.scheduler, tasks)
         run_graph(ids, executor, done)
     except KeyboardInterrupt:
         run.interrupted = True
@@ -147,44 +131,3 @@ def execute(claims: Sequence[Claim], args: argparse.Namespace,
             with _sigint_ignored():
                 executor.close(interrupted=run.interrupted)
     return run
-
-
-def streaming(args: argparse.Namespace) -> Callable[[Certificate], None]:
-    """What to print as each certificate completes: its text, a JSON line, or nothing (--json prints at the end)."""
-    if getattr(args, "jsonl", False):
-        return lambda cert: print(json.dumps(certificate_payload(cert)), flush=True)
-    if args.json:
-        return lambda cert: None
-    return lambda cert: print(cert.render(), flush=True)
-
-
-def prove_claims(claims: Sequence[Claim], args: argparse.Namespace) -> tuple[list[dict], str, int]:
-    """Prove, streaming each certificate; the JSON payload, the closing text (summary; with --jsonl a JSON line),
-    and the exit code (0 all succeeded, 1 some did not, 130 interrupted)."""
-    if args.json and getattr(args, "jsonl", False):
-        raise HKProofError("--json (one JSON array at the end) and --jsonl (one JSON object per line) exclude each "
-                           "other: choose one")
-    run = execute(claims, args, streaming(args))
-    if run.interrupted and args.json:
-        print(run.summary().strip(), file=sys.stderr)
-    closing = json.dumps(run.summary_record()) if getattr(args, "jsonl", False) else run.summary()
-    return run.payload(), closing, run.exit_code
-
-
-def run_script(groups: Sequence[str], argv: Sequence[str] | None = None) -> int:
-    """The body of proofs/*.py: prove `groups`; --json/--jsonl for machine output, --no-slow to skip slow claims,
-    --jobs/--executor/--scheduler for where they run."""
-    parser = argparse.ArgumentParser(description=f"Certify the theorems of group(s) {', '.join(groups)}.")
-    output = parser.add_mutually_exclusive_group()
-    output.add_argument("--json", action="store_true", help="print the certificates as one JSON array at the end")
-    output.add_argument("--jsonl", action="store_true", help="print each certificate as a JSON line as it completes")
-    parser.add_argument("--no-slow", action="store_true", help="skip claims marked slow")
-    add_run_options(parser)
-    args = parser.parse_args(argv)
-    try:
-        payload, closing, code = prove_claims(select(groups=groups, include_slow=not args.no_slow), args)
-    except HKProofError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    print(json.dumps(payload, indent=2) if args.json else closing)
-    return code

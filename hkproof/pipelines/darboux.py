@@ -15,6 +15,7 @@ from typing import Any, Callable, Mapping, Sequence
 
 import flint
 
+from hkproof.algebra.sampling import random_point
 from hkproof.algebra.fraction import Frac, homogenized_compose, poly_str
 from hkproof.algebra.linalg import cramer, lcm
 from hkproof.algebra.modular import free_kernel_mod_p, random_prime
@@ -170,7 +171,7 @@ class SymbolicRows:
     def point(self, k: int) -> dict:
         """The k-th rational point: x, f(x) and the atoms there, as elements of Q(eps, params)."""
         while len(self.points) <= k:
-            x = {v: flint.fmpq(self.rng.randint(-9, 9), self.rng.randint(1, 5)) for v in self.kmap.variables}
+            x = random_point(self.rng, self.kmap.variables, 9, denominator=5, zero=True)
             nums, delta = self.kmap.explicit
             d = self._at(delta, x)
             if d.is_zero():
@@ -240,7 +241,7 @@ def reconstruct_at_values(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofac
     rows: list[list[flint.fmpq]] = []
     rank = 0
     while rank < len(unknowns):
-        x = {v: flint.fmpq(rng.randint(-9, 9), rng.randint(1, 5)) for v in kmap.variables}
+        x = random_point(rng, kmap.variables, 9, denominator=5, zero=True)
         point = {**values, **x}
         try:
             fx = {**point, **kmap.step_exact(point)}
@@ -309,8 +310,7 @@ def search_darboux(kmap: KahanMap, degree: int = 4, *, seed: int = 0, symbolic_l
     monos = exponents_upto(len(kmap.variables), degree)
     symbolic = len(kmap.variables) <= symbolic_limit
     if symbolic:        # values for the modular search only: large random rationals avoid special cases
-        values = {n: flint.fmpq(rng.randint(2, 40) * rng.choice((-1, 1)), rng.randint(1, 40))
-                  for n in (EPS,) + kmap.field.parameters}
+        values = random_point(rng, (EPS,) + kmap.field.parameters, 40)
     else:               # the results hold at these values: small ones give readable polynomials
         ints = rng.sample([k for k in range(-9, 10) if k], len(kmap.field.parameters))
         values = {EPS: flint.fmpq(1, rng.randint(3, 11)),

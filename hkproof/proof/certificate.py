@@ -11,6 +11,8 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Ring
 from hkproof.proof.status import Status
 
+__all__ = ["Certificate", "describe_ring", "ProofStopped", "Refuted", "Step", "StepRecorder"]
+
 
 class Refuted(Exception):
     """Raised inside a step when the claim checked there is false."""

@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import resource
 
+__all__ = ["peak_rss_mb"]
+
 
 def peak_rss_mb() -> float:
     """The peak resident memory of this process so far, in MB (Linux reports kilobytes)."""

@@ -4,6 +4,8 @@ from __future__ import annotations
 from enum import IntEnum
 from typing import Mapping
 
+__all__ = ["specialized_label", "Status"]
+
 
 class Status(IntEnum):
     """How far a claim stands; a certificate's status is the lowest of its steps."""

@@ -38,7 +38,11 @@ _CYCLE = {"m1": "m2", "m2": "m3", "m3": "m1", "p1": "p2", "p2": "p3", "p3": "p1"
 
 
 def cycled(text: str, times: int = 1) -> str:
-    """The formula with every index shifted cyclically 1 -> 2 -> 3 -> 1, `times` times."""
+    """The formula with every index shifted cyclically 1 -> 2 -> 3 -> 1, `times` times.
+
+    >>> cycled("w1*p2**2 - d7", 2)
+    'w3*p1**2 - d9'
+    """
     return formula_cycled(text, _CYCLE, times % 3)
 
 

@@ -21,6 +21,8 @@ from hkproof.pipelines.discover import DiscoveryReport, discover
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 
+__all__ = ["Entry", "GROUP", "prove_integrals", "prove_kernels", "run"]
+
 GROUP = "atlas"
 
 

@@ -38,6 +38,10 @@ from hkproof.theorems._clebsch import (
     shift_frac,
 )
 
+__all__ = ["C_PRINTED", "D2_PRINTED", "G1_VIA_ABCD", "G4_PRINTED", "GROUP", "J_PRINTED", "J_VIA_ABCD", "MP", "ONES",
+           "P2", "PRINTED_ROW", "prove_basis1_even", "prove_basis1_relations", "prove_basis2",
+           "prove_basis2_independence", "prove_theta", "prove_theta_dependence", "theta_relation"]
+
 GROUP = "clebsch-bases"
 P2 = ("p1**2", "p2**2", "p3**2")
 MP = ("m1*p1", "m2*p2", "m3*p3")

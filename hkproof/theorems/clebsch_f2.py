@@ -12,6 +12,9 @@ from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate
 from hkproof.theorems._clebsch import SYSTEM, X, number
 
+__all__ = ["COLUMNS", "GROUP", "OMEGA_POINTS", "plain_second_iterate", "PRINTED_P1", "PRINTED_TABLE", "prove_f2_plain",
+           "prove_f2_reduced", "ROWS", "table_row", "w_form_degree"]
+
 GROUP = "clebsch-f2"
 COLUMNS = ("p1", "p2", "p3", "m1", "m2", "m3")  # the column order of Table "f2"
 ROWS = ("denominator", "p1", "p2", "p3", "m1", "m2", "m3")

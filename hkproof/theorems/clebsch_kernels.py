@@ -15,6 +15,9 @@ from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import PHI_MAX, SYSTEM, X, named, number, recall
 
+__all__ = ["check_kernel_profiles", "GROUP", "kernel_evidence", "KERNEL_STATEMENT", "phi_max_profiles", "PHI_SUB",
+           "POINTS", "prove_kernel_evidence", "prove_max_basis_bounds"]
+
 GROUP = "clebsch-kernels"
 # (eps, w1, w2, w3; m1, m2, m3, p1, p2, p3): rational points with distinct w and no singular step in 10 iterates
 POINTS: tuple[tuple[dict[str, Rational], tuple[Rational, ...]], ...] = (

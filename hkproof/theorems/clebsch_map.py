@@ -16,6 +16,9 @@ from hkproof.proof.certificate import Certificate
 from hkproof.theorems._clebsch import SYSTEM, H, X, cycled, named, number, shift
 from hkproof.theorems._common import parse, parse_matrix
 
+__all__ = ["GROUP", "MATRIX", "prove_complexity", "prove_continuous", "prove_equations", "prove_explicit",
+           "prove_reversibility", "prove_symmetries", "TILDE_EQUATIONS"]
+
 GROUP = "clebsch-map"
 TILDE_EQUATIONS = {
     "m1": "m1_t - m1 - eps*(w3 - w2)*(p2_t*p3 + p2*p3_t)",

@@ -19,6 +19,9 @@ from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import recall
 
+__all__ = ["FIRST_FLOW_INTEGRALS", "GROUP", "prove_commutation", "prove_shared_integrals", "SECOND_FLOW_INTEGRALS",
+           "SYMBOLIC_LIMIT", "WITNESS", "WITNESS_RING"]
+
 GROUP = "commuting-flows"
 FLOW1, FLOW2 = "clebsch", "clebsch-flow2"
 WITNESS: dict[str, Rational] = {"m1": 1, "m2": 2, "m3": -1, "p1": 3, "p2": 1, "p3": 2, "eps": flint.fmpq(1, 5), "w1": 1, "w2": 2, "w3": 3}

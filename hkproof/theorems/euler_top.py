@@ -17,6 +17,9 @@ from hkproof.orchestration.registry import claim, proven, require_proven
 from hkproof.proof.certificate import Certificate
 from hkproof.theorems._common import parse, parse_matrix
 
+__all__ = ["CYCLE", "DELTA", "GROUP", "PRODUCT", "prove_et_continuous", "prove_et_explicit", "prove_et_first",
+           "prove_et_full", "prove_et_reversibility", "prove_et_second", "prove_et_symmetric", "X"]
+
 GROUP = "euler-top"
 X = ("x1", "x2", "x3")
 CYCLE = {"x1": "x2", "x2": "x3", "x3": "x1", "a1": "a2", "a2": "a3", "a3": "a1"}

@@ -10,6 +10,8 @@ from hkproof.orchestration.registry import claim
 from hkproof.proof.certificate import Certificate
 from hkproof.theorems._common import parse, parse_matrix
 
+__all__ = ["GROUP", "prove_lv_explicit", "prove_lv_poisson"]
+
 GROUP = "lotka-volterra"
 
 

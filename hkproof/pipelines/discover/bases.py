@@ -6,8 +6,8 @@ import math
 import random
 from dataclasses import dataclass, field
 
-import flint
 
+from hkproof.algebra.sampling import random_rational
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.modular import rank_mod_p
 from hkproof.algebra.monomials import Exponents, exponents_upto, text
@@ -80,7 +80,7 @@ def confirm_basis(scene: Scene, basis: list[Frac]) -> dict:
     """Algorithm (N) on a minimal basis: mod two primes at two points, and exactly over Q at one point."""
     problem = ProfileProblem(scene, basis)
     rng = random.Random(len(basis))
-    pts = [[flint.fmpq(rng.randint(-60, 60) or 1, rng.randint(1, 50)) for _ in scene.variables] for _ in range(3)]
+    pts = [[random_rational(rng, 60) for _ in scene.variables] for _ in range(3)]
     modular = [problem.profile(pt, Modular(seed=i), with_kernel=False) for i, pt in enumerate(pts[:2])]
     exact = problem.profile(pts[2], ExactQ(), with_kernel=False)
     dims = {pr.dimension for pr in modular + [exact] if pr.verdict == HK_BASIS}

@@ -12,6 +12,7 @@ from typing import Callable
 
 import flint
 
+from hkproof.algebra.sampling import random_rational
 from hkproof.algebra.monomials import Exponents
 from hkproof.errors import HKProofError
 from hkproof.experiments.reconstruction import dense_size, univariate_degrees
@@ -123,8 +124,8 @@ def normalizations(kmap: KahanMap, basis: list[Exponents], weights: Weights, fre
     ansatzes, with the size of each ratio's ansatz, from degrees along one random line (values mod p). A special
     line or prime only lowers degrees, so a size above the limit is a safe reason to skip."""
     names = list(free) + list(kmap.variables)
-    a = [flint.fmpq(rng.randint(-30, 30) or 1, rng.randint(1, 30)) for _ in names]
-    b = [flint.fmpq(rng.randint(-30, 30) or 1, rng.randint(1, 30)) for _ in names]
+    a = [random_rational(rng, 30) for _ in names]
+    b = [random_rational(rng, 30) for _ in names]
     sample = modular_sampler(kmap, basis, None, weights, free, p)
     ts: list[int] = []
     vecs: list = []

@@ -15,10 +15,11 @@ from typing import Mapping
 
 import flint
 
+from hkproof.algebra.sampling import random_point
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.modular import rank_mod_p
 from hkproof.algebra.monomials import count_upto
-from hkproof.algebra.ring import Rational, to_fmpq
+from hkproof.algebra.ring import Rational
 from hkproof.budget import Budget
 from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.field import EPS, QuadraticField
@@ -101,7 +102,7 @@ def _search(ctx: SearchContext, report: DiscoveryReport) -> None:
     degree = report.degree
     # a generic scene: normalized names 1 (as in reconstruction), the others random
     values = {m: flint.fmpq(1) for m in ctx.weights.normalized}
-    values.update({m: to_fmpq(rng.choice([-1, 1]) * rng.randint(2, 29)) / rng.randint(2, 31) for m in ctx.free})
+    values.update(random_point(rng, ctx.free, 29))
     scene = make_scene(kmap, values)
 
     stages.start("screening", f"screening monomials of degree <= {degree} mod p (algorithm (N))")

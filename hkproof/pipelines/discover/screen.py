@@ -11,9 +11,9 @@ from dataclasses import dataclass
 
 import flint
 
+from hkproof.algebra.sampling import random_rational
 from hkproof.algebra.modular import kernel_mod_p, random_prime, rank_mod_p
 from hkproof.algebra.monomials import Exponents, exponents_upto, value_mod_p
-from hkproof.algebra.ring import to_fmpq
 from hkproof.dynamics.field import QuadraticField
 from hkproof.errors import SingularPointError, UnluckyPrimeError
 from hkproof.experiments.arithmetics import pivot_columns
@@ -84,7 +84,7 @@ def screen(scene: Scene, n: int, degree: int, rng: random.Random, extra: int = 3
     monos = {d: exponents_upto(n, d) for d in range(1, degree + 1)}
     top = len(monos[degree])
     for _ in range(8):
-        point = [to_fmpq(rng.choice([-1, 1]) * rng.randint(1, 99)) / rng.randint(1, 97) for _ in range(n)]
+        point = [random_rational(rng, 99) for _ in range(n)]
         p = random_prime(rng)
         try:
             orbit = TangentOrbit(scene, point, p, top + extra - 1)

@@ -23,6 +23,9 @@ from hkproof.theorems._clebsch import SYSTEM, X, named, recall, record
 from hkproof.theorems.clebsch_bases_345.data import (ABCD_DEPENDENCE, ADD, ADD_ABCD, A_2, BLOCK, COMMON, D_4, GROUP, M2,
                                                      REL18, REL18_EXTRA, UNKNOWNS, bases, relation_rows)
 
+__all__ = ["J456", "m2_entries", "prove_abcd", "prove_dependence", "prove_independence", "prove_relations",
+           "prove_relations_found", "prove_step1", "proven_coordinates", "STEP1_RELATIONS", "step1_relations"]
+
 # -- rel18: the nine relations, found again by recipe (E) ---------------------------------------------------------
 @claim("dc345-relations", GROUP,
        "Eqs. \"rel18_1\" ... \"rel18_8\": nine independent linear relations among alpha_j, beta_j, gamma_j",

@@ -18,6 +18,9 @@ from hkproof.theorems._clebsch import SYSTEM, TRANSLATION, X, named, recall, rec
 from hkproof.theorems.clebsch_bases_345.data import BLOCK, F_TEXT, GROUP, REL18, UNKNOWNS, bases, relation_rows
 from hkproof.theorems.clebsch_kernels import POINTS, phi_max_profiles
 
+__all__ = ["ALPHA123", "F_VIA_ABCD", "kernel_vectors", "part_two", "prove_alpha", "prove_max_basis", "prove_step5",
+           "SYMMETRIC"]
+
 ALPHA123 = {"a1": "H3 - I1", "a2": "-I1", "a3": "-I1", "b1": "-I2", "b2": "H3 - I2", "b3": "-I2",
             "c1": "-I3", "c2": "-I3", "c3": "H3 - I3"}
 F_VIA_ABCD = "((w2 - w3)*(A*D + 1/4) - A*(B - C))/D"

@@ -22,6 +22,8 @@ from hkproof.theorems.clebsch_flows.second_flow_bases import embedded_vectors, m
 from hkproof.theorems.clebsch_flows.general import FIRST, FLOW2, GROUP, PHI_MAX_TEXT, RANK_POINT, reduction_substitutions
 from hkproof.theorems.clebsch_flows.data import yz_map, yz_map_at_z0
 
+__all__ = ["prove_conjecture", "STATEMENT"]
+
 STATEMENT = ("For every flow of the Clebsch system (b_k = s + y w_k - z w_i w_j, i.e. b and w arbitrary; w, y, z, eps "
              "symbolic): Phi0 = (p^2, m^2, 1) and Phi_k = (p^2, m^2, m_k p_k) are HK-bases with one-dimensional "
              "null-spaces, whose vectors, placed in R^10, span K_Phi for the ten monomials (dim K_Phi = `dim`); their "

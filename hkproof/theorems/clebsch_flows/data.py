@@ -12,6 +12,9 @@ from hkproof.errors import HKProofError
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.transport import Substitution
 
+__all__ = ["B_OF_YZ", "C_OF_YZ", "CYCLIC", "e_names", "GENERAL", "map_components_under", "PHI0", "REDUCTION",
+           "REDUCTION_Z0", "substitution", "yz_map", "yz_map_at_z0"]
+
 GENERAL = "clebsch-general"
 # b = s (1,1,1) + y w + z (-w2 w3, -w3 w1, -w1 w2): c_k = y + z w_k by eq. "c thru b"; s drops out (p x p = 0)
 B_OF_YZ = {"b1": "s + y*w1 - z*w2*w3", "b2": "s + y*w2 - z*w3*w1", "b3": "s + y*w3 - z*w1*w2"}

@@ -7,6 +7,7 @@ from typing import Mapping, Sequence
 
 import flint
 
+from hkproof.algebra.sampling import random_point
 from hkproof.algebra.formula import indexed, rename
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import cramer, nullspace_q, rank_over_fraction_field
@@ -57,6 +58,12 @@ from hkproof.theorems.clebsch_flows.data import (
 from hkproof.theorems.clebsch_bases_345.data import REL18, relation_rows
 from hkproof.theorems.clebsch_bases_345.data import UNKNOWNS as ABC_NAMES
 from hkproof.theorems.clebsch_bases_345.data import bases as phi_bases
+
+__all__ = ["C_THRU_B", "DC2", "DIFFERENCES", "E_PAPER", "FIRST", "FLOW2", "GENERAL_CLAIM", "GENERAL_NAMES", "GROUP",
+           "L_SAMPLE", "M_PAPER", "PHI_MAX_TEXT", "prove_general_map", "prove_general_phi0", "prove_reduction",
+           "prove_second_flow", "prove_second_flow_recipe_g", "prove_second_relations_found", "prove_second_theta",
+           "prove_theta_all_flows", "RANK_POINT", "REDUCTION_CLAIM", "reduction_substitutions", "SECOND",
+           "SECOND_REL18", "SECOND_REL18_RANKS", "SUB_BASES", "THETA_NAMES", "THETA_RELATION", "TILDE", "YZ_SHIFT"]
 
 GROUP = "clebsch-flows"
 FLOW2 = "clebsch-flow2"
@@ -545,7 +552,7 @@ def _l_relations(cert: Certificate, f: KahanMap, phis: Sequence[Sequence[Frac]],
         rng = random.Random(1)
         samples: list[list[flint.fmpq]] = []
         while len(samples) < 60:
-            point = {**L_SAMPLE, **{v: flint.fmpq(rng.randint(-9, 9), rng.randint(1, 5)) for v in f.variables}}
+            point = {**L_SAMPLE, **random_point(rng, f.variables, 9, denominator=5, zero=True)}
             try:
                 a = kernel_coordinates(f, phis, point)
             except SingularPointError:
@@ -555,7 +562,7 @@ def _l_relations(cert: Certificate, f: KahanMap, phis: Sequence[Sequence[Frac]],
         space = nullspace_q(samples)
         s.require(str(len(space) - 18) == claimed["L_relations"].strip(),
                   f"{len(space)} relations linear in L, i.e. {len(space) - 18} beyond the nine and their L-multiples")
-        point = {**L_SAMPLE, **{v: flint.fmpq(rng.randint(-9, 9), rng.randint(1, 5)) for v in f.variables}}
+        point = {**L_SAMPLE, **random_point(rng, f.variables, 9, denominator=5, zero=True)}
         l0 = big_l.evaluate(point)
         rel_rows = [[v[k] + v[19 + k] * l0 for k in range(18)] for v in space]
         orbit = f.orbit_exact(point, 1)

@@ -36,6 +36,10 @@ from hkproof.theorems.clebsch_flows.general import (
     SUB_BASES,
 )
 
+__all__ = ["embedded_vectors", "INDEX_SHIFT", "L_NAMES", "lifted_relations", "max_basis_facts", "PERM",
+           "prove_l_relations_found", "prove_second_bases", "RANKS", "SAMPLES", "screen_at_samples",
+           "SECOND_PHI_RELATIONS"]
+
 L_NAMES = tuple(f"L{u}" for u in UNKNOWNS)     # L a_j, L b_j, L c_j: kernel coordinates of (p^2, m^2, L m_k p_k)
 # As found by hkproof (benchmarks/clebsch_flows.py reruns the search; the claim below checks the span again).
 SECOND_PHI_RELATIONS = {

@@ -1,0 +1,134 @@
+"""The Kahan map on many points at once, modulo a prime below 2^31, projectively and without a single division.
+
+A point x = X / W goes to X~ = N, W~ = D with M'(X, W) N = D b'(X, W), where M' = M0 W + sum_k X_k M_k and
+b' = b0 W + B X are the matrix form of eq. "Kahan gen" cleared of W (M and b are affine in x), and (N, D) comes from
+a division-free elimination. eps and the parameters may differ from point to point. numpy int64 arrays hold the
+residues (products of two residues stay below 2^62); a point where D = 0 mod p is reported, not guessed.
+This is the fast black box behind sparse reconstruction; `KahanMap.mod` is the one-point modular map.
+"""
+from __future__ import annotations
+
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.errors import HKProofError
+
+__all__ = ["MAX_BATCH_PRIME", "BatchKahanMap", "Projective", "power_table", "solve_projective"]
+
+MAX_BATCH_PRIME = 2**31
+Array = np.ndarray
+Projective = tuple[list[Array], Array]      # (X_1..X_n, W): the points X / W of a batch
+
+
+def solve_projective(a: Array, b: Array, p: int) -> tuple[Array, Array]:
+    """(N, D) with A N = D b mod p for a batch of square systems, A of shape (B, n, n) and b of shape (B, n), by
+    division-free elimination and back substitution over a common denominator; D = 0 where A is singular mod p
+    (or an unlucky pivot vanished)."""
+    a, b = a.copy(), b.copy()
+    count, n, _ = a.shape
+    for k in range(n):
+        pivot = a[:, k, k].copy()
+        for i in range(k + 1, n):
+            minus = (p - a[:, i, k]) % p
+            a[:, i, k:] = (pivot[:, None] * a[:, i, k:] % p + minus[:, None] * a[:, k, k:] % p) % p
+            b[:, i] = (pivot * b[:, i] % p + minus * b[:, k] % p) % p
+    nums = np.zeros((count, n), dtype=np.int64)
+    den = np.ones(count, dtype=np.int64)
+    for j in range(n - 1, -1, -1):
+        acc = b[:, j] * den % p
+        for k in range(j + 1, n):
+            acc = (acc + (p - a[:, j, k]) * nums[:, k] % p) % p
+        u = a[:, j, j]
+        nums[:, j + 1:] = nums[:, j + 1:] * u[:, None] % p
+        nums[:, j] = acc
+        den = den * u % p
+    return nums, den
+
+
+def power_table(values: Array, top: int, p: int) -> list[Array]:
+    """[v^0, v^1, ..., v^top] mod p, elementwise."""
+    out = [np.ones_like(values)]
+    for _ in range(top):
+        out.append(out[-1] * values % p)
+    return out
+
+
+class BatchKahanMap:
+    """f(., eps) on batches of points mod p (p < 2^31); every ring name (phase variables, eps, parameters) has one
+    residue per point."""
+
+    def __init__(self, kmap: KahanMap, p: int):
+        if not 2 < p < MAX_BATCH_PRIME:
+            raise HKProofError(f"the batch map works modulo a prime below 2^31, got {p}")
+        self.kmap, self.p = kmap, p
+        self.controls = kmap.field.control_names
+        m_parts, b_parts = kmap.affine_matrix
+        idx = [kmap.ring.index(c) for c in self.controls]
+        self.degrees = [0] * len(self.controls)
+
+        def compile_part(poly) -> tuple[tuple[int, tuple[int, ...]], ...]:
+            terms = []
+            for mono, c in poly.to_dict().items():
+                exps = tuple(int(mono[i]) for i in idx)
+                self.degrees = [max(d, e) for d, e in zip(self.degrees, exps, strict=True)]
+                terms.append((int(c) % p, exps))
+            return tuple(terms)
+
+        def compile_entry(entry: dict) -> dict:
+            return {k: compile_part(poly) for k, poly in entry.items()}
+        self.m_parts = [[compile_entry(e) for e in row] for row in m_parts]
+        self.b_parts = [compile_entry(e) for e in b_parts]
+        self.n = len(kmap.variables)
+
+    def coefficients(self, values: Mapping[str, Array]) -> tuple[list[list[dict]], list[dict]]:
+        """The pieces e0, e_k of every entry of M and b at each point's eps and parameters (arrays mod p)."""
+        p = self.p
+        count = len(next(iter(values.values())))
+        powers = [power_table(np.asarray(values[c], dtype=np.int64) % p, d, p)
+                  for c, d in zip(self.controls, self.degrees, strict=True)]
+
+        def evaluate(terms) -> Array:
+            total = np.zeros(count, dtype=np.int64)
+            for c, exps in terms:
+                term = np.full(count, c, dtype=np.int64)
+                for table, e in zip(powers, exps, strict=True):
+                    if e:
+                        term = term * table[e] % p
+                total = (total + term) % p
+            return total
+        return ([[{k: evaluate(t) for k, t in entry.items()} for entry in row] for row in self.m_parts],
+                [{k: evaluate(t) for k, t in entry.items()} for entry in self.b_parts])
+
+    def step(self, point: Projective, coefficients: tuple[list[list[dict]], list[dict]]) -> Projective:
+        """One step X / W -> N / D; D = 0 marks points where det M(x) = 0 mod p (or W was 0)."""
+        xs, w = point
+        p, n = self.p, self.n
+        m_coef, b_coef = coefficients
+        count = len(w)
+
+        def affine(entry: dict) -> Array:
+            total = entry[None] * w % p if None in entry else np.zeros(count, dtype=np.int64)
+            for k, c in entry.items():
+                if k is not None:
+                    total = (total + c * xs[k] % p) % p
+            return total
+        a = np.empty((count, n, n), dtype=np.int64)
+        for i in range(n):
+            for j in range(n):
+                a[:, i, j] = affine(m_coef[i][j])
+        b = np.stack([affine(e) for e in b_coef], axis=1)
+        nums, den = solve_projective(a, b, p)
+        return [nums[:, k] for k in range(n)], den * (w != 0)
+
+    def orbit(self, values: Mapping[str, Array], steps: int) -> list[Projective]:
+        """x, f(x), ..., f^steps(x) for a batch (values: one residue per point for every ring name)."""
+        coefficients = self.coefficients(values)
+        x: Projective = ([np.asarray(values[v], dtype=np.int64) % self.p for v in self.kmap.variables],
+                         np.ones(len(next(iter(values.values()))), dtype=np.int64))
+        out = [x]
+        for _ in range(steps):
+            x = self.step(x, coefficients)
+            out.append(x)
+        return out
