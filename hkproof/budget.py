@@ -1,8 +1,10 @@
 """A cooperative budget: a deadline (and a memory ceiling) that long computations check inside their loops.
 
-Every long loop of hkproof (orbits, eliminations, reconstructions, Groebner steps, searches) calls
-`budget.check(what)`; when the deadline has passed, `BudgetExhausted` says what was being done, and the caller
-reports what it covered. The front end says how to raise the budget (`raise_with`); nothing below it names an option.
+A pipeline runs its work inside `with budget.active():`; every long loop of hkproof (exact orbits, eliminations,
+reconstructions, Groebner steps, sampling) calls the module-level `check(what)`, which consults the budget active in
+this thread (none: no limit). When the deadline has passed, `BudgetExhausted` says what was being done, and the
+pipeline reports what it covered. The front end says how to raise the budget (`raise_with`); nothing below it names
+an option.
 
 >>> b = Budget(None)
 >>> b.check("nothing"); b.expired, b.remaining() == float("inf")
@@ -15,10 +17,13 @@ from __future__ import annotations
 import math
 import os
 import time
+from contextlib import contextmanager
+from contextvars import ContextVar
+from typing import Iterator
 
 from hkproof.errors import BudgetExhausted, HKProofError
 
-__all__ = ["Budget", "UNLIMITED"]
+__all__ = ["Budget", "UNLIMITED", "check", "current"]
 
 _PAGE_MB = os.sysconf("SC_PAGE_SIZE") / 2**20 if hasattr(os, "sysconf") else 4 / 1024
 
@@ -90,4 +95,31 @@ class Budget:
         return Budget(total, memory_mb=self.memory_mb, raise_with=self.raise_with, _deadline=limit)
 
 
+    @contextmanager
+    def active(self) -> Iterator["Budget"]:
+        """Make this the budget that `check` consults in this thread (nested budgets: the innermost wins)."""
+        token = _ACTIVE.set(self)
+        try:
+            yield self
+        finally:
+            _ACTIVE.reset(token)
+
+
 UNLIMITED = Budget(None)
+_ACTIVE: ContextVar[Budget] = ContextVar("hkproof_budget", default=UNLIMITED)
+
+
+def current() -> Budget:
+    """The budget active in this thread (UNLIMITED outside any `Budget.active()`)."""
+    return _ACTIVE.get()
+
+
+def check(doing: str) -> None:
+    """`current().check(doing)`: the one line a long loop needs.
+
+    >>> with Budget(0.0).active():
+    ...     check("a long loop")
+    Traceback (most recent call last):
+    hkproof.errors.BudgetExhausted: the time budget of 0 s ran out while a long loop (give a larger budget to go further)
+    """
+    _ACTIVE.get().check(doing)

@@ -5,6 +5,7 @@ from typing import Mapping, Sequence
 
 import flint
 
+from hkproof import budget
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.errors import ShapeError, SingularSystemError
@@ -44,6 +45,7 @@ def maximal_minors(matrix: PolyMatrix) -> dict[int, flint.fmpz_mpoly]:
     one = matrix[0][0] - matrix[0][0] + 1
     minors: dict[int, flint.fmpz_mpoly] = {0: one}
     for size in range(1, n + 1):
+        budget.check(f"the minors of size {size} of a {n} x {m} polynomial matrix")
         row = matrix[n - size]
         new: dict[int, flint.fmpz_mpoly] = {}
         for mask, sub in minors.items():
@@ -117,6 +119,7 @@ def _det_bareiss(matrix: PolyMatrix) -> flint.fmpz_mpoly:
                 return one - one
             a[k], a[swap] = a[swap], a[k]
             sign = -sign
+        budget.check(f"step {k + 1} of a fraction-free elimination of a {n} x {n} polynomial matrix")
         for i in range(k + 1, n):
             for j in range(k + 1, n):
                 a[i][j] = (a[i][j] * a[k][k] - a[i][k] * a[k][j]) / prev

@@ -8,7 +8,7 @@ This is the fast black box behind sparse reconstruction; `KahanMap.mod` is the o
 """
 from __future__ import annotations
 
-from typing import Mapping, Sequence
+from typing import Mapping
 
 import numpy as np
 

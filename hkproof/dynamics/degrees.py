@@ -10,6 +10,7 @@ from typing import Mapping, Sequence
 
 import flint
 
+from hkproof import budget
 from hkproof.algebra.modular import random_prime, residue_or_none
 from hkproof.algebra.ring import Rational
 from hkproof.dynamics.field import EPS
@@ -32,6 +33,7 @@ def degrees_on_line(kmap: KahanMap, values: Mapping[str, int], prime: int, itera
     point = [rng.randrange(prime) + rng.randrange(1, prime) * t for _ in kmap.variables] + [tctx.constant(1)]
     degrees: list[int] = []
     for _ in range(iterates):
+        budget.check("iterating the map on a line mod p")
         if degrees and degrees[-1] * d > max_degree:
             break
         point = [h.compose(*point, ctx=tctx) for h in hom]

@@ -10,6 +10,7 @@ from hkproof.algebra.fraction import Frac, homogenized_compose, normalize_sign
 from hkproof.algebra.linalg import cramer_polynomials
 from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import EPS, TILDE, QuadraticField
+from hkproof.dynamics.heights import HeightGuard
 from hkproof.dynamics.modular_map import ModularKahanMap
 from hkproof.errors import ParseError, SingularPointError
 
@@ -184,7 +185,9 @@ class KahanMap:
         fixed = {k: to_fmpq(v) for k, v in point.items() if k not in self.variables}
         current = {k: to_fmpq(v) for k, v in point.items()}
         orbit = [{v: current[v] for v in self.variables}]
+        guard = HeightGuard(steps)
         for i in range(steps):
+            guard.observe(i, orbit[-1].values())
             try:
                 new = self.step_exact(current)
             except SingularPointError as exc:

@@ -7,11 +7,11 @@ from typing import Mapping
 import flint
 
 from hkproof.algebra.ring import Rational, to_fmpq
+from hkproof.dynamics.heights import HeightGuard
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import SingularPointError
 
 __all__ = ["digits", "exact_orbit", "ExactOrbit"]
-
 
 @dataclass
 class ExactOrbit:
@@ -46,6 +46,7 @@ def exact_orbit(kmap: KahanMap, point: Mapping[str, flint.fmpq], values: Mapping
     orbit: every later point is known) or when a coordinate exceeds `max_digits` digits (heights of exact orbits grow
     like exp(c n^2) for integrable maps and faster otherwise); SingularPointError names the step where det M = 0."""
     exact = {k: to_fmpq(v) for k, v in values.items()}
+    guard = HeightGuard(steps, max_bits=10 * max_digits)
     seen: dict[tuple, int] = {}
     orbit: list[dict[str, flint.fmpq]] = []
     current = dict(point)
@@ -55,6 +56,7 @@ def exact_orbit(kmap: KahanMap, point: Mapping[str, flint.fmpq], values: Mapping
             return ExactOrbit(kmap.variables, exact, orbit, i - seen[key], seen[key])
         seen[key] = i
         orbit.append(current)
+        guard.observe(i, current.values())
         if i < steps and digits(current) > max_digits:
             return ExactOrbit(kmap.variables, exact, orbit,
                               stopped=f"x_{i} has more than {max_digits} digits: stopped after {i} steps")

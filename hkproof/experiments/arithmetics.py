@@ -7,10 +7,12 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import flint
 
+from hkproof import budget
+from hkproof.dynamics.heights import HeightGuard
 from hkproof.errors import SingularPointError
 from hkproof.experiments.scene import AffineEntry, CompiledPoly, Scene
 
@@ -97,13 +99,19 @@ class FieldArithmetic(Arithmetic):
         """The orbit in this arithmetic; SingularPointError where det M(x, eps) vanishes."""
         x = [self.number(v) for v in point]
         orbit = [x]
+        watch = self.watch(steps)
         for i in range(steps):
+            watch(i, x)
             try:
                 x = self.step(prep, x)
             except SingularPointError as exc:
                 raise type(exc)(f"step {i + 1} of the orbit: {exc}") from None
             orbit.append(x)
         return orbit
+
+    def watch(self, steps: int) -> Callable[[int, Sequence[Number]], None]:
+        """What the orbit loop checks before each step: the active budget (ExactQ also watches the heights)."""
+        return lambda i, x: budget.check(f"step {i + 1} of an orbit")
 
     def step(self, prep: Prepared, x: Sequence[Number]) -> list[Number]:
         """x~ from M(x) x~ = b(x) (eq. "Kahan gen" in matrix form)."""
@@ -188,6 +196,10 @@ class ExactQ(FieldArithmetic):
 
     def number(self, q: flint.fmpq) -> flint.fmpq:
         return q
+
+    def watch(self, steps: int) -> Callable[[int, Sequence[Number]], None]:
+        """Exact orbits whose heights grow exponentially are stopped before the costly steps (HeightGuard)."""
+        return HeightGuard(steps).observe
 
     def solve(self, m: list[list[flint.fmpq]], b: list[flint.fmpq]) -> list[flint.fmpq]:
         try:

@@ -15,6 +15,7 @@ from typing import Mapping, Sequence
 import flint
 import sympy
 
+from hkproof import budget
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.monomials import exponents_upto
 from hkproof.algebra.linalg import nullspace_q
@@ -98,6 +99,7 @@ def find_rational_relations(target: Frac, knowns: Mapping[str, Frac], values: Ma
     rows: list[list[flint.fmpq]] = []
     tries = 0
     while len(rows) < unknowns + extra:
+        budget.check("sampling values for a dependence search")
         tries += 1
         if tries > 4 * (unknowns + extra) + 20:
             raise DependenceSearchError(f"only {len(rows)} of {unknowns + extra} exact samples: the functions have "

@@ -17,6 +17,7 @@ from typing import Callable, Sequence
 
 import flint
 
+from hkproof import budget
 from hkproof.algebra.sampling import random_rational
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.modular import kernel_mod_p, residue_or_none
@@ -59,6 +60,7 @@ class _Samples:
         """At least `wanted` samples in all, spread over `outer_draws` random outer values."""
         per = max(1, math.ceil((wanted - len(self.rows)) / max(outer_draws, 1)))
         while len(self.rows) < wanted:
+            budget.check("sampling exact values for a reconstruction")
             if self.failures > 4 * wanted + 40:
                 raise ArithmeticError(f"only {len(self.rows)} of {wanted} samples: the function is undefined at "
                                       "almost every random point")
@@ -87,6 +89,7 @@ def line_degrees(sample: Sampler, outer: Sequence[str], inner: Sequence[str], *,
     t = 0
     for e in range(max_degree + 1):
         while len(ts) < 2 * e + 5:
+            budget.check("sampling a line to read degrees")
             t += 1
             if t > 8 * max_degree + 40:
                 return None

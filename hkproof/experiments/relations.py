@@ -11,6 +11,7 @@ from typing import Callable, Mapping, Sequence
 import flint
 import sympy
 
+from hkproof import budget
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import nullspace_q, q_matrix
 from hkproof.algebra.monomials import exponents_upto, value as monomial_value
@@ -113,6 +114,7 @@ class CoordinateSampler:
         rows: list[list[flint.fmpq]] = []
         rank, stable, tries = 0, 0, 0
         while stable < extra and tries < 4 * self.width + 8:
+            budget.check("sampling kernel vectors for recipe (E)")
             tries += 1
             r = self.row(problems)
             if r is None:
@@ -202,6 +204,7 @@ class _Interpolation:
         for degree in range(max_degree + 1):
             monos = exponents_upto(len(self.free), degree, highest_first=False)
             while sum(len(s) for _, s in self.samples) < len(columns) * len(monos) + 8:
+                budget.check("interpolating relation coefficients (recipe (E))")
                 self.samples.append(self.sample())
             equations = []
             for t, space in self.samples:
@@ -233,6 +236,7 @@ def _sparsest(fit: _Interpolation, found: list[list[Polynomial]], max_degree: in
     carries = _support_test([fit.value(r) for r in found])
     candidates = []
     for size in range(2, max_support + 1):
+        budget.check("choosing the sparsest relations (recipe (E))")
         for support in itertools.combinations(range(fit.width), size):
             if size < fit.width and not carries(support):
                 continue

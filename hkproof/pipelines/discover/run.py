@@ -24,7 +24,7 @@ from hkproof.budget import Budget
 from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.field import EPS, QuadraticField
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import BudgetExhausted, ParseError
+from hkproof.errors import ParseError, ResourceLimitError
 from hkproof.experiments.scene import make_scene
 from hkproof.experiments.weights import scaling_weights
 from hkproof.hk.discover import certify, independent_subset, jacobian_points
@@ -74,7 +74,7 @@ def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[s
         free = [m for m in (EPS,) + field.parameters if m not in weights.normalized]
         ctx = SearchContext(kmap, full_map, weights, free, fixed, rng, budget, stages, max_degree, max_unknowns)
         _search(ctx, report)
-    except BudgetExhausted as exc:
+    except ResourceLimitError as exc:         # the budget ran out, or a limit stopped a stage: what was covered stays
         report.complete = False
         report.covered.append(str(exc))
     finally:
