@@ -62,26 +62,32 @@ def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[s
     budget = budget or Budget(None)
     full_map = kahan_map(original)
     field, conserved = without_conserved(original)
-    rng = random.Random(seed)
+    kmap = kahan_map(field)
+    weights = scaling_weights(kmap)
+    free = [m for m in (EPS,) + field.parameters if m not in weights.normalized]
+    ctx = SearchContext(kmap, full_map, weights, free, fixed, random.Random(seed), budget, stages, max_degree,
+                        max_unknowns)
+    with budget.active():
+        _run(ctx, report, conserved)
+    return report
+
+
+def _run(ctx: SearchContext, report: DiscoveryReport, conserved: list[str]) -> None:
+    """The stages of discover, stopped cleanly by a limit (the report says what was covered)."""
     try:
-        report.integrals += _conserved(full_map, conserved, fixed)
+        report.integrals += _conserved(ctx.full_map, conserved, ctx.fixed)
         report.conserved += conserved
-        if len(conserved) == len(original.variables):
+        if len(conserved) == len(ctx.full_map.variables):
             report.covered.append("every coordinate is conserved")
-            return report
-        kmap = kahan_map(field)
-        weights = scaling_weights(kmap)
-        free = [m for m in (EPS,) + field.parameters if m not in weights.normalized]
-        ctx = SearchContext(kmap, full_map, weights, free, fixed, rng, budget, stages, max_degree, max_unknowns)
+            return
         _search(ctx, report)
     except ResourceLimitError as exc:         # the budget ran out, or a limit stopped a stage: what was covered stays
         report.complete = False
         report.covered.append(str(exc))
     finally:
-        _independence(report, full_map, stages)
-        stages.stop()
-        report.stages = stages.seconds
-    return report
+        _independence(report, ctx.full_map, ctx.stages)
+        ctx.stages.stop()
+        report.stages = ctx.stages.seconds
 
 
 def _conserved(kmap: KahanMap, conserved: list[str], fixed: Mapping[str, flint.fmpq]) -> list[FoundIntegral]:
