@@ -11,7 +11,8 @@ from hkproof.cli import main
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import QuadraticField
 from hkproof.budget import Budget
-from hkproof.pipelines.discover import discover, reconstruct
+from hkproof.experiments.weights import Weights
+from hkproof.pipelines.discover import discover
 from hkproof.pipelines.discover.circuits import circuits
 from hkproof.pipelines.discover.screen import without_conserved
 from hkproof.hk.discover import certify
@@ -52,12 +53,12 @@ def test_lotka_volterra_has_no_integral_up_to_degree_three():
 
 def test_forged_candidate_is_refuted_not_verified(monkeypatch):
     """A reconstruction that returns a wrong formula must come out refuted."""
-    real = reconstruct.restore_weights
+    real = Weights.restore_frac
 
-    def forged(h, weights, weight):
-        good = real(h, weights, weight)
+    def forged(self, h, weight):
+        good = real(self, h, weight)
         return None if good is None else good + Frac.parse(good.ring, "eps*x1")
-    monkeypatch.setattr(reconstruct, "restore_weights", forged)
+    monkeypatch.setattr(Weights, "restore_frac", forged)
     r = discover("euler-top", 2)
     assert r.integrals and all(i.status == Status.REFUTED for i in r.integrals)
     assert r.independent == 0 and not r.verified

@@ -277,13 +277,14 @@ class Frac:
             raise SingularPointError(f"the denominator {self.den} vanishes at {dict(values)}")
         return self.ring.evaluate(self.num, values) / d
 
+    def mod_p(self, p: int) -> ModularFrac:
+        """This function reduced mod the prime p, for many cheap evaluations (and gradients) at residues."""
+        return ModularFrac(self, p)
+
     def residue_at(self, point: Sequence[int], p: int) -> int | None:
         """The value mod p at a point of residues (one per ring variable, in order); None where the denominator
         vanishes mod p."""
-        den = int(self.den(*point)) % p
-        if den == 0:
-            return None
-        return int(self.num(*point)) % p * pow(den, -1, p) % p
+        return self.mod_p(p)(point)
 
     def specialize(self, values: Mapping[str, Rational], target: Ring) -> "Frac":
         """The function with some variables fixed, as an element over the smaller ring `target`."""
@@ -313,6 +314,39 @@ class Frac:
 
     def _repr_latex_(self) -> str:
         return f"${sympy.latex(self.to_sympy())}$"
+
+
+class ModularFrac:
+    """num/den reduced mod a prime p (nmod_mpoly): values and gradients at residues, None where den vanishes.
+
+    >>> from hkproof.algebra.ring import get_ring
+    >>> h = Frac.parse(get_ring(("x", "y")), "x**2/(1 + y)").mod_p(7)
+    >>> h([3, 1]), h.gradient([3, 1])
+    (1, [3, 3])
+    """
+
+    def __init__(self, h: Frac, p: int):
+        ctx = flint.nmod_mpoly_ctx.get(h.ring.names, p, "degrevlex")  # type: ignore[call-arg, arg-type]  # flint's stubs lag the API
+        self.p = p
+        self.num, self.den = (ctx.from_dict({m: int(c) % p for m, c in poly.to_dict().items() if int(c) % p})
+                              for poly in (h.num, h.den))
+        self._derivatives: list[tuple[flint.nmod_mpoly, flint.nmod_mpoly]] | None = None
+
+    def __call__(self, point: Sequence[int]) -> int | None:
+        d = int(self.den(*point))
+        return None if d == 0 else int(self.num(*point)) * pow(d, -1, self.p) % self.p
+
+    def gradient(self, point: Sequence[int], variables: Sequence[int] | None = None) -> list[int] | None:
+        """d/dx_i of num/den mod p at the point, for the ring variables of the given indices (all by default)."""
+        n = len(point)
+        if self._derivatives is None:
+            self._derivatives = [(self.num.derivative(i), self.den.derivative(i)) for i in range(n)]
+        d = int(self.den(*point))
+        if d == 0:
+            return None
+        num, inv = int(self.num(*point)), pow(d, -2, self.p)
+        return [(int(dn(*point)) * d - num * int(dd(*point))) * inv % self.p
+                for dn, dd in (self._derivatives[i] for i in (variables if variables is not None else range(n)))]
 
 
 def poly_str(p: flint.fmpz_mpoly) -> str:

@@ -1,9 +1,10 @@
-"""The Kahan map on many points at once, modulo a prime below 2^31, projectively and without a single division.
+"""The Kahan map on many points at once, modulo a prime below 2^50, projectively and without a single division.
 
 A point x = X / W goes to X~ = N, W~ = D with M'(X, W) N = D b'(X, W), where M' = M0 W + sum_k X_k M_k and
 b' = b0 W + B X are the matrix form of eq. "Kahan gen" cleared of W (M and b are affine in x), and (N, D) comes from
 a division-free elimination. eps and the parameters may differ from point to point. numpy int64 arrays hold the
-residues (products of two residues stay below 2^62); a point where D = 0 mod p is reported, not guessed.
+residues; a product of two residues is reduced with a floating-point quotient and an exact correction in wrapping
+64-bit arithmetic (`mulmod`: exact for p < 2^50). A point where D = 0 mod p is reported, not guessed.
 This is the fast black box behind sparse reconstruction; `KahanMap.mod` is the one-point modular map.
 """
 from __future__ import annotations
@@ -15,11 +16,26 @@ import numpy as np
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
 
-__all__ = ["MAX_BATCH_PRIME", "BatchKahanMap", "Projective", "power_table", "solve_projective"]
+__all__ = ["MAX_BATCH_PRIME", "BatchKahanMap", "Projective", "mulmod", "power_table", "solve_projective"]
 
-MAX_BATCH_PRIME = 2**31
+MAX_BATCH_PRIME = 2**50
 Array = np.ndarray
 Projective = tuple[list[Array], Array]      # (X_1..X_n, W): the points X / W of a batch
+
+
+def mulmod(a: Array, b: Array, p: int) -> Array:
+    """a * b mod p elementwise for residues in [0, p), p < 2^50: the quotient from float64 (off by at most one), the
+    remainder exact in wrapping int64 arithmetic.
+
+    >>> p = 2**50 - 27
+    >>> int(mulmod(np.array([p - 1]), np.array([p - 2]), p)[0]) == (p - 1) * (p - 2) % p
+    True
+    """
+    with np.errstate(over="ignore"):
+        q = np.floor(a.astype(np.float64) * b.astype(np.float64) / float(p)).astype(np.int64)
+        r = a * b - q * p
+    r = np.where(r < 0, r + p, r)
+    return np.where(r >= p, r - p, r)
 
 
 def solve_projective(a: Array, b: Array, p: int) -> tuple[Array, Array]:
@@ -32,18 +48,18 @@ def solve_projective(a: Array, b: Array, p: int) -> tuple[Array, Array]:
         pivot = a[:, k, k].copy()
         for i in range(k + 1, n):
             minus = (p - a[:, i, k]) % p
-            a[:, i, k:] = (pivot[:, None] * a[:, i, k:] % p + minus[:, None] * a[:, k, k:] % p) % p
-            b[:, i] = (pivot * b[:, i] % p + minus * b[:, k] % p) % p
+            a[:, i, k:] = (mulmod(pivot[:, None], a[:, i, k:], p) + mulmod(minus[:, None], a[:, k, k:], p)) % p
+            b[:, i] = (mulmod(pivot, b[:, i], p) + mulmod(minus, b[:, k], p)) % p
     nums = np.zeros((count, n), dtype=np.int64)
     den = np.ones(count, dtype=np.int64)
     for j in range(n - 1, -1, -1):
-        acc = b[:, j] * den % p
+        acc = mulmod(b[:, j], den, p)
         for k in range(j + 1, n):
-            acc = (acc + (p - a[:, j, k]) * nums[:, k] % p) % p
+            acc = (acc + mulmod((p - a[:, j, k]) % p, nums[:, k], p)) % p
         u = a[:, j, j]
-        nums[:, j + 1:] = nums[:, j + 1:] * u[:, None] % p
+        nums[:, j + 1:] = mulmod(nums[:, j + 1:], u[:, None], p)
         nums[:, j] = acc
-        den = den * u % p
+        den = mulmod(den, u, p)
     return nums, den
 
 
@@ -51,7 +67,7 @@ def power_table(values: Array, top: int, p: int) -> list[Array]:
     """[v^0, v^1, ..., v^top] mod p, elementwise."""
     out = [np.ones_like(values)]
     for _ in range(top):
-        out.append(out[-1] * values % p)
+        out.append(mulmod(out[-1], values, p))
     return out
 
 
@@ -61,7 +77,7 @@ class BatchKahanMap:
 
     def __init__(self, kmap: KahanMap, p: int):
         if not 2 < p < MAX_BATCH_PRIME:
-            raise HKProofError(f"the batch map works modulo a prime below 2^31, got {p}")
+            raise HKProofError(f"the batch map works modulo a prime below 2^50, got {p}")
         self.kmap, self.p = kmap, p
         self.controls = kmap.field.control_names
         m_parts, b_parts = kmap.affine_matrix
@@ -95,7 +111,7 @@ class BatchKahanMap:
                 term = np.full(count, c, dtype=np.int64)
                 for table, e in zip(powers, exps, strict=True):
                     if e:
-                        term = term * table[e] % p
+                        term = mulmod(term, table[e], p)
                 total = (total + term) % p
             return total
         return ([[{k: evaluate(t) for k, t in entry.items()} for entry in row] for row in self.m_parts],
@@ -109,10 +125,10 @@ class BatchKahanMap:
         count = len(w)
 
         def affine(entry: dict) -> Array:
-            total = entry[None] * w % p if None in entry else np.zeros(count, dtype=np.int64)
+            total = mulmod(entry[None], w, p) if None in entry else np.zeros(count, dtype=np.int64)
             for k, c in entry.items():
                 if k is not None:
-                    total = (total + c * xs[k] % p) % p
+                    total = (total + mulmod(c, xs[k], p)) % p
             return total
         a = np.empty((count, n, n), dtype=np.int64)
         for i in range(n):

@@ -6,7 +6,7 @@ generic line, found by univariate interpolation in a handful of samples (`line_d
 = 0 with those degrees is linear in the coefficients; each exact sample gives one row. A rank test mod p comes first
 (full column rank mod p means no solution over Q either), then the one-dimensional null space is found exactly
 (fraction-free) and the result is checked at fresh samples. The caller sets scaled names to 1 while sampling and
-restores them by weighted homogeneity (hkproof.pipelines.discover.reconstruct.restore_weights).
+restores them by weighted homogeneity (hkproof.experiments.weights.Weights.restore_frac).
 """
 from __future__ import annotations
 

@@ -59,6 +59,38 @@ class Weights:
         return sol
 
 
+    def restore_frac(self, h: Frac, weight: Sequence[flint.fmpq]) -> Frac | None:
+        """h sampled with the normalized names set to 1, made weighted homogeneous of `weight` again (None if no
+        integer exponents do it)."""
+        if not self.normalized:
+            return h
+        ring = h.ring
+        names = ring.names
+        terms = []
+        for which, poly in (("num", h.num), ("den", h.den)):
+            for m, c in poly.to_dict().items():
+                terms.append((which, {n: e for n, e in zip(names, m, strict=True) if e}, c))
+        den_terms = [t for t in terms if t[0] == "den"]
+        base = self.of_monomial(den_terms[0][1])
+        targets = {"den": base, "num": [a + b for a, b in zip(base, weight, strict=True)]}
+        extra = []
+        for which, exps, _ in terms:
+            e = self.restore(exps, [flint.fmpq(0)] * len(base), targets[which])
+            if e is None or any(v.q != 1 for v in e.values()):
+                return None
+            extra.append(e)
+        shift = {n: min(int(e.get(n, 0)) for e in extra) for n in self.normalized}
+        data: dict[str, dict] = {"num": {}, "den": {}}
+        for (which, exps, c), e in zip(terms, extra, strict=True):
+            mono = [0] * len(names)
+            for n, v in exps.items():
+                mono[ring.index(n)] += v
+            for n in self.normalized:
+                mono[ring.index(n)] += int(e.get(n, 0)) - shift[n]
+            data[which][tuple(mono)] = c
+        return Frac(ring, ring.ctx.from_dict(data["num"]), ring.ctx.from_dict(data["den"]))
+
+
 def _homogeneity_rows(ring_names: Sequence[str], h: flint.fmpz_mpoly) -> list[list[int]]:
     monos = h.monoms()
     return [[a - b for a, b in zip(m, monos[0], strict=True)] for m in monos[1:]]

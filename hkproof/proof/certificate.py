@@ -95,6 +95,7 @@ class Certificate:
     error: str = ""
     cites: list[str] = field(default_factory=list)
     values: dict[str, Frac] = field(default_factory=dict, compare=False, repr=False)  # exact values of `formulas`
+    fixed: dict[str, str] = field(default_factory=dict)    # parameter values the whole proof holds at (specialized)
 
     @property
     def status(self) -> Status:
@@ -113,6 +114,7 @@ class Certificate:
              fixed: Mapping[str, object] | None = None) -> Iterator[StepRecorder]:
         """Run one step; a Refuted inside refutes the claim, any other exception (HKProofError, or an error of the
         prover itself: IndexError, RecursionError, ...) stops the proof as `unknown` with the error recorded."""
+        fixed = {**self.fixed, **(fixed or {})}
         record = Step(name, method, describe_ring(ring, fixed))
         recorder = StepRecorder(record, specialized=bool(fixed))
         self.steps.append(record)
@@ -152,7 +154,8 @@ class Certificate:
                 "statement": self.statement, "status": self.status.label,
                 "seconds": round(self.seconds, 4), "steps": [s.to_dict() for s in self.steps],
                 "formulas": dict(self.formulas), "corrections": list(self.corrections),
-                "notes": list(self.notes), "error": self.error, "cites": list(self.cites)}
+                "notes": list(self.notes), "error": self.error, "cites": list(self.cites),
+                **({"fixed": dict(self.fixed)} if self.fixed else {})}
 
     def __getstate__(self) -> dict:
         """Pickled (for a worker process or a Dask worker) with its exact values packed as exponent bytes and

@@ -13,7 +13,7 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from hkproof.algebra.monomials import Exponents
-from hkproof.dynamics.batch_map import BatchKahanMap, power_table, solve_projective
+from hkproof.dynamics.batch_map import BatchKahanMap, mulmod, power_table, solve_projective
 from hkproof.dynamics.kahan import KahanMap
 
 __all__ = ["KernelBlackBox"]
@@ -21,7 +21,7 @@ __all__ = ["KernelBlackBox"]
 
 class KernelBlackBox:
     """c_k / c_j of the kernel of `basis` (its last element normalized by c_l = -1), as a function of the names
-    `inputs` (the other ring names fixed to `fixed`), evaluated mod primes below 2^31 on batches of points."""
+    `inputs` (the other ring names fixed to `fixed`), evaluated mod primes below 2^50 on batches of points."""
 
     def __init__(self, kmap: KahanMap, basis: Sequence[Exponents], k: int, j: int, inputs: Sequence[str],
                  fixed: Mapping[str, int] | None = None):
@@ -58,7 +58,7 @@ class KernelBlackBox:
                 v = w_pow[self.degree - sum(e)].copy()
                 for table, a in zip(x_pow, e, strict=True):
                     if a:
-                        v = v * table[a] % p
+                        v = mulmod(v, table[a], p)
                 rows[:, i, c] = v
         nums, den = solve_projective(rows[:, :, :l - 1], rows[:, :, l - 1], p)
         ok &= den != 0
@@ -71,7 +71,7 @@ class KernelBlackBox:
         top, bottom = coords[self.k], coords[self.j]
         ok &= bottom != 0
         inverse = _inverse(np.where(ok, bottom, 1), p)
-        values = top * inverse % p
+        values = mulmod(top, inverse, p)
         return [int(v) if good else None for v, good in zip(values, ok, strict=True)]
 
 
@@ -82,7 +82,7 @@ def _inverse(values: np.ndarray, p: int) -> np.ndarray:
     e = p - 2
     while e:
         if e & 1:
-            result = result * base % p
-        base = base * base % p
+            result = mulmod(result, base, p)
+        base = mulmod(base, base, p)
         e >>= 1
     return result

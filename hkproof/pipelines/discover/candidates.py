@@ -105,7 +105,7 @@ def modular_sampler(kmap: KahanMap, basis: list[Exponents], k: tuple[int, int] |
         out: list = []
         for pt in points:
             try:
-                solved = recipe_b_mod_p(TangentOrbit(scene, [pt[v] for v in kmap.variables], p, len(basis) - 2),
+                solved = recipe_b_mod_p(TangentOrbit.at(scene, [pt[v] for v in kmap.variables], p, len(basis) - 2),
                                         basis)
             except HKProofError:
                 solved = None

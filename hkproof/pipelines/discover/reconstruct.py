@@ -1,10 +1,12 @@
-"""Kernel coordinates made formulas: dense reconstruction from exact samples, or recipe (E) when that is too large.
+"""Kernel coordinates made integrals: a small one by dense reconstruction and substitution, a big one with its whole
+basis by Prop. "prop: even" (hkproof.pipelines.discover.solve), never by expanding h o f.
 
-A chosen ratio c_k / c_j is sampled exactly (kernels over Q at rational points, eps and the parameters varying;
-names that scaling symmetries allow are set to 1 and restored by weighted homogeneity) and fitted by a dense ansatz
-h Q - P = 0. When the ansatz is too large, the paper's relation-driven route runs on the basis instead: relations
-among its kernel coordinates found exactly, the rows i = 0, 1 solved and certified by Prop. "prop: even". Every
-formula is proven before it is called an integral (hkproof.hk.discover).
+Candidates are taken simplest first while they add a new independent gradient. A ratio c_k / c_j whose dense ansatz
+is small is sampled exactly (kernels over Q at rational points, eps and the parameters varying; names that scaling
+symmetries allow are set to 1 and restored by weighted homogeneity), fitted, and proven by exact substitution. Any
+other is proven with its basis: relations with the integrals proven so far, the coordinates by sparse reconstruction
+over prime fields, the proof by Prop. "prop: even". A basis that needs integrals not yet proven waits, and is tried
+again whenever a new integral is proven. Every formula is proven before it is called an integral.
 """
 from __future__ import annotations
 
@@ -20,29 +22,16 @@ from hkproof.algebra.monomials import Exponents, text
 from hkproof.errors import HKProofError
 from hkproof.experiments.profiles import ProfileProblem, kernel_vector
 from hkproof.experiments.reconstruction import dense_size, line_degrees, reconstruct_rational
-from hkproof.experiments.relations import find_relations
 from hkproof.experiments.scene import make_scene
-from hkproof.experiments.weights import Weights
-from hkproof.hk.discover import certify, is_phase_constant, solve_by_evenness
-from hkproof.hk.reduced import Relation
+from hkproof.hk.discover import certify, is_phase_constant
 from hkproof.pipelines.discover.candidates import Candidate, modular_sampler
 from hkproof.pipelines.discover.context import SearchContext
 from hkproof.pipelines.discover.report import DiscoveryReport, FoundIntegral
+from hkproof.pipelines.discover.solve import BasisProof, Postponed, prove_basis
 from hkproof.proof.status import Status
 
-__all__ = ["MAX_RELATION_BASIS", "Reconstructed", "reconstruct_candidates", "restore_weights"]
+__all__ = ["Reconstructed", "reconstruct_candidates"]
 
-MAX_RELATION_BASIS = 8      # recipe (E) is tried on minimal bases of at most this many functions
-
-
-@dataclass
-class BasisSolution:
-    """Recipe (E) on one basis: its kernel vector (c_l = -1 left out), the status of the proof and how."""
-
-    solution: list[Frac] | None
-    status: Status
-    method: str
-    seconds: float
 
 
 @dataclass
@@ -61,78 +50,97 @@ class Reconstructed:
     covered: str = ""
 
 
-def restore_weights(h: Frac, weights: Weights, weight: Sequence[flint.fmpq]) -> Frac | None:
-    """h sampled with the normalized names set to 1, made weighted homogeneous of `weight` again (None if no
-    integer exponents do it)."""
-    if not weights.normalized:
-        return h
-    ring = h.ring
-    names = ring.names
-    terms = []
-    for which, poly in (("num", h.num), ("den", h.den)):
-        for m, c in poly.to_dict().items():
-            terms.append((which, {n: e for n, e in zip(names, m, strict=True) if e}, c))
-    den_terms = [t for t in terms if t[0] == "den"]
-    base = weights.of_monomial(den_terms[0][1])
-    targets = {"den": base, "num": [a + b for a, b in zip(base, weight, strict=True)]}
-    extra = []
-    for which, exps, _ in terms:
-        e = weights.restore(exps, [flint.fmpq(0)] * len(base), targets[which])
-        if e is None or any(v.q != 1 for v in e.values()):
-            return None
-        extra.append(e)
-    shift = {n: min(int(e.get(n, 0)) for e in extra) for n in weights.normalized}
-    data: dict[str, dict] = {"num": {}, "den": {}}
-    for (which, exps, c), e in zip(terms, extra, strict=True):
-        mono = [0] * len(names)
-        for n, v in exps.items():
-            mono[ring.index(n)] += v
-        for n in weights.normalized:
-            mono[ring.index(n)] += int(e.get(n, 0)) - shift[n]
-        data[which][tuple(mono)] = c
-    return Frac(ring, ring.ctx.from_dict(data["num"]), ring.ctx.from_dict(data["den"]))
+@dataclass
+class _Progress:
+    """What the stage has: accepted gradients, the proven integrals of the searched map (the K of the relations), the
+    bases proven or postponed (with how many integrals were known when they were postponed)."""
+
+    accepted: list[list[int]] = field(default_factory=list)
+    known: dict[str, Frac] = field(default_factory=dict)
+    proofs: dict[tuple[Exponents, ...], BasisProof] = field(default_factory=dict)
+    postponed: dict[tuple[Exponents, ...], tuple[int, str]] = field(default_factory=dict)
+    skipped: dict[tuple, dict] = field(default_factory=dict)
+    dense: int = 0
 
 
 def reconstruct_candidates(ctx: SearchContext, report: DiscoveryReport, candidates: list[Candidate], target: int,
                            p: int) -> Reconstructed:
-    """Reconstruct and certify kernel coordinates, one per new independent gradient, simplest bases first (the
-    integrals are also appended to `report` as they are found, so that a budget running out keeps them)."""
-    out = Reconstructed()
-    accepted: list[list[int]] = []
-    solved: dict[tuple[str, ...], BasisSolution] = {}
-    count = 0
-    for cand in candidates:
-        if len(accepted) >= target:
+    """Prove kernel coordinates, one per new independent gradient, simplest first; passes repeat while a pass proves
+    a new integral (a postponed basis may go through then). The integrals are appended to `report` as they are found,
+    so that a budget running out keeps them."""
+    state = _Progress(known={i.name: i.frac.to_ring(ctx.kmap.ring) for i in report.integrals
+                             if i.frac is not None and i.status >= Status.VERIFIED_SPECIALIZED
+                             and not is_phase_constant(i.frac, ctx.full_map.variables)
+                             and set(i.frac.variables()) <= set(ctx.kmap.ring.names)})
+    while len(state.accepted) < target:
+        before = len(state.known)
+        _pass(ctx, report, candidates, target, p, state)
+        if len(state.known) == before:
             break
-        if rank_mod_p(accepted + [cand.gradient], p) <= len(accepted):
+    out = Reconstructed(skipped=list(state.skipped.values()))
+    out.skipped += [{"basis": [text(ctx.kmap.variables, e) for e in b], "coordinate": None, "degrees": None,
+                     "reason": reason} for b, (_, reason) in state.postponed.items() if b not in state.proofs]
+    out.covered = (f"reconstructed {state.dense} kernel coordinates densely and proved {len(state.proofs)} bases "
+                   f"whole by Prop. \"prop: even\" (sparse reconstruction, relations with proven integrals); "
+                   f"{len(out.skipped)} left out")
+    return out
+
+
+def _pass(ctx: SearchContext, report: DiscoveryReport, candidates: list[Candidate], target: int, p: int,
+          state: _Progress) -> None:
+    for cand in candidates:
+        if len(state.accepted) >= target:
+            return
+        if rank_mod_p(state.accepted + [cand.gradient], p) <= len(state.accepted):
             continue
-        texts = [text(ctx.kmap.variables, e) for e in cand.basis]
-        if cand.estimate > ctx.max_unknowns:
-            if _by_relations(ctx, report, cand, texts, solved, accepted):
-                continue
-            out.skipped.append({"basis": texts, "coordinate": cand.label, "degrees": None,
-                                "reason": f"dense ansatz of about {cand.estimate} unknowns along a line "
-                                          f"(limit {ctx.max_unknowns})" if cand.estimate < 10**9 else
-                                          "degree > 12 along a line"})
+        ctx.budget.check(f"proving integral {len(state.accepted) + 1} of {target}")
+        found: FoundIntegral | None = None
+        if cand.estimate <= ctx.max_unknowns and (tuple(cand.basis), cand.k, cand.j) not in state.skipped:
+            dense = _dense(ctx, report, cand, [text(ctx.kmap.variables, e) for e in cand.basis], p)
+            if isinstance(dense, Skipped):
+                state.skipped[(tuple(cand.basis), cand.k, cand.j)] = dense.entry
+            else:
+                found = dense
+                state.dense += 1
+        if found is None:
+            found = _from_basis(ctx, report, cand, state)
+        if found is None:
             continue
-        ctx.budget.check(f"reconstructing integral {len(accepted) + 1} of {target}")
-        found = _dense(ctx, report, cand, texts, p)
-        if isinstance(found, Skipped):
-            if _by_relations(ctx, report, cand, texts, solved, accepted):
-                continue
-            out.skipped.append(found.entry)
-            continue
-        count += 1
         report.integrals.append(found)
         if found.frac is not None and found.status >= Status.VERIFIED_SPECIALIZED and \
                 not is_phase_constant(found.frac, ctx.kmap.variables):
-            accepted.append(cand.gradient)
+            state.accepted.append(cand.gradient)
+            state.known[found.name] = found.frac.to_ring(ctx.kmap.ring)
         if found.frac is not None:
             ctx.stages.say(f"{found.name} = {found.frac}: {found.status.label}")
-    by_relations = sum(1 for i in report.integrals if i.method.startswith("recipe (E)"))
-    out.covered = (f"reconstructed {count} kernel coordinates chosen for new independent gradients and solved "
-                   f"{by_relations} by recipe (E); {len(out.skipped)} skipped as too large for dense reconstruction")
-    return out
+
+
+def _from_basis(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, state: _Progress) -> FoundIntegral | None:
+    """c_k / c_j from the proof of its whole basis (proven once; postponed while the known integrals do not grow)."""
+    key = tuple(cand.basis)
+    if key not in state.proofs:
+        waited = state.postponed.get(key)
+        if waited is not None and waited[0] == len(state.known):
+            return None
+        ctx.stages.start("bases", f"proving the basis ({', '.join(text(ctx.kmap.variables, e) for e in key)})")
+        result = prove_basis(ctx, cand.basis, state.known, ctx.rng)
+        if isinstance(result, Postponed):
+            state.postponed[key] = (len(state.known), result.reason)
+            return None
+        state.proofs[key] = result
+    proof = state.proofs[key]
+    top, bottom = proof.coordinate(cand.basis[cand.k]), proof.coordinate(cand.basis[cand.j])
+    if bottom.is_zero():
+        return None
+    h = top / bottom
+    name = f"I{len(report.integrals) + 1}"
+    proof.certificate.formula(name, h)
+    status = proof.status
+    return FoundIntegral(name, h.to_ring(ctx.full_map.ring), status, "kernel coordinate", proof.basis, cand.label,
+                         proof.seconds, f"Prop. \"prop: even\" on the whole basis ({len(proof.relations)} relations "
+                         "with proven integrals, coordinates by sparse reconstruction over prime fields)",
+                         [] if status >= Status.VERIFIED_SPECIALIZED else [proof.certificate.error],
+                         certificate=proof.certificate)
 
 
 def _dense(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, texts: list[str],
@@ -164,7 +172,7 @@ def _dense(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, texts: 
         weight = [a - b for a, b in zip(ctx.weights.of_monomial(_exps(kmap.variables, cand.basis[cand.j])),
                                         ctx.weights.of_monomial(_exps(kmap.variables, cand.basis[cand.k])),
                                         strict=True)]
-        h = restore_weights(rec.frac, ctx.weights, weight)
+        h = ctx.weights.restore_frac(rec.frac, weight)
         notes.append("the interpolant is not weighted homogeneous: not restored" if h is None else
                      f"P/Q with degrees {list(degrees)} from {rec.samples} exact samples, checked at "
                      f"{rec.checks} fresh ones")
@@ -172,51 +180,9 @@ def _dense(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, texts: 
         return FoundIntegral(name, None, Status.UNKNOWN, "kernel coordinate", texts, cand.label,
                              time.perf_counter() - start, "reconstruction failed", notes)
     ctx.stages.start("proofs", f"{name}: exact substitution h(f(x)) = h(x)")
-    status, method = certify(ctx.full_map, h, ctx.fixed)
-    return FoundIntegral(name, h.to_ring(ctx.full_map.ring), status, "kernel coordinate", texts, cand.label,
-                         time.perf_counter() - start, method, notes)
-
-
-def _by_relations(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, texts: list[str],
-                  solved: dict[tuple[str, ...], BasisSolution], accepted: list[list[int]]) -> bool:
-    """A kernel coordinate too large for dense interpolation, by the paper's recipe (E) instead: relations among the
-    basis's kernel coordinates found exactly (symbolic in eps and the parameters), then the rows i = 0, 1 solved
-    and certified by Prop. "prop: even" (hk.discover.solve_by_evenness). True if it gave an integral."""
-    kmap = ctx.kmap
-    key = tuple(texts)
-    if key not in solved:
-        if len(texts) > MAX_RELATION_BASIS:
-            solved[key] = BasisSolution(None, Status.UNKNOWN, "basis too large for the relation search", 0.0)
-        else:
-            ctx.budget.check(f"recipe (E) on ({', '.join(texts)})")
-            ctx.stages.start("relations", f"recipe (E) on ({', '.join(texts)})")
-            start = time.perf_counter()
-            basis = [Frac.parse(kmap.ring, t) for t in texts]
-            try:
-                search = find_relations(kmap, [basis])
-                rels = [Relation(r.coefficients, r.rhs) for r in search.relations]
-                solution, status, method = solve_by_evenness(kmap, basis, rels, ctx.fixed)
-                solved[key] = BasisSolution(solution, status, method, time.perf_counter() - start)
-            except HKProofError as exc:
-                solved[key] = BasisSolution(None, Status.UNKNOWN, f"recipe (E) failed: {exc}",
-                                            time.perf_counter() - start)
-            ctx.stages.say(f"recipe (E) on ({', '.join(texts)}): {solved[key].method}")
-    verdict = solved[key]
-    if verdict.solution is None:
-        return False
-    c = [*verdict.solution, Frac(kmap.ring, -1)]
-    if c[cand.j].is_zero():
-        return False
-    h = c[cand.k] / c[cand.j]
-    name = f"I{len(report.integrals) + 1}"
-    report.integrals.append(FoundIntegral(name, h.to_ring(ctx.full_map.ring), verdict.status, "kernel coordinate",
-                                          texts, cand.label, verdict.seconds, verdict.method,
-                                          ["too large for dense interpolation along a line; solved symbolically "
-                                           "instead"]))
-    if verdict.status >= Status.VERIFIED_SPECIALIZED and not is_phase_constant(h, kmap.variables):
-        accepted.append(cand.gradient)
-    ctx.stages.say(f"{name}: {verdict.status.label} by recipe (E)")
-    return True
+    cert = certify(ctx.full_map, h.to_ring(ctx.full_map.ring), ctx.fixed, name)
+    return FoundIntegral(name, h.to_ring(ctx.full_map.ring), cert.status, "kernel coordinate", texts, cand.label,
+                         time.perf_counter() - start, cert.steps[-1].detail or cert.error, notes, certificate=cert)
 
 
 def _exps(variables: Sequence[str], e: Exponents) -> dict[str, int]:

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import sympy
 
 from hkproof.algebra.fraction import Frac
+from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 
 __all__ = ["DiscoveryReport", "FoundIntegral", "SKIPPED_SHOWN"]
@@ -32,6 +33,7 @@ class FoundIntegral:
     method: str = ""
     notes: list[str] = field(default_factory=list)
     independent: bool | None = None
+    certificate: Certificate | None = None       # the proof (for a basis proven whole, the basis's certificate)
 
     def latex(self) -> str:
         if self.frac is None:
@@ -42,7 +44,7 @@ class FoundIntegral:
         return {"name": self.name, "expr": None if self.frac is None else str(self.frac),
                 "status": self.status.label, "kind": self.kind, "basis": self.basis, "coordinate": self.coordinate,
                 "seconds": round(self.seconds, 3), "method": self.method, "independent": self.independent,
-                "notes": self.notes}
+                "notes": self.notes, "certificate": None if self.certificate is None else self.certificate.to_dict()}
 
 
 @dataclass

@@ -96,8 +96,9 @@ def _conserved(kmap: KahanMap, conserved: list[str], fixed: Mapping[str, flint.f
     for v in conserved:
         start = time.perf_counter()
         h = Frac.parse(kmap.ring, v)
-        status, method = certify(kmap, h, fixed)
-        out.append(FoundIntegral(v, h, status, "conserved coordinate", [], v, time.perf_counter() - start, method))
+        cert = certify(kmap, h, fixed, v)
+        out.append(FoundIntegral(v, h, cert.status, "conserved coordinate", [], v, time.perf_counter() - start,
+                                 cert.steps[-1].detail or cert.error, certificate=cert))
     return out
 
 

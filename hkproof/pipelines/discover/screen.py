@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import random
 from dataclasses import dataclass
+from typing import Sequence
 
 import flint
 
@@ -15,6 +16,7 @@ from hkproof.algebra.sampling import random_rational
 from hkproof.algebra.modular import kernel_mod_p, random_prime, rank_mod_p
 from hkproof.algebra.monomials import Exponents, exponents_upto, value_mod_p
 from hkproof.dynamics.field import QuadraticField
+from hkproof.dynamics.modular_map import ModularKahanMap
 from hkproof.errors import SingularPointError, UnluckyPrimeError
 from hkproof.experiments.arithmetics import pivot_columns
 from hkproof.experiments.modular import ModP
@@ -38,11 +40,14 @@ def without_conserved(field: QuadraticField) -> tuple[QuadraticField, list[str]]
 class TangentOrbit:
     """The orbit x, f(x), ... mod p and the Jacobians D(f^i)(x): values and gradients of monomials along it."""
 
-    def __init__(self, scene: Scene, point: list[flint.fmpq], p: int, steps: int):
-        self.p = p
-        modular = scene.kmap.mod(p, scene.fixed)
-        x = [ModP(p).number(v) for v in point]
+    def __init__(self, modular: ModularKahanMap, x: Sequence[int], steps: int):
+        self.p = modular.p
         self.points, self.jacobians = modular.tangent_orbit(x, steps)
+
+    @classmethod
+    def at(cls, scene: Scene, point: Sequence[flint.fmpq], p: int, steps: int) -> TangentOrbit:
+        """The orbit mod p of a rational point of a scene (UnluckyPrimeError where p divides a denominator)."""
+        return cls(scene.kmap.mod(p, scene.fixed), [ModP(p).number(v) for v in point], steps)
 
     def value(self, e: Exponents, i: int) -> int:
         """The monomial x^e at f^i(x), mod p."""
@@ -87,7 +92,7 @@ def screen(scene: Scene, n: int, degree: int, rng: random.Random, extra: int = 3
         point = [random_rational(rng, 99) for _ in range(n)]
         p = random_prime(rng)
         try:
-            orbit = TangentOrbit(scene, point, p, top + extra - 1)
+            orbit = TangentOrbit.at(scene, point, p, top + extra - 1)
         except UnluckyPrimeError:
             continue
         kernels, trivial, verdict = {}, {}, {}

@@ -1,0 +1,123 @@
+"""A minimal HK-basis proven whole: every kernel coordinate an integral, by Prop. "prop: even", with relations whose
+right-hand sides are integrals proven before; the proof never expands h o f.
+
+1. A plan mod p (hkproof.pipelines.discover.dependence): combinations l.c that are functions R of the proven
+   integrals K (constant relations, recipe (E), among them), enough of them to make the rows i = 0, 1 square.
+2. The plan with eps and the parameters symbolic (hkproof.pipelines.discover.symbolic): l, R, and R composed with K.
+3. The coordinates by sparse reconstruction over prime fields (the same module).
+4. The proof (hkproof.hk.reduced.verify_by_evenness): the system has a unique solution (its determinant at a rational
+   point), the relations' coefficients and right-hand sides are even and integrals (rational functions of K), the
+   candidate is even in eps and satisfies the rows i = 0, 1 (by Horner in the numerators of f) and every relation.
+The certificate records each step; a basis whose plan falls short waits for more proven integrals.
+"""
+from __future__ import annotations
+
+import random
+import time
+from dataclasses import dataclass, field
+from typing import Mapping, Sequence
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.modular import random_prime
+from hkproof.algebra.monomials import Exponents, text
+from hkproof.dynamics.field import EPS
+from hkproof.errors import HKProofError
+from hkproof.hk.independence import sample_point
+from hkproof.hk.reduced import Relation, verify_by_evenness
+from hkproof.hk.row_check import check_solution_by_rows
+from hkproof.pipelines.discover.context import SearchContext
+from hkproof.pipelines.discover.dependence import plan_mod_p
+from hkproof.pipelines.discover.symbolic import PRIME_BITS, SymbolicRelation, coordinates, lift_relations
+from hkproof.proof.certificate import Certificate, ProofStopped
+from hkproof.proof.status import Status
+
+__all__ = ["BasisProof", "Postponed", "prove_basis"]
+
+
+@dataclass
+class BasisProof:
+    """The coordinates c_1..c_(l-1) (c_l = -1) of a basis, in the order `exponents` (the normalized function last),
+    proven integrals when `certificate` says so."""
+
+    basis: list[str]
+    exponents: list[Exponents]
+    coordinates: list[Frac]
+    certificate: Certificate
+    relations: list[SymbolicRelation] = field(default_factory=list)
+    seconds: float = 0.0
+
+    @property
+    def status(self) -> Status:
+        return self.certificate.status
+
+    def coordinate(self, e: Exponents) -> Frac:
+        """The coordinate of the basis function x^e (-1 for the normalized one)."""
+        k = self.exponents.index(e)
+        return self.coordinates[k] if k < len(self.coordinates) else Frac(self.coordinates[0].ring, -1)
+
+
+@dataclass
+class Postponed:
+    """Why a basis cannot be proven with the integrals proven so far (it may be, once there are more)."""
+
+    reason: str
+
+
+def _names(basis: Sequence[str]) -> list[str]:
+    return [f"c{k + 1}" for k in range(len(basis) - 1)]
+
+
+def prove_basis(ctx: SearchContext, basis: Sequence[Exponents], known: Mapping[str, Frac],
+                rng: random.Random) -> BasisProof | Postponed:
+    """Prove every kernel coordinate of `basis` an integral (Prop. "prop: even" with relations l.c = R(K)), or say
+    what is missing."""
+    start = time.perf_counter()
+    kmap = ctx.kmap
+    even = {n: h for n, h in known.items() if h.is_even_in(EPS)}
+    p = random_prime(rng, PRIME_BITS)
+    controls = {n: rng.randrange(1, p) for n in kmap.field.control_names} | {n: 1 for n in ctx.weights.normalized}
+    best = None
+    for last in reversed(range(len(basis))):     # the normalization: which function's coefficient is -1
+        order = [e for k, e in enumerate(basis) if k != last] + [basis[last]]
+        plan = plan_mod_p(kmap, order, even, p, controls, rng)
+        if best is None or plan.rank > best[1].rank:
+            best = (order, plan)
+        if plan.complete:
+            break
+    assert best is not None
+    basis, plan = best
+    texts = [text(kmap.variables, e) for e in basis]
+    if not plan.complete:
+        return Postponed(f"the rows i = 0, 1 and the relations with the {len(even)} proven integrals have rank "
+                         f"at most {plan.rank} of {plan.width} (mod p, every normalization tried)")
+    ctx.stages.say(f"({', '.join(texts)}): {len(plan.relations)} relations with proven integrals; lifting them")
+    relations = lift_relations(ctx, basis, even, plan, rng)
+    ctx.stages.say(f"({', '.join(texts)}): sparse reconstruction of {len(basis) - 1} coordinates")
+    candidate = coordinates(ctx, basis, rng)
+    cert = Certificate(f"basis ({', '.join(texts)})", f"the kernel coordinates of ({', '.join(texts)}) are integrals",
+                       'Prop. "prop: even"', f"The kernel of the HK-basis ({', '.join(texts)}) is one-dimensional "
+                       "and its coordinates, normalized by the last one (-1), are integrals of the Kahan map.",
+                       fixed={k: str(v) for k, v in ctx.fixed.items()})
+    _cite(cert, kmap.ring, relations, even)
+    fracs = [Frac.parse(kmap.ring, t) for t in texts]
+    rows = [Relation(r.combination, r.rhs, source="a rational function of proven integrals (step 1)")
+            for r in relations]
+    try:
+        verify_by_evenness(cert, kmap, fracs[:-1], fracs[-1], _names(texts), candidate,
+                           sample_point(kmap.ring.names, 2), (0, 1), rows, check=check_solution_by_rows)
+    except ProofStopped as exc:
+        cert.error = str(exc)
+    except HKProofError as exc:
+        cert.error = f"{type(exc).__name__}: {exc}"
+    return BasisProof(texts, list(basis), candidate, cert, relations, time.perf_counter() - start)
+
+
+def _cite(cert: Certificate, ring, relations: Sequence[SymbolicRelation], known: Mapping[str, Frac]) -> None:
+    """Step 1: the right-hand sides are rational functions R of integrals proven before (and of the relations before
+    them), written out; each composition is exact."""
+    with cert.step("right-hand sides are integrals", "rational functions of integrals proven earlier, composed "
+                   "exactly (one homogenized compose each)", ring) as s:
+        for k, rel in enumerate(relations, 1):
+            s.note(f"relation {k}: rhs = {rel.formula} in {', '.join(rel.knowns) or 'constants'}")
+        s.note(f"proven integrals used: {', '.join(sorted(known)) or 'none'}; _l<k> is the right-hand side of "
+               "relation k + 1")
