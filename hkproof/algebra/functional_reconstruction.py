@@ -1,0 +1,646 @@
+"""Sparse functional reconstruction over prime fields: a rational function f = P/Q with rational coefficients, known
+only through its values mod primes (a black box), rebuilt exactly over Q (the method of FireFly, Klappert–Lange 2019,
+and FiniteFlow, Peraro 2019). See docs/reconstruction.md for the method, the choices and the measurements.
+
+Stages, for one prime: degrees along a random line (Thiele); a sparse shift s with Q(s) != 0; lines
+x = t z_j + s through the geometric points z_j = (1, c_i w_i^j) (Ben-Or–Tiwari with Kronecker substitution), one
+small rational fit per line (FireFly: only the t-coefficients not yet known are unknowns); each homogeneous piece,
+top-down with the shift's contributions subtracted (Cuyt–Lee), by Berlekamp–Massey, roots and discrete logs. Later
+primes solve only for the coefficients on that support (one transposed Vandermonde solve per piece); Chinese
+remaindering and Wang's rational reconstruction; a final check at fresh random points modulo a fresh prime.
+
+The result is a candidate that agreed with f at random points mod a fresh prime, not a proof: callers prove it.
+
+>>> def box(p, points):   # f = (x^2 - y/3) / (1 + 2 x y)
+...     return [(x * x - y * pow(3, -1, p)) * pow(1 + 2 * x * y, -1, p) % p if (1 + 2 * x * y) % p else None
+...             for x, y in points]
+>>> r = reconstruct_rational(box, 2, rng=random.Random(5))
+>>> sorted(r.numerator.items()), sorted(r.denominator.items())
+([((0, 1), -1), ((2, 0), 3)], [((0, 0), 3), ((1, 1), 6)])
+"""
+from __future__ import annotations
+
+import itertools
+import math
+import random
+import sys
+import time
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from typing import Any
+
+import flint
+
+from hkproof.algebra.homogeneous_shift import shifted_coefficients
+from hkproof.algebra.modular import random_prime
+from hkproof.algebra.rational_lifting import CoefficientLifter
+from hkproof.algebra.sparse_interpolation import (EARLY_TERMINATION, ExponentialSum, GeometricPoints, ben_or_tiwari,
+                                                  is_smooth_prime, smooth_prime, transposed_vandermonde)
+from hkproof.algebra.univariate_rational import ThieleInterpolator, fit_lines
+from hkproof.budget import UNLIMITED, Budget
+from hkproof.errors import HKProofError, ResourceLimitError, UnluckyPrimeError
+
+__all__ = ["Mapper", "ProbeBatch", "RationalReconstruction", "ReconstructionStats", "reconstruct_rational"]
+
+ProbeBatch = Callable[[int, Sequence[Sequence[int]]], "list[int | None]"]
+"""black_box(p, points) -> f(point) mod p for each point (n residues each), None where f is undefined there."""
+Mapper = Callable[[Callable[[Any], Any], list[Any]], Iterable[Any]]
+"""Like map: applies a function to each job (a process pool's or Dask's map runs the black-box batches)."""
+Polynomial = dict[tuple[int, ...], int]
+
+CHECK_POINTS = 4
+"""The final check compares the candidate with f at this many random points modulo a fresh prime."""
+SPARE_NODES = 16
+"""Extra values of t a line may use where f is undefined at the usual ones."""
+MAX_SUPPORT_RESTARTS = 4
+"""Support primes given up (unlucky) before the engine reports failure."""
+
+
+@dataclass
+class ReconstructionStats:
+    """What a reconstruction cost: probes (black-box evaluations), primes, sizes and seconds per stage."""
+    probes: int = 0
+    undefined_probes: int = 0
+    black_box_calls: int = 0
+    probes_by_stage: dict[str, int] = field(default_factory=dict)
+    lines: int = 0
+    primes_used: list[int] = field(default_factory=list)
+    primes_rejected: list[tuple[int, str]] = field(default_factory=list)
+    check_primes: list[int] = field(default_factory=list)
+    terms_numerator: int = 0
+    terms_denominator: int = 0
+    degree_numerator: int = 0
+    degree_denominator: int = 0
+    shift: tuple[int, ...] = ()
+    seconds: dict[str, float] = field(default_factory=lambda: dict.fromkeys(
+        ("probes", "univariate", "sparse", "crt", "check"), 0.0))
+
+    def as_dict(self) -> dict[str, Any]:
+        """The statistics as plain data (for printing or JSON)."""
+        return {k: (dict(v) if isinstance(v, dict) else list(v) if isinstance(v, list) else v)
+                for k, v in self.__dict__.items()}
+
+
+@dataclass(frozen=True)
+class RationalReconstruction:
+    """f = numerator / denominator with integer coefficients ({exponents: coefficient}), primitive (the gcd of all
+    coefficients of both is 1), signed so that the denominator's leading coefficient (highest total degree, then the
+    lexicographically largest exponents) is positive."""
+    numerator: Polynomial
+    denominator: Polynomial
+    stats: ReconstructionStats
+
+    def value_mod_p(self, point: Sequence[int], p: int) -> int | None:
+        """numerator / denominator at a point mod p (None where the denominator vanishes)."""
+        num, den = (_evaluate_mod_p(poly, point, p) for poly in (self.numerator, self.denominator))
+        return None if den == 0 else num * pow(den, -1, p) % p
+
+
+def _evaluate_mod_p(poly: Polynomial, point: Sequence[int], p: int) -> int:
+    """An integer polynomial at a point mod p."""
+    if not poly:
+        return 0
+    ctx = flint.nmod_mpoly_ctx.get(("x", len(point)), modulus=p)
+    return int(ctx.from_dict({m: c % p for m, c in poly.items()})(*(v % p for v in point)))
+
+
+class _BatchCall:
+    """One job of the mapper: (p, points) -> black_box(p, points) (picklable when the black box is)."""
+
+    def __init__(self, black_box: ProbeBatch):
+        self.black_box = black_box
+
+    def __call__(self, job: tuple[int, list[list[int]]]) -> list[int | None]:
+        return self.black_box(*job)
+
+
+class _Primes:
+    """The primes to use, in order: given ones, or random ones (smooth p - 1 for Ben-Or–Tiwari's support stage).
+    A given prime unfit for the support stage is kept for a later coefficient stage."""
+
+    def __init__(self, given: Iterable[int] | None, rng: random.Random):
+        self.given: Iterator[int] | None = None if given is None else iter(given)
+        self.deferred: list[int] = []
+        self.rng = rng
+        self.seen: set[int] = set()
+
+    def _next_given(self, purpose: str) -> int:
+        assert self.given is not None
+        for p in self.given:
+            p = int(p)
+            if p in self.seen:
+                continue
+            if p < 2 ** 20 or p >= 2 ** 64 or not flint.fmpz(p).is_prime():
+                raise HKProofError(f"the primes given must be primes between 2^20 and 2^64, got {p}")
+            self.seen.add(p)
+            return p
+        raise HKProofError(f"the primes given ran out ({len(self.seen)} used) while {purpose}: give more primes, or "
+                           f"none to let the engine draw random ones")
+
+    def support(self) -> int:
+        """A prime for the support stage: p - 1 smooth (Pohlig–Hellman discrete logarithms)."""
+        if self.given is None:
+            return self._fresh(lambda: smooth_prime(self.rng))
+        while True:
+            p = self._next_given("looking for a prime with smooth p - 1 for the support stage")
+            if is_smooth_prime(p):
+                return p
+            self.deferred.append(p)
+
+    def coefficients(self) -> int:
+        """A prime for a coefficient stage or a check (any prime)."""
+        if self.deferred:
+            return self.deferred.pop(0)
+        if self.given is None:
+            return self._fresh(lambda: random_prime(self.rng))
+        return self._next_given("solving for coefficients modulo more primes")
+
+    def _fresh(self, draw: Callable[[], int]) -> int:
+        while True:
+            p = draw()
+            if p not in self.seen:
+                self.seen.add(p)
+                return p
+
+
+@dataclass
+class _Support:
+    """What the support stage found: degrees, the shift, the normalizing monomial and the pieces mod its prime."""
+    degree_num: int
+    degree_den: int
+    shift: list[int]
+    num: dict[int, Polynomial]
+    den: dict[int, Polynomial]
+    normalizer: tuple[int, ...] = ()
+
+
+class _Chain:
+    """The t-coefficients c_0..c_d of the numerator (or the denominator) along the lines, for one prime: values
+    measured while unknown, homogeneous pieces once solved, and the known coefficients' values as exponential sums."""
+
+    def __init__(self, degree: int, shift: Sequence[int], p: int, grid: GeometricPoints, denominator: bool):
+        self.degree, self.shift, self.p, self.grid, self.denominator = degree, list(shift), p, grid, denominator
+        self.shifted = any(shift)
+        self.pieces: dict[int, Polynomial] = {}
+        self.expansions: dict[int, dict[int, Polynomial]] = {}
+        self.raw: dict[int, list[int]] = {r: [] for r in range(degree + 1)}
+        self._sums: dict[int, ExponentialSum] = {}
+        self._higher: dict[int, ExponentialSum] = {}
+
+    def known(self, r: int) -> bool:
+        """Whether c_r is known on every line (the denominator's c_0 is 1: the normalization Q(s) = 1)."""
+        if self.denominator and r == 0:
+            return True
+        return all(k in self.pieces for k in range(r, self.degree + 1)) if self.shifted else r in self.pieces
+
+    def unknown(self) -> list[int]:
+        return [r for r in range(self.degree + 1) if not self.known(r)]
+
+    def solvable(self) -> list[int]:
+        """Pieces that can be solved now (top-down when shifted: every higher piece is solved)."""
+        return [r for r in range(self.degree, -1, -1) if r not in self.pieces
+                and (not self.shifted or all(k in self.pieces for k in range(r + 1, self.degree + 1)))]
+
+    def _exponential_sum(self, poly: Polynomial) -> ExponentialSum:
+        grid, p = self.grid, self.p
+        bases = [grid.base_of(m[1:]) for m in poly]
+        weights = [c * grid.scale_of(m[1:]) % p for m, c in poly.items()]
+        return ExponentialSum(weights, bases, p)
+
+    def _contributions(self, r: int, lowest: int) -> Polynomial:
+        """sum over solved pieces k >= lowest of [t^r] P_k(t z + s)."""
+        out: Polynomial = {}
+        for k in range(max(r, lowest), self.degree + 1):
+            for m, c in self.expansions.get(k, {}).get(r, {}).items():
+                out[m] = (out.get(m, 0) + c) % self.p
+        return out
+
+    def values(self, r: int, start: int, stop: int) -> list[int]:
+        """c_r on the lines start <= j < stop (c_r known)."""
+        if self.denominator and r == 0:
+            return [1] * (stop - start)
+        if r not in self._sums:
+            self._sums[r] = self._exponential_sum(self._contributions(r, r))
+        return self._sums[r].values(start, stop)
+
+    def cleaned(self, r: int, length: int) -> list[int]:
+        """The values of the piece P_r on lines 0..length-1: measured c_r minus the higher pieces' contributions."""
+        raw = [1] * length if self.denominator and r == 0 else self.raw[r][:length]
+        if not self.shifted:
+            return raw
+        if r not in self._higher:
+            self._higher[r] = self._exponential_sum(self._contributions(r, r + 1))
+        higher = self._higher[r].values(0, length)
+        return [(a - b) % self.p for a, b in zip(raw, higher)]
+
+    def measured(self, r: int) -> int:
+        """How many lines have measured (or, for the normalization, know) c_r."""
+        return sys.maxsize if self.denominator and r == 0 else len(self.raw[r])
+
+    def set_piece(self, r: int, poly: Polynomial) -> None:
+        self.pieces[r] = poly
+        self.expansions[r] = shifted_coefficients(poly, r, self.shift, self.p) if self.shifted else {r: poly}
+
+
+def _leading(poly: Polynomial) -> tuple[int, ...]:
+    """The leading monomial: highest total degree, then lexicographically largest."""
+    return max(poly, key=lambda m: (sum(m), m))
+
+
+class _Engine:
+    """One reconstruction: the prime loop, the stages, the statistics."""
+
+    def __init__(self, black_box: ProbeBatch, n: int, rng: random.Random, budget: Budget, max_degree: int,
+                 primes: Iterable[int] | None, mapper: Mapper | None, progress: Callable[[dict], None] | None,
+                 batch_size: int):
+        self.black_box, self.n, self.rng, self.budget = black_box, n, rng, budget
+        self.max_degree, self.batch_size = max_degree, batch_size
+        self.primes = _Primes(primes, rng)
+        self.mapper: Mapper = mapper or (lambda fn, jobs: [fn(job) for job in jobs])
+        self.report = progress
+        self.stats = ReconstructionStats()
+        self._stage_stack: list[list[Any]] = []
+        self._throughput = 0.0
+        self._last_report = 0.0
+
+    # -- bookkeeping ---------------------------------------------------------------------------------------------
+    @contextmanager
+    def _stage(self, name: str) -> Iterator[None]:
+        """Time a stage, excluding the time of nested stages (the black box's time goes to 'probes')."""
+        frame = [name, time.perf_counter(), 0.0]
+        self._stage_stack.append(frame)
+        try:
+            yield
+        finally:
+            self._stage_stack.pop()
+            spent = time.perf_counter() - frame[1]
+            self.stats.seconds[name] = self.stats.seconds.get(name, 0.0) + spent - frame[2]
+            if self._stage_stack:
+                self._stage_stack[-1][2] += spent
+
+    def _progress(self, force: bool = False, **info: Any) -> None:
+        now = time.perf_counter()
+        if self.report is None or (not force and now - self._last_report < 0.5):
+            return
+        self._last_report = now
+        self.report({"probes": self.stats.probes, "lines": self.stats.lines,
+                     "primes_used": len(self.stats.primes_used), **info})
+
+    def _reject(self, p: int, reason: str) -> None:
+        self.stats.primes_rejected.append((p, reason))
+        self._progress(force=True, rejected=p, reason=reason)
+
+    # -- the black box -------------------------------------------------------------------------------------------
+    def _probe(self, p: int, points: list[list[int]], stage: str) -> list[int | None]:
+        """f at the points mod p, in batches through the mapper, in waves of about half a second (budget checks)."""
+        out: list[int | None] = []
+        call = _BatchCall(self.black_box)
+        pos = 0
+        while pos < len(points):
+            self.budget.check(f"evaluating the black box ({stage})")
+            wave = max(self.batch_size, int(0.5 * self._throughput))
+            jobs = [(p, points[i:i + self.batch_size])
+                    for i in range(pos, min(pos + wave, len(points)), self.batch_size)]
+            with self._stage("probes"):
+                start = time.perf_counter()
+                results = list(self.mapper(call, jobs))
+                spent = time.perf_counter() - start
+            count = sum(len(pts) for _, pts in jobs)
+            self._throughput = count / max(spent, 1e-6)
+            for (_, pts), res in zip(jobs, results):
+                if len(res) != len(pts):
+                    raise HKProofError(f"the black box returned {len(res)} values for {len(pts)} points")
+                out.extend(None if v is None else int(v) % p for v in res)
+            self.stats.black_box_calls += len(jobs)
+            pos += count
+        self.stats.probes += len(points)
+        self.stats.probes_by_stage[stage] = self.stats.probes_by_stage.get(stage, 0) + len(points)
+        self.stats.undefined_probes += sum(v is None for v in out)
+        return out
+
+    # -- univariate stages ---------------------------------------------------------------------------------------
+    def _thiele_line(self, p: int, shift: Sequence[int], stage: str, expected: int = 8) -> tuple[list[int], list[int]]:
+        """The reduced N/D (coefficient lists) of t -> f(t z + s) for a random z, by Thiele with early termination."""
+        z = [self.rng.randrange(1, p) for _ in range(self.n)]
+        thiele = ThieleInterpolator(p)
+        limit = 2 * self.max_degree + 2
+        defined = undefined = 0
+        request = expected
+        while not thiele.terminated:
+            if len(thiele.nodes) > limit:
+                raise ResourceLimitError(
+                    f"f restricted to a line needs more than {limit} points: its numerator or denominator has degree "
+                    f"above max_degree = {self.max_degree} (raise max_degree)")
+            ts = [self.rng.randrange(1, p) for _ in range(request)]
+            values = self._probe(p, [[(t * zi + si) % p for zi, si in zip(z, shift)] for t in ts], stage)
+            with self._stage("univariate"):
+                for t, v in zip(ts, values):
+                    if v is None:
+                        undefined += 1
+                        continue
+                    defined += 1
+                    thiele.add(t, v)
+                    if thiele.terminated:
+                        break
+            if undefined >= 16 and undefined > 3 * defined:
+                raise HKProofError(
+                    f"the black box is undefined at {undefined} of {undefined + defined} random points mod p = {p}: "
+                    f"f is undefined almost everywhere (or the black box fails mod p); check the black box")
+            request = max(2, min(8, limit + 1 - len(thiele.nodes)))
+        with self._stage("univariate"):
+            return thiele.fraction()
+
+    def _degrees(self, p: int) -> tuple[int, int]:
+        """deg P, deg Q from a random line with a random shift (-1 for f = 0)."""
+        num, den = self._thiele_line(p, [self.rng.randrange(1, p) for _ in range(self.n)], "degrees")
+        return (-1 if num == [0] else len(num) - 1), len(den) - 1
+
+    def _shift(self, p: int, degrees: tuple[int, int]) -> list[int]:
+        """The sparsest shift s found with Q(s) != 0 (no shift, one variable, two, all): a line through s has the
+        full degrees and no pole at t = 0."""
+        n = self.n
+        subsets = itertools.chain([()], itertools.combinations(range(n), 1),
+                                  itertools.combinations(range(n), 2) if n > 2 else (), [tuple(range(n))])
+        for subset in subsets:
+            shift = [self.rng.randrange(1, 2 ** 31) if i in subset else 0 for i in range(n)]
+            num, den = self._thiele_line(p, shift, "shift", expected=sum(degrees) + 1 + 2)
+            if den[0] == 1 and (len(num) - 1, len(den) - 1) == degrees:
+                return shift
+        raise UnluckyPrimeError(f"no shift s with Q(s) != 0 mod p = {p} was found (a random full shift failed)")
+
+    # -- the lines -----------------------------------------------------------------------------------------------
+    def _run_lines(self, p: int, grid: GeometricPoints, chains: tuple[_Chain, _Chain],
+                   solve: Callable[[_Chain, int], Polynomial | None],
+                   batch: Callable[[int, list[tuple[_Chain, int]]], int], stage: str) -> None:
+        """Probe lines x = t z_j + s in batches until every piece of both chains is solved (`solve` returns None
+        while a piece needs more lines; `batch` says how many lines to probe next)."""
+        width = chains[0].degree + chains[1].degree + 1
+        nodes = []
+        while len(nodes) < width + SPARE_NODES:
+            t = self.rng.randrange(1, p)
+            if t not in nodes:
+                nodes.append(t)
+        lines = 0
+        while True:
+            self.budget.check(f"reconstructing homogeneous pieces mod p ({stage})")
+            solved_one = True
+            while solved_one:
+                solved_one = False
+                for chain in chains:
+                    for r in chain.solvable():
+                        poly = solve(chain, r)
+                        if poly is not None:
+                            chain.set_piece(r, poly)
+                            solved_one = True
+            unknown = [(c, r) for c in chains for r in c.unknown()]
+            if all(len(c.pieces) == c.degree + 1 for c in chains):
+                break
+            if not unknown:      # every coefficient known but a piece still waits for its own values
+                raise UnluckyPrimeError(f"a homogeneous piece could not be solved mod p = {p}")
+            count = batch(lines, unknown)
+            self._probe_lines(p, grid, chains, nodes, lines, lines + count, stage)
+            lines += count
+            self.stats.lines += count
+            self._progress(stage=stage, prime=p, pieces_solved=sum(len(c.pieces) for c in chains),
+                           terms_found=sum(len(t) for c in chains for t in c.pieces.values()))
+
+    def _probe_lines(self, p: int, grid: GeometricPoints, chains: tuple[_Chain, _Chain], nodes: list[int],
+                     start: int, stop: int, stage: str) -> None:
+        """Measure the unknown t-coefficients of both chains on the lines start <= j < stop."""
+        num, den = chains
+        unknown_num, unknown_den = num.unknown(), den.unknown()
+        width = len(unknown_num) + len(unknown_den)
+        shift = num.shift
+        with self._stage("sparse"):
+            known_num = {r: num.values(r, start, stop) for r in range(num.degree + 1) if num.known(r)}
+            known_den = {r: den.values(r, start, stop) for r in range(den.degree + 1) if den.known(r)}
+        zs = [[1, *z] for z in grid.points(start, stop)]
+        line_nodes: list[list[int]] = [[] for _ in zs]
+        line_values: list[list[int]] = [[] for _ in zs]
+        tried = [0] * len(zs)
+        pending = list(range(len(zs)))
+        while pending:
+            asks = []
+            for k in pending:
+                need = width - len(line_nodes[k])
+                if tried[k] + need > len(nodes):
+                    raise UnluckyPrimeError(f"the black box is undefined on too many points of a line mod p = {p}")
+                asks += [(k, t) for t in nodes[tried[k]:tried[k] + need]]
+                tried[k] += need
+            values = self._probe(p, [[(t * zi + si) % p for zi, si in zip(zs[k], shift)] for k, t in asks], stage)
+            for (k, t), v in zip(asks, values):
+                if v is not None:
+                    line_nodes[k].append(t)
+                    line_values[k].append(v)
+            pending = [k for k in pending if len(line_nodes[k]) < width]
+        with self._stage("univariate"):
+            solutions = fit_lines(line_nodes, line_values, p, unknown_num, unknown_den,
+                                  [{r: v[k] for r, v in known_num.items()} for k in range(len(zs))],
+                                  [{r: v[k] for r, v in known_den.items()} for k in range(len(zs))])
+        for sol in solutions:
+            for r, v in zip(unknown_num, sol):
+                num.raw[r].append(v)
+            for r, v in zip(unknown_den, sol[len(unknown_num):]):
+                den.raw[r].append(v)
+
+    # -- one prime -----------------------------------------------------------------------------------------------
+    def _discover(self, p: int) -> _Support:
+        """The support stage mod a smooth prime: degrees, shift, and every piece by Ben-Or–Tiwari."""
+        degrees = self._degrees(p)
+        if degrees[0] < 0:
+            return _Support(-1, 0, [0] * self.n, {}, {0: {(0,) * self.n: 1}}, (0,) * self.n)
+        if max(degrees) > self.max_degree:
+            raise ResourceLimitError(f"f has degrees {degrees} along a line, above max_degree = {self.max_degree}"
+                                     f" (raise max_degree)")
+        shift = self._shift(p, degrees)
+        with self._stage("sparse"):
+            grid = GeometricPoints.kronecker(p, self.n - 1, max(degrees) + 1, self.rng)
+        chains = (_Chain(degrees[0], shift, p, grid, False), _Chain(degrees[1], shift, p, grid, True))
+
+        def solve(chain: _Chain, r: int) -> Polynomial | None:
+            # the denominator's constant piece is 1 - (the higher pieces' contributions): a constant, 4 values do
+            length = 2 + EARLY_TERMINATION if chain.denominator and r == 0 else chain.measured(r)
+            with self._stage("sparse"):
+                found = ben_or_tiwari(chain.cleaned(r, length), grid, r, self.rng, self.budget.check)
+            return None if found is None else {(r - sum(m), *m): c for m, c in found.items()}
+
+        def batch(lines: int, unknown: list[tuple[_Chain, int]]) -> int:
+            return max(4, lines // 3)
+
+        self._run_lines(p, grid, chains, solve, batch, "support")
+        return _Support(degrees[0], degrees[1], shift, chains[0].pieces, chains[1].pieces)
+
+    def _coefficients(self, p: int, support: _Support) -> dict[tuple[str, tuple[int, ...]], int]:
+        """The coefficients mod p on the known support (transposed Vandermonde per piece, one extra line checks
+        each), normalized to a denominator coefficient 1 at support.normalizer."""
+        with self._stage("sparse"):
+            grid = GeometricPoints.random(p, self.n - 1, self.rng)
+            for pieces in (support.num, support.den):
+                for poly in pieces.values():
+                    bases = [grid.base_of(m[1:]) for m in poly]
+                    if len(set(bases)) < len(bases):
+                        raise UnluckyPrimeError(f"two monomials have the same value at the points mod p = {p}")
+        chains = (_Chain(support.degree_num, support.shift, p, grid, False),
+                  _Chain(support.degree_den, support.shift, p, grid, True))
+        size = {id(chains[0]): {r: len(support.num[r]) for r in support.num},
+                id(chains[1]): {r: len(support.den[r]) for r in support.den}}
+
+        def solve(chain: _Chain, r: int) -> Polynomial | None:
+            monomials = list((support.den if chain.denominator else support.num)[r])
+            if chain.measured(r) < len(monomials) + 1:
+                return None
+            with self._stage("sparse"):
+                values = chain.cleaned(r, len(monomials) + 1)
+                bases = [grid.base_of(m[1:]) for m in monomials]
+                weights = transposed_vandermonde(bases, values, p)
+                extra = ExponentialSum(weights, bases, p).values(len(monomials), len(monomials) + 1)
+            if extra[0] != values[-1]:
+                raise UnluckyPrimeError(f"the values mod p = {p} do not fit the support of the degree-{r} piece of "
+                                        f"the {'denominator' if chain.denominator else 'numerator'}")
+            return {m: w * pow(grid.scale_of(m[1:]), -1, p) % p for m, w in zip(monomials, weights)}
+
+        def batch(lines: int, unknown: list[tuple[_Chain, int]]) -> int:
+            return min((size[id(c)][r] + 1 for c, r in unknown if c.measured(r) < size[id(c)][r] + 1),
+                       default=lines + 1) - lines
+
+        self._run_lines(p, grid, chains, solve, batch, "coefficients")
+        return self._normalized(p, chains[0].pieces, chains[1].pieces, support.normalizer)
+
+    def _normalized(self, p: int, num: dict[int, Polynomial], den: dict[int, Polynomial],
+                    normalizer: tuple[int, ...]) -> dict[tuple[str, tuple[int, ...]], int]:
+        """All coefficients divided by the denominator's coefficient at `normalizer` (the same rule for each prime)."""
+        scale = den.get(sum(normalizer), {}).get(normalizer, 0)
+        if scale == 0:
+            raise UnluckyPrimeError(f"p = {p} divides the normalizing coefficient of the denominator (a denominator "
+                                    f"of f's normalized coefficients)")
+        inv = pow(scale, -1, p)
+        out = {("n", m): c * inv % p for poly in num.values() for m, c in poly.items()}
+        out.update({("d", m): c * inv % p for poly in den.values() for m, c in poly.items()})
+        return out
+
+    # -- the check -----------------------------------------------------------------------------------------------
+    def _check(self, numerator: Polynomial, denominator: Polynomial) -> bool:
+        """Whether the candidate agrees with f at CHECK_POINTS random points modulo a fresh prime."""
+        for _ in range(3):
+            p = self.primes.coefficients()
+            verdict = self._check_mod(p, numerator, denominator)
+            if verdict is not None:
+                self.stats.check_primes.append(p)
+                return verdict
+            self._reject(p, "the black box is undefined at most random points modulo this check prime")
+        raise HKProofError("the black box is undefined at most random points modulo three check primes")
+
+    def _check_mod(self, p: int, numerator: Polynomial, denominator: Polynomial) -> bool | None:
+        """The check modulo p (None when the black box is undefined at most points)."""
+        with self._stage("check"):
+            agreed = tried = 0
+            while agreed < CHECK_POINTS:
+                if tried >= 8 * CHECK_POINTS:
+                    return None
+                points = [[self.rng.randrange(p) for _ in range(self.n)] for _ in range(CHECK_POINTS - agreed)]
+                tried += len(points)
+                for x, v in zip(points, self._probe(p, points, "check")):
+                    if v is None:
+                        continue
+                    if (_evaluate_mod_p(numerator, x, p) - v * _evaluate_mod_p(denominator, x, p)) % p:
+                        return False
+                    agreed += 1
+        return True
+
+    # -- the prime loop ------------------------------------------------------------------------------------------
+    def run(self) -> RationalReconstruction:
+        for _ in range(MAX_SUPPORT_RESTARTS + 1):
+            p0 = self.primes.support()
+            try:
+                support = self._discover(p0)
+            except UnluckyPrimeError as exc:
+                self._reject(p0, str(exc))
+                continue
+            result = self._lift(p0, support)
+            if result is not None:
+                return result
+        raise HKProofError(f"{MAX_SUPPORT_RESTARTS + 1} support primes failed (see the rejected primes: "
+                           f"{self.stats.primes_rejected[-3:]}); the black box may not be a fixed rational function "
+                           f"of degree <= {self.max_degree}")
+
+    def _lift(self, p0: int, support: _Support) -> RationalReconstruction | None:
+        """More primes on the support of p0 until the rationals reconstruct and pass the check (None: p0 was
+        unlucky, its support is contradicted)."""
+        den_terms = [m for poly in support.den.values() for m in poly]
+        support.normalizer = min(den_terms, key=lambda m: (sum(m), m))
+        lifter = CoefficientLifter()
+        with self._stage("crt"):
+            missing = lifter.add(self._normalized(p0, support.num, support.den, support.normalizer), p0)[1]
+        self.stats.primes_used.append(p0)
+        failures = checks = 0
+        while True:
+            if not missing:
+                numerator, denominator = self._integers(lifter)
+                if self._check(numerator, denominator):
+                    return self._result(numerator, denominator, support)
+                checks += 1
+                if checks > 2:
+                    self._reject(p0, "candidates from this support failed the final check three times")
+                    return None
+            p = self.primes.coefficients()
+            try:
+                residues = self._coefficients(p, support)
+            except UnluckyPrimeError as exc:
+                self._reject(p, str(exc))
+                failures += 1
+                if failures >= 2:
+                    self._reject(p0, "the support found modulo this prime does not fit two other primes")
+                    self.stats.primes_used = [q for q in self.stats.primes_used if q not in lifter.primes]
+                    return None
+                continue
+            failures = 0
+            with self._stage("crt"):
+                missing = lifter.add(residues, p)[1]
+            self.stats.primes_used.append(p)
+            self._progress(force=True, stage="crt", prime=p, coefficients_missing=len(missing))
+
+    def _integers(self, lifter: CoefficientLifter) -> tuple[Polynomial, Polynomial]:
+        """The reconstructed rationals as coprime integer polynomials with the documented sign."""
+        with self._stage("crt"):
+            lcm = 1
+            for q in lifter.rationals.values():
+                lcm = math.lcm(lcm, int(q.q))
+            ints = {key: int(q.p) * (lcm // int(q.q)) for key, q in lifter.rationals.items()}
+            g = 0
+            for v in ints.values():
+                g = math.gcd(g, v)
+            num = {m: v // g for (side, m), v in ints.items() if side == "n" and v}
+            den = {m: v // g for (side, m), v in ints.items() if side == "d" and v}
+            if den[_leading(den)] < 0:
+                num = {m: -v for m, v in num.items()}
+                den = {m: -v for m, v in den.items()}
+            return num, den
+
+    def _result(self, numerator: Polynomial, denominator: Polynomial, support: _Support) -> RationalReconstruction:
+        s = self.stats
+        s.terms_numerator, s.terms_denominator = len(numerator), len(denominator)
+        s.degree_numerator = max((sum(m) for m in numerator), default=-1)
+        s.degree_denominator = max(sum(m) for m in denominator)
+        s.shift = tuple(support.shift)
+        self._progress(force=True, stage="done", terms=s.terms_numerator + s.terms_denominator)
+        return RationalReconstruction(numerator, denominator, s)
+
+
+def reconstruct_rational(black_box: ProbeBatch, n: int, *, rng: random.Random, budget: Budget | None = None,
+                         max_degree: int = 60, primes: Iterable[int] | None = None, mapper: Mapper | None = None,
+                         progress: Callable[[dict], None] | None = None, batch_size: int = 256
+                         ) -> RationalReconstruction:
+    """f = P/Q over Q from its values mod primes (FireFly/FiniteFlow: Thiele along lines, Cuyt–Lee shifts,
+    Ben-Or–Tiwari, Wang's rational reconstruction), checked at random points modulo a fresh prime.
+
+    black_box(p, points) gives f at many points mod p (None where undefined); n is the number of variables; rng
+    makes the run reproducible; budget bounds the time (BudgetExhausted); max_degree bounds the total degrees of P
+    and Q (ResourceLimitError above it); primes replaces the random primes (used in order; the support stage takes
+    the first with smooth p - 1); mapper runs the independent black-box batches of `batch_size` points (default: a
+    loop); progress receives a dict now and then. The result is a candidate for the caller to prove."""
+    if n < 1:
+        raise HKProofError(f"a black box needs at least one variable, got n = {n}")
+    if max_degree < 0 or batch_size < 1:
+        raise HKProofError(f"max_degree must be >= 0 and batch_size >= 1, got {max_degree} and {batch_size}")
+    return _Engine(black_box, n, rng, budget or UNLIMITED, max_degree, primes, mapper, progress, batch_size).run()
