@@ -19,6 +19,7 @@ from __future__ import annotations
 import random
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import flint
 
@@ -219,7 +220,7 @@ def transposed_vandermonde(bases: Sequence[int], values: Sequence[int], p: int) 
         layer = [a * b for a, b in zip(layer[0::2], layer[1::2])] + ([layer[-1]] if len(layer) % 2 else [])
     lam = layer[0]
     num = ctx(list(values[:t])).mul_low(lam.reverse(), t)
-    tops = num.reverse(degree=t - 1).multipoint_evaluate(list(bases)) if num.length() else [0] * t
+    tops: list[Any] = num.reverse(degree=t - 1).multipoint_evaluate(list(bases)) if num.length() else [0] * t
     bottoms = lam.derivative().multipoint_evaluate(list(bases))
     return [int(a) * pow(int(b), -1, p) % p for a, b in zip(tops, bottoms)]
 
