@@ -2,7 +2,7 @@
 
 >>> rational_reconstruction(crt(2, 3, 3, 5), 15)         # 1/2 is 2 mod 3 and 3 mod 5
 1/2
->>> lift, p, q = CoefficientLifter(), 1000003, 1000033
+>>> lift, p, q = CoefficientLifter(), 2 ** 61 - 1, 2 ** 31 - 1
 >>> lift.add({"a": -7 * pow(3, -1, p) % p}, p), lift.add({"a": -7 * pow(3, -1, q) % q}, q)
 ((['a'], []), (['a'], []))
 >>> lift.rationals
