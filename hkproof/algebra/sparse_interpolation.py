@@ -36,19 +36,18 @@ SMOOTH_BOUND = 1 << 22
 
 
 def smooth_prime(rng: random.Random, bits: int = 62) -> int:
-    """A random prime of `bits` bits with p - 1 a product of primes below 2^21 (for Ben-Or–Tiwari's discrete logs)."""
+    """A random prime of `bits` bits with p - 1 a product of primes below 2^12 (Ben-Or–Tiwari's discrete logs by
+    Pohlig–Hellman then cost a few square roots of 2^12 each)."""
     while True:
         m = 2
-        while m.bit_length() < bits - 21:
-            q = rng.getrandbits(16) | (1 << 15) | 1
+        while m.bit_length() < bits - 12:
+            q = rng.getrandbits(11) | (1 << 10) | 1
             if flint.fmpz(q).is_prime():
                 m *= q
         lo, hi = ((1 << (bits - 1)) - 1) // m + 1, ((1 << bits) - 2) // m
-        if lo > hi:
-            continue
-        for _ in range(200):
+        for _ in range(200 if lo <= hi else 0):
             k = rng.randint(lo, hi)
-            if k < (1 << 21) and flint.fmpz(m * k + 1).is_prime():
+            if flint.fmpz(m * k + 1).is_prime():
                 return m * k + 1
 
 
