@@ -358,13 +358,16 @@ class _Engine:
         return (-1 if num == [0] else len(num) - 1), len(den) - 1
 
     def _shift(self, p: int, degrees: tuple[int, int]) -> list[int]:
-        """The sparsest shift s found with Q(s) != 0 (no shift, one variable, two, all): a line through s has the
-        full degrees and no pole at t = 0."""
+        """The sparsest shift s with Q(s) != 0 among: none, one variable, two, all (random integer values). One
+        probe at each candidate s screens them (f is defined at s only if Q(s) != 0); the first defined one is
+        confirmed by a line through s with the full degrees and no pole at t = 0."""
         n = self.n
         subsets = itertools.chain([()], itertools.combinations(range(n), 1),
                                   itertools.combinations(range(n), 2) if n > 2 else (), [tuple(range(n))])
-        for subset in subsets:
-            shift = [self.rng.randrange(1, 2 ** 31) if i in subset else 0 for i in range(n)]
+        candidates = [[self.rng.randrange(1, 2 ** 31) if i in subset else 0 for i in range(n)] for subset in subsets]
+        screened = self._probe(p, [[v % p for v in s] for s in candidates], "shift")
+        defined = [s for s, v in zip(candidates, screened) if v is not None]
+        for shift in defined if defined and defined[-1] is candidates[-1] else [*defined, candidates[-1]]:
             num, den = self._thiele_line(p, shift, "shift", expected=sum(degrees) + 1 + 2)
             if den[0] == 1 and (len(num) - 1, len(den) - 1) == degrees:
                 return shift

@@ -25,11 +25,14 @@ import flint
 
 from hkproof.errors import ResourceLimitError, UnluckyPrimeError
 
-__all__ = ["EARLY_TERMINATION", "ExponentialSum", "GeometricPoints", "ben_or_tiwari", "distinct_roots",
+__all__ = ["EARLY_TERMINATION", "SPLIT_ATTEMPTS", "ExponentialSum", "GeometricPoints", "ben_or_tiwari", "distinct_roots",
            "is_smooth_prime", "smooth_prime", "transposed_vandermonde"]
 
 EARLY_TERMINATION = 2
 """Ben-Or–Tiwari stops when 2L + EARLY_TERMINATION terms of the sequence fit a recurrence of order L."""
+
+SPLIT_ATTEMPTS = 40
+"""Random splittings tried on a factor before it is declared not to split into distinct linear factors."""
 
 SMOOTH_BOUND = 1 << 22
 """A prime suits Ben-Or–Tiwari when every prime factor of p - 1 is below this (Pohlig–Hellman stays cheap)."""
@@ -180,13 +183,12 @@ class ExponentialSum:
 def distinct_roots(poly: flint.fmpz_mod_poly, p: int, rng: random.Random,
                    check: Callable[[str], None] | None = None) -> list[int] | None:
     """The roots of a polynomial that splits into distinct non-zero linear factors mod p (equal-degree splitting,
-    Cantor–Zassenhaus), None when it does not; `check` is called between splits (a budget)."""
+    Cantor–Zassenhaus: gcd with (x + a)^((p-1)/2) - 1 for random a), None when it does not (a factor that resists
+    SPLIT_ATTEMPTS random splittings is taken to be irreducible or repeated); `check` is called between splits."""
     f = flint.nmod_poly([int(c) for c in poly.coeffs()], p)
-    d = f.degree()
-    if d <= 0:
+    if f.degree() <= 0:
         return []
-    x = flint.nmod_poly([0, 1], p)
-    if int(f.coeffs()[0]) == 0 or x.pow_mod(p, f) != x % f:
+    if int(f.coeffs()[0]) == 0:
         return None
     out: list[int] = []
     stack = [f]
@@ -198,13 +200,15 @@ def distinct_roots(poly: flint.fmpz_mod_poly, p: int, rng: random.Random,
             continue
         if check is not None:
             check("splitting the minimal polynomial of a sparse sequence")
-        while True:
+        for _ in range(SPLIT_ATTEMPTS):
             h = flint.nmod_poly([rng.randrange(p), 1], p).pow_mod((p - 1) // 2, g) - 1
             a = g.gcd(h)
             if 0 < a.degree() < g.degree():
+                stack += [a, g // a]
                 break
-        stack += [a, g // a]
-    return out
+        else:
+            return None
+    return out if len(set(out)) == len(out) else None      # a repeated root ends up in two factors
 
 
 def transposed_vandermonde(bases: Sequence[int], values: Sequence[int], p: int) -> list[int]:
