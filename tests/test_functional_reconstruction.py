@@ -6,7 +6,7 @@ import itertools
 import math
 import random
 import time
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 
 import flint
 import pytest
@@ -76,6 +76,9 @@ class RationalBox:
                 return ctx.from_dict(out)
             self._contexts[p] = ([red(f) for f in self.factors[0]], [red(f) for f in self.factors[1]])
         return self._contexts[p]
+
+    def __getstate__(self) -> dict:
+        return {**self.__dict__, "_contexts": {}}          # FLINT contexts are rebuilt in each process
 
     def __call__(self, p: int, points) -> list[int | None]:
         nums, dens = self._reduced(p)
@@ -365,6 +368,13 @@ def test_a_mapper_runs_the_batches_and_progress_is_reported():
     assert_exact(result, num, den)
     assert sum(jobs) == result.stats.probes and max(jobs) <= 64
     assert reports and all("probes" in r for r in reports)
+
+
+def test_a_process_pool_runs_the_batches():
+    box, num, den = random_target(random.Random(22), 3, 5, 30, 8)
+    with ProcessPoolExecutor(2) as pool:
+        result = reconstruct_rational(box, 3, rng=random.Random(7), mapper=lambda fn, jobs: pool.map(fn, jobs))
+    assert_exact(result, num, den)
 
 
 # -- large targets (outside the default suite) -----------------------------------------------------------------------
