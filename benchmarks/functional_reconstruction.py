@@ -37,6 +37,22 @@ def target(n: int, terms: int, seed: int) -> tuple[RationalBox, dict, dict]:
     return RationalBox(n, [a, b], [d, e]), *primitive(multiply(a, b), multiply(d, e))
 
 
+def points_per_piece(poly: dict) -> tuple[int, int]:
+    """z-points the pieces of poly need, the most over its homogeneous pieces (all pieces share the lines):
+    Ben-Or–Tiwari 2T + 2 (early termination), and Zippel counted from the support (not run): with z_0 = 1, variable
+    k costs (deg_k + 2) transposed Vandermonde solves of the size of the support projected on z_1..z_{k-1}."""
+    bot = zippel = 0
+    for r in {sum(m) for m in poly}:
+        support = [m[1:] for m in poly if sum(m) == r]
+        bot = max(bot, 2 * len(support) + 2)
+        count = 0
+        for k in range(len(support[0])):
+            projected = len({m[:k] for m in support})
+            count += (max(m[k] for m in support) + 2) * projected
+        zippel = max(zippel, count)
+    return bot, zippel
+
+
 def run(n: int, terms: int) -> dict:
     box, num, den = target(n, terms, seed=1000 * n + terms)
     start = time.perf_counter()
@@ -45,7 +61,8 @@ def run(n: int, terms: int) -> dict:
     assert (result.numerator, result.denominator) == (num, den), f"wrong result for n = {n}, T = {terms}"
     s = result.stats
     engine = wall - s.seconds["probes"]
-    return {"n": n, "terms": f"{len(num)} / {len(den)}", "all_terms": len(num) + len(den), "probes": s.probes,
+    bot, zippel = (max(a, b) for a, b in zip(points_per_piece(num), points_per_piece(den)))
+    return {"bot_points": bot, "zippel_points": zippel, "n": n, "terms": f"{len(num)} / {len(den)}", "all_terms": len(num) + len(den), "probes": s.probes,
             "lines": s.lines, "primes": len(s.primes_used), "wall": wall, "engine": engine,
             "box_us": 1e6 * s.seconds["probes"] / s.probes, "overhead_rate": s.probes / engine,
             "stages": s.seconds, "by_stage": s.probes_by_stage, "shift": any(s.shift)}
@@ -69,6 +86,10 @@ def main() -> None:
                      f" {r['primes']} | {r['box_us']:.0f} | {r['overhead_rate']:.0f} | {st['probes']:.2f} |"
                      f" {st['univariate']:.2f} | {st['sparse']:.2f} | {st['crt']:.2f} | {st['check']:.2f} |"
                      f" {r['wall']:.2f} |")
+    lines += ["", "Points z_j of the first prime, Ben-Or–Tiwari (2T + 2 for the largest piece) against Zippel counted "
+              "from the same supports (not run; each point is a whole line of probes):", ""]
+    lines += [f"- n = {r['n']}, {r['terms']} terms: Ben-Or–Tiwari {r['bot_points']}, Zippel {r['zippel_points']}"
+              for r in rows]
     lines += ["", "Probes by stage (degrees / shift scan / support prime / further primes / check):", ""]
     lines += [f"- n = {r['n']}, {r['terms']} terms: " + ", ".join(f"{k} {v}" for k, v in r["by_stage"].items())
               for r in rows]

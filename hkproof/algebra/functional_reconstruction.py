@@ -359,18 +359,21 @@ class _Engine:
 
     def _shift(self, p: int, degrees: tuple[int, int]) -> list[int]:
         """The sparsest shift s with Q(s) != 0 among: none, one variable, two, all (random integer values). One
-        probe at each candidate s screens them (f is defined at s only if Q(s) != 0); the first defined one is
+        probe at each candidate s of a group screens them (f is defined at s only if Q(s) != 0); a defined one is
         confirmed by a line through s with the full degrees and no pole at t = 0."""
         n = self.n
-        subsets = itertools.chain([()], itertools.combinations(range(n), 1),
-                                  itertools.combinations(range(n), 2) if n > 2 else (), [tuple(range(n))])
-        candidates = [[self.rng.randrange(1, 2 ** 31) if i in subset else 0 for i in range(n)] for subset in subsets]
-        screened = self._probe(p, [[v % p for v in s] for s in candidates], "shift")
-        defined = [s for s, v in zip(candidates, screened) if v is not None]
-        for shift in defined if defined and defined[-1] is candidates[-1] else [*defined, candidates[-1]]:
-            num, den = self._thiele_line(p, shift, "shift", expected=sum(degrees) + 1 + 2)
-            if den[0] == 1 and (len(num) - 1, len(den) - 1) == degrees:
-                return shift
+        groups = [[()], list(itertools.combinations(range(n), 1)),
+                  list(itertools.combinations(range(n), 2)) if n > 2 else [], [tuple(range(n))]]
+        for group in groups:
+            candidates = [[self.rng.randrange(1, 2 ** 31) if i in subset else 0 for i in range(n)]
+                          for subset in group]
+            screened = self._probe(p, [[v % p for v in s] for s in candidates], "shift")
+            for shift, value in zip(candidates, screened):
+                if value is None and len(group[0]) < n:     # the full random shift is tried even so
+                    continue
+                num, den = self._thiele_line(p, shift, "shift", expected=sum(degrees) + 1 + 2)
+                if den[0] == 1 and (len(num) - 1, len(den) - 1) == degrees:
+                    return shift
         raise UnluckyPrimeError(f"no shift s with Q(s) != 0 mod p = {p} was found (a random full shift failed)")
 
     # -- the lines -----------------------------------------------------------------------------------------------
@@ -470,7 +473,7 @@ class _Engine:
             return None if found is None else {(r - sum(m), *m): c for m, c in found.items()}
 
         def batch(lines: int, unknown: list[tuple[_Chain, int]]) -> int:
-            return max(4, lines // 3)
+            return max(4, lines // 4)
 
         self._run_lines(p, grid, chains, solve, batch, "support")
         return _Support(degrees[0], degrees[1], shift, chains[0].pieces, chains[1].pieces)
