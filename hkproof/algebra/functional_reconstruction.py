@@ -362,7 +362,7 @@ class _Engine:
         probe at each candidate s of a group screens them (f is defined at s only if Q(s) != 0); a defined one is
         confirmed by a line through s with the full degrees and no pole at t = 0."""
         n = self.n
-        groups = [[()], list(itertools.combinations(range(n), 1)),
+        groups: list[list[tuple[int, ...]]] = [[()], list(itertools.combinations(range(n), 1)),
                   list(itertools.combinations(range(n), 2)) if n > 2 else [], [tuple(range(n))]]
         for group in groups:
             candidates = [[self.rng.randrange(1, 2 ** 31) if i in subset else 0 for i in range(n)]
