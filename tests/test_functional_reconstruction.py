@@ -119,10 +119,11 @@ def test_thiele_reconstructs_and_terminates_early():
 def test_thiele_is_not_fooled_before_enough_points():
     p = 1000003
     thiele = ThieleInterpolator(p)
-    for t in range(1, 6):                                 # 1/(t^3 + 1) needs 4 points and agreements
-        thiele.add(t, pow(t ** 3 + 1, -1, p))
-        if t < 6:
-            assert not thiele.terminated or t >= 4 + THIELE_AGREEMENTS
+    for t in range(1, 7 + THIELE_AGREEMENTS):            # 1/(t^3 + 1): Thiele's convergents are diagonal, so
+        thiele.add(t, pow(t ** 3 + 1, -1, p))            # type (0, 3) needs the 7 points of type (3, 3),
+        assert not thiele.terminated                     # then the agreements
+    thiele.add(10, pow(1001, -1, p))
+    assert thiele.terminated and thiele.fraction() == ([1], [1, 0, 0, 1])
 
 
 def test_fit_lines_with_known_coefficients():
@@ -169,11 +170,11 @@ def test_lifter_drops_a_rational_a_new_prime_contradicts():
 
 # -- sparse interpolation --------------------------------------------------------------------------------------------
 def test_smooth_primes():
-    rng = random.Random(10)
-    p = smooth_prime(rng)
+    p = smooth_prime(random.Random(10))
     assert p.bit_length() == 62 and is_smooth_prime(p)
-    assert not is_smooth_prime(2 * 1000000007 * 1000000009 + 1) or not flint.fmpz(2 * 1000000007 * 1000000009 + 1
-                                                                                  ).is_prime()
+    assert is_smooth_prime(2 ** 61 - 1)                   # p - 1 = 2 3^2 5^2 7 11 13 31 41 61 151 331 1321
+    assert not is_smooth_prime(1000000007)                # p - 1 = 2 * 500000003
+    assert not is_smooth_prime(2 ** 61 + 1)               # not a prime
 
 
 @pytest.mark.parametrize("nvars,degree,terms", [(1, 5, 3), (4, 6, 40), (7, 9, 300)])
@@ -272,6 +273,15 @@ def test_medium_target_with_shift_and_two_primes():
     assert set(stats.seconds) >= {"probes", "univariate", "sparse", "crt", "check"}
     assert (stats.terms_numerator, stats.terms_denominator) == (len(num), len(den))
     assert (stats.degree_numerator, stats.degree_denominator) == (8, 8)
+
+
+def test_a_polynomial_and_the_value_of_the_result():
+    rng = random.Random(23)
+    num = random_sparse_polynomial(rng, 5, 7, 60)
+    result = reconstruct_rational(RationalBox(5, [num], [{(0,) * 5: 7}]), 5, rng=random.Random(8))
+    assert_exact(result, *primitive(num, {(0,) * 5: 7}))
+    p, point = random_prime(rng), [rng.randrange(10 ** 6) for _ in range(5)]
+    assert result.value_mod_p(point, p) == RationalBox(5, [num], [{(0,) * 5: 7}])(p, [point])[0]
 
 
 def test_zero_and_constant_functions():

@@ -37,7 +37,7 @@ from hkproof.algebra.modular import random_prime
 from hkproof.algebra.rational_lifting import CoefficientLifter
 from hkproof.algebra.sparse_interpolation import (EARLY_TERMINATION, ExponentialSum, GeometricPoints, ben_or_tiwari,
                                                   is_smooth_prime, smooth_prime, transposed_vandermonde)
-from hkproof.algebra.univariate_rational import ThieleInterpolator, fit_lines
+from hkproof.algebra.univariate_rational import THIELE_AGREEMENTS, ThieleInterpolator, fit_lines
 from hkproof.budget import UNLIMITED, Budget
 from hkproof.errors import HKProofError, ResourceLimitError, UnluckyPrimeError
 
@@ -371,7 +371,7 @@ class _Engine:
             for shift, value in zip(candidates, screened):
                 if value is None and len(group[0]) < n:     # the full random shift is tried even so
                     continue
-                num, den = self._thiele_line(p, shift, "shift", expected=sum(degrees) + 1 + 2)
+                num, den = self._thiele_line(p, shift, "shift", expected=2 * max(degrees) + 1 + THIELE_AGREEMENTS)
                 if den[0] == 1 and (len(num) - 1, len(den) - 1) == degrees:
                     return shift
         raise UnluckyPrimeError(f"no shift s with Q(s) != 0 mod p = {p} was found (a random full shift failed)")

@@ -56,7 +56,7 @@ def smooth_prime(rng: random.Random, bits: int = 62) -> int:
 
 def is_smooth_prime(p: int) -> bool:
     """Whether p is a prime with every prime factor of p - 1 below SMOOTH_BOUND (Pohlig–Hellman is cheap)."""
-    return p > 2 and flint.fmpz(p).is_prime() and all(q < SMOOTH_BOUND for q, _ in flint.fmpz(p - 1).factor())
+    return p > 2 and bool(flint.fmpz(p).is_prime()) and all(q < SMOOTH_BOUND for q, _ in flint.fmpz(p - 1).factor())
 
 
 def _primitive_root(p: int, rng: random.Random) -> int:
