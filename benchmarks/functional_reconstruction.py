@@ -19,10 +19,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]
 
-from docs_section import write_section  # noqa: E402
-from tests.test_functional_reconstruction import (RationalBox, multiply, primitive,  # noqa: E402
-                                                  random_sparse_polynomial)
-from hkproof.algebra.functional_reconstruction import reconstruct_rational  # noqa: E402
+from docs_section import write_section
+
+from hkproof.algebra.functional_reconstruction import reconstruct_rational
+from tests.test_functional_reconstruction import RationalBox, multiply, primitive, random_sparse_polynomial
 
 DOC = ROOT / "docs" / "reconstruction.md"
 SIZES = [(n, t) for t in (100, 1000, 10000) for n in (6, 8, 10)]
@@ -62,7 +62,8 @@ def run(n: int, terms: int) -> dict:
     s = result.stats
     engine = wall - s.seconds["probes"]
     bot, zippel = (max(a, b) for a, b in zip(points_per_piece(num), points_per_piece(den)))
-    return {"bot_points": bot, "zippel_points": zippel, "n": n, "terms": f"{len(num)} / {len(den)}", "all_terms": len(num) + len(den), "probes": s.probes,
+    return {"bot_points": bot, "zippel_points": zippel, "n": n, "terms": f"{len(num)} / {len(den)}",
+            "all_terms": len(num) + len(den), "probes": s.probes,
             "lines": s.lines, "primes": len(s.primes_used), "wall": wall, "engine": engine,
             "box_us": 1e6 * s.seconds["probes"] / s.probes, "overhead_rate": s.probes / engine,
             "stages": s.seconds, "by_stage": s.probes_by_stage, "shift": any(s.shift)}
@@ -75,19 +76,21 @@ def main() -> None:
         row = run(n, terms)
         rows.append(row)
         print(row, file=sys.stderr)
-    lines = [f"Measured in one run on {platform.machine()} / Python {platform.python_version()}, one process "
-             f"(default mapper), {time.strftime('%Y-%m-%d')}; `PYTHONPATH=. python benchmarks/functional_reconstruction.py`.",
-             "", "| n | terms P / Q | probes | probes per term | lines | primes | black box µs/probe | "
-             "engine probes/s | probes s | univariate s | sparse s | crt s | check s | total s |",
+    lines = [(f"Measured in one run on {platform.machine()} / Python {platform.python_version()}, one process "
+              f"(default mapper), {time.strftime('%Y-%m-%d')}; "
+              "`PYTHONPATH=. python benchmarks/functional_reconstruction.py`."),
+             "", ("| n | terms P / Q | probes | probes per term | lines | primes | black box µs/probe | "
+                  "engine probes/s | probes s | univariate s | sparse s | crt s | check s | total s |"),
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         st = r["stages"]
-        lines.append(f"| {r['n']} | {r['terms']} | {r['probes']} | {r['probes'] / r['all_terms']:.2f} | {r['lines']} |"
-                     f" {r['primes']} | {r['box_us']:.0f} | {r['overhead_rate']:.0f} | {st['probes']:.2f} |"
+        lines.append(f"| {r['n']} | {r['terms']} | {r['probes']} | {r['probes'] / r['all_terms']:.2f} |"
+                     f" {r['lines']} | {r['primes']} | {r['box_us']:.0f} | {r['overhead_rate']:.0f} |"
+                     f" {st['probes']:.2f} |"
                      f" {st['univariate']:.2f} | {st['sparse']:.2f} | {st['crt']:.2f} | {st['check']:.2f} |"
                      f" {r['wall']:.2f} |")
-    lines += ["", "Points z_j of the first prime, Ben-Or–Tiwari (2T + 2 for the largest piece) against Zippel counted "
-              "from the same supports (not run; each point is a whole line of probes):", ""]
+    lines += ["", ("Points z_j of the first prime, Ben-Or–Tiwari (2T + 2 for the largest piece) against Zippel "
+                   "counted from the same supports (not run; each point is a whole line of probes):"), ""]
     lines += [f"- n = {r['n']}, {r['terms']} terms: Ben-Or–Tiwari {r['bot_points']}, Zippel {r['zippel_points']}"
               for r in rows]
     lines += ["", "Probes by stage (degrees / shift scan / support prime / further primes / check):", ""]

@@ -127,8 +127,7 @@ def test_thiele_is_not_fooled_before_enough_points():
 
 
 def test_fit_lines_with_known_coefficients():
-    p, rng = 1000003, random.Random(4)
-    num, den = [5, 7, 11], [1, 3]                        # (5 + 7t + 11t^2)/(1 + 3t)
+    p, rng = 1000003, random.Random(4)                   # f = (5 + 7t + 11t^2)/(1 + 3t)
     lines_nodes = [[rng.randrange(1, p) for _ in range(2)] for _ in range(3)]
     values = [[(5 + 7 * t + 11 * t * t) * pow(1 + 3 * t, -1, p) % p for t in ts] for ts in lines_nodes]
     sols = fit_lines(lines_nodes, values, p, [0, 2], [], [{1: 7}] * 3, [{0: 1, 1: 3}] * 3)
@@ -254,7 +253,9 @@ def test_reduced_form_cross_checked_with_sympy_cancel():
                       [{(1, 0, 1): flint.fmpq(1, 3), (0, 2, 0): 1}, {(1, 1, 0): 1, (0, 0, 3): -5}])
     result = reconstruct_rational(box, 3, rng=random.Random(1))
     num, den = sympy.fraction(sympy.cancel(sympy.together(expr)))
-    to_dict = lambda e: {m: int(c) for m, c in sympy.Poly(e, x, y, z).terms()}   # noqa: E731
+
+    def to_dict(e: sympy.Expr) -> Poly:
+        return {m: int(c) for m, c in sympy.Poly(e, x, y, z).terms()}
     assert_exact(result, *primitive(to_dict(num), to_dict(den)))
 
 

@@ -25,8 +25,8 @@ import flint
 
 from hkproof.errors import ResourceLimitError, UnluckyPrimeError
 
-__all__ = ["EARLY_TERMINATION", "SPLIT_ATTEMPTS", "ExponentialSum", "GeometricPoints", "ben_or_tiwari", "distinct_roots",
-           "is_smooth_prime", "smooth_prime", "transposed_vandermonde"]
+__all__ = ["EARLY_TERMINATION", "SPLIT_ATTEMPTS", "ExponentialSum", "GeometricPoints", "ben_or_tiwari",
+           "distinct_roots", "is_smooth_prime", "smooth_prime", "transposed_vandermonde"]
 
 EARLY_TERMINATION = 2
 """Ben-Or–Tiwari stops when 2L + EARLY_TERMINATION terms of the sequence fit a recurrence of order L."""
