@@ -37,7 +37,7 @@ from hkproof.algebra.modular import random_prime
 from hkproof.algebra.rational_lifting import CoefficientLifter
 from hkproof.algebra.sparse_interpolation import (EARLY_TERMINATION, ExponentialSum, GeometricPoints, ben_or_tiwari,
                                                   is_smooth_prime, smooth_prime, transposed_vandermonde)
-from hkproof.algebra.univariate_rational import ThieleInterpolator, fit_lines
+from hkproof.algebra.univariate_rational import THIELE_AGREEMENTS, ThieleInterpolator, fit_lines
 from hkproof.budget import UNLIMITED, Budget
 from hkproof.errors import HKProofError, ResourceLimitError, UnluckyPrimeError
 
@@ -48,6 +48,8 @@ ProbeBatch = Callable[[int, Sequence[Sequence[int]]], "list[int | None]"]
 Mapper = Callable[[Callable[[Any], Any], list[Any]], Iterable[Any]]
 """Like map: applies a function to each job (a process pool's or Dask's map runs the black-box batches)."""
 Polynomial = dict[tuple[int, ...], int]
+CoefficientName = tuple[str, tuple[int, ...]]
+"""("n", exponents) for a numerator coefficient, ("d", exponents) for a denominator one."""
 
 CHECK_POINTS = 4
 """The final check compares the candidate with f at this many random points modulo a fresh prime."""
@@ -260,7 +262,7 @@ class _Engine:
         self.mapper: Mapper = mapper or (lambda fn, jobs: [fn(job) for job in jobs])
         self.report = progress
         self.stats = ReconstructionStats()
-        self._stage_stack: list[list[Any]] = []
+        self._nested: list[float] = []      # seconds spent in stages nested in each open stage
         self._throughput = 0.0
         self._last_report = 0.0
 
@@ -268,16 +270,15 @@ class _Engine:
     @contextmanager
     def _stage(self, name: str) -> Iterator[None]:
         """Time a stage, excluding the time of nested stages (the black box's time goes to 'probes')."""
-        frame = [name, time.perf_counter(), 0.0]
-        self._stage_stack.append(frame)
+        start = time.perf_counter()
+        self._nested.append(0.0)
         try:
             yield
         finally:
-            self._stage_stack.pop()
-            spent = time.perf_counter() - frame[1]
-            self.stats.seconds[name] = self.stats.seconds.get(name, 0.0) + spent - frame[2]
-            if self._stage_stack:
-                self._stage_stack[-1][2] += spent
+            spent = time.perf_counter() - start
+            self.stats.seconds[name] = self.stats.seconds.get(name, 0.0) + spent - self._nested.pop()
+            if self._nested:
+                self._nested[-1] += spent
 
     def _progress(self, force: bool = False, **info: Any) -> None:
         now = time.perf_counter()
@@ -357,16 +358,22 @@ class _Engine:
         return (-1 if num == [0] else len(num) - 1), len(den) - 1
 
     def _shift(self, p: int, degrees: tuple[int, int]) -> list[int]:
-        """The sparsest shift s found with Q(s) != 0 (no shift, one variable, two, all): a line through s has the
-        full degrees and no pole at t = 0."""
+        """The sparsest shift s with Q(s) != 0 among: none, one variable, two, all (random integer values). One
+        probe at each candidate s of a group screens them (f is defined at s only if Q(s) != 0); a defined one is
+        confirmed by a line through s with the full degrees and no pole at t = 0."""
         n = self.n
-        subsets = itertools.chain([()], itertools.combinations(range(n), 1),
-                                  itertools.combinations(range(n), 2) if n > 2 else (), [tuple(range(n))])
-        for subset in subsets:
-            shift = [self.rng.randrange(1, 2 ** 31) if i in subset else 0 for i in range(n)]
-            num, den = self._thiele_line(p, shift, "shift", expected=sum(degrees) + 1 + 2)
-            if den[0] == 1 and (len(num) - 1, len(den) - 1) == degrees:
-                return shift
+        groups: list[list[tuple[int, ...]]] = [[()], list(itertools.combinations(range(n), 1)),
+                  list(itertools.combinations(range(n), 2)) if n > 2 else [], [tuple(range(n))]]
+        for group in groups:
+            candidates = [[self.rng.randrange(1, 2 ** 31) if i in subset else 0 for i in range(n)]
+                          for subset in group]
+            screened = self._probe(p, [[v % p for v in s] for s in candidates], "shift")
+            for shift, value in zip(candidates, screened):
+                if value is None and len(group[0]) < n:     # the full random shift is tried even so
+                    continue
+                num, den = self._thiele_line(p, shift, "shift", expected=2 * max(degrees) + 1 + THIELE_AGREEMENTS)
+                if den[0] == 1 and (len(num) - 1, len(den) - 1) == degrees:
+                    return shift
         raise UnluckyPrimeError(f"no shift s with Q(s) != 0 mod p = {p} was found (a random full shift failed)")
 
     # -- the lines -----------------------------------------------------------------------------------------------
@@ -376,7 +383,7 @@ class _Engine:
         """Probe lines x = t z_j + s in batches until every piece of both chains is solved (`solve` returns None
         while a piece needs more lines; `batch` says how many lines to probe next)."""
         width = chains[0].degree + chains[1].degree + 1
-        nodes = []
+        nodes: list[int] = []
         while len(nodes) < width + SPARE_NODES:
             t = self.rng.randrange(1, p)
             if t not in nodes:
@@ -466,12 +473,12 @@ class _Engine:
             return None if found is None else {(r - sum(m), *m): c for m, c in found.items()}
 
         def batch(lines: int, unknown: list[tuple[_Chain, int]]) -> int:
-            return max(4, lines // 3)
+            return max(4, lines // 4)
 
         self._run_lines(p, grid, chains, solve, batch, "support")
         return _Support(degrees[0], degrees[1], shift, chains[0].pieces, chains[1].pieces)
 
-    def _coefficients(self, p: int, support: _Support) -> dict[tuple[str, tuple[int, ...]], int]:
+    def _coefficients(self, p: int, support: _Support) -> dict[CoefficientName, int]:
         """The coefficients mod p on the known support (transposed Vandermonde per piece, one extra line checks
         each), normalized to a denominator coefficient 1 at support.normalizer."""
         with self._stage("sparse"):
@@ -508,7 +515,7 @@ class _Engine:
         return self._normalized(p, chains[0].pieces, chains[1].pieces, support.normalizer)
 
     def _normalized(self, p: int, num: dict[int, Polynomial], den: dict[int, Polynomial],
-                    normalizer: tuple[int, ...]) -> dict[tuple[str, tuple[int, ...]], int]:
+                    normalizer: tuple[int, ...]) -> dict[CoefficientName, int]:
         """All coefficients divided by the denominator's coefficient at `normalizer` (the same rule for each prime)."""
         scale = den.get(sum(normalizer), {}).get(normalizer, 0)
         if scale == 0:
@@ -569,19 +576,19 @@ class _Engine:
         unlucky, its support is contradicted)."""
         den_terms = [m for poly in support.den.values() for m in poly]
         support.normalizer = min(den_terms, key=lambda m: (sum(m), m))
-        lifter = CoefficientLifter()
+        lifter: CoefficientLifter[CoefficientName] = CoefficientLifter()
         with self._stage("crt"):
             missing = lifter.add(self._normalized(p0, support.num, support.den, support.normalizer), p0)[1]
         self.stats.primes_used.append(p0)
-        failures = checks = 0
+        failures = 0
         while True:
             if not missing:
                 numerator, denominator = self._integers(lifter)
                 if self._check(numerator, denominator):
                     return self._result(numerator, denominator, support)
-                checks += 1
-                if checks > 2:
-                    self._reject(p0, "candidates from this support failed the final check three times")
+                if lifter.changed == 0 and len(lifter.primes) > 1:
+                    self._reject(p0, "the support found modulo this prime gives coefficients that are stable over "
+                                     "the primes but fail the final check")
                     return None
             p = self.primes.coefficients()
             try:
@@ -600,7 +607,7 @@ class _Engine:
             self.stats.primes_used.append(p)
             self._progress(force=True, stage="crt", prime=p, coefficients_missing=len(missing))
 
-    def _integers(self, lifter: CoefficientLifter) -> tuple[Polynomial, Polynomial]:
+    def _integers(self, lifter: CoefficientLifter[CoefficientName]) -> tuple[Polynomial, Polynomial]:
         """The reconstructed rationals as coprime integer polynomials with the documented sign."""
         with self._stage("crt"):
             lcm = 1

@@ -19,41 +19,44 @@ from __future__ import annotations
 import random
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import flint
 
 from hkproof.errors import ResourceLimitError, UnluckyPrimeError
 
-__all__ = ["EARLY_TERMINATION", "ExponentialSum", "GeometricPoints", "ben_or_tiwari", "distinct_roots",
-           "is_smooth_prime", "smooth_prime", "transposed_vandermonde"]
+__all__ = ["EARLY_TERMINATION", "SPLIT_ATTEMPTS", "ExponentialSum", "GeometricPoints", "ben_or_tiwari",
+           "distinct_roots", "is_smooth_prime", "smooth_prime", "transposed_vandermonde"]
 
 EARLY_TERMINATION = 2
 """Ben-Or–Tiwari stops when 2L + EARLY_TERMINATION terms of the sequence fit a recurrence of order L."""
+
+SPLIT_ATTEMPTS = 40
+"""Random splittings tried on a factor before it is declared not to split into distinct linear factors."""
 
 SMOOTH_BOUND = 1 << 22
 """A prime suits Ben-Or–Tiwari when every prime factor of p - 1 is below this (Pohlig–Hellman stays cheap)."""
 
 
 def smooth_prime(rng: random.Random, bits: int = 62) -> int:
-    """A random prime of `bits` bits with p - 1 a product of primes below 2^21 (for Ben-Or–Tiwari's discrete logs)."""
+    """A random prime of `bits` bits with p - 1 a product of primes below 2^12 (Ben-Or–Tiwari's discrete logs by
+    Pohlig–Hellman then cost a few square roots of 2^12 each)."""
     while True:
         m = 2
-        while m.bit_length() < bits - 21:
-            q = rng.getrandbits(16) | (1 << 15) | 1
+        while m.bit_length() < bits - 12:
+            q = rng.getrandbits(11) | (1 << 10) | 1
             if flint.fmpz(q).is_prime():
                 m *= q
         lo, hi = ((1 << (bits - 1)) - 1) // m + 1, ((1 << bits) - 2) // m
-        if lo > hi:
-            continue
-        for _ in range(200):
+        for _ in range(200 if lo <= hi else 0):
             k = rng.randint(lo, hi)
-            if k < (1 << 21) and flint.fmpz(m * k + 1).is_prime():
+            if flint.fmpz(m * k + 1).is_prime():
                 return m * k + 1
 
 
 def is_smooth_prime(p: int) -> bool:
     """Whether p is a prime with every prime factor of p - 1 below SMOOTH_BOUND (Pohlig–Hellman is cheap)."""
-    return p > 2 and flint.fmpz(p).is_prime() and all(q < SMOOTH_BOUND for q, _ in flint.fmpz(p - 1).factor())
+    return p > 2 and bool(flint.fmpz(p).is_prime()) and all(q < SMOOTH_BOUND for q, _ in flint.fmpz(p - 1).factor())
 
 
 def _primitive_root(p: int, rng: random.Random) -> int:
@@ -180,13 +183,12 @@ class ExponentialSum:
 def distinct_roots(poly: flint.fmpz_mod_poly, p: int, rng: random.Random,
                    check: Callable[[str], None] | None = None) -> list[int] | None:
     """The roots of a polynomial that splits into distinct non-zero linear factors mod p (equal-degree splitting,
-    Cantor–Zassenhaus), None when it does not; `check` is called between splits (a budget)."""
+    Cantor–Zassenhaus: gcd with (x + a)^((p-1)/2) - 1 for random a), None when it does not (a factor that resists
+    SPLIT_ATTEMPTS random splittings is taken to be irreducible or repeated); `check` is called between splits."""
     f = flint.nmod_poly([int(c) for c in poly.coeffs()], p)
-    d = f.degree()
-    if d <= 0:
+    if f.degree() <= 0:
         return []
-    x = flint.nmod_poly([0, 1], p)
-    if int(f.coeffs()[0]) == 0 or x.pow_mod(p, f) != x % f:
+    if int(f.coeffs()[0]) == 0:
         return None
     out: list[int] = []
     stack = [f]
@@ -198,13 +200,15 @@ def distinct_roots(poly: flint.fmpz_mod_poly, p: int, rng: random.Random,
             continue
         if check is not None:
             check("splitting the minimal polynomial of a sparse sequence")
-        while True:
+        for _ in range(SPLIT_ATTEMPTS):
             h = flint.nmod_poly([rng.randrange(p), 1], p).pow_mod((p - 1) // 2, g) - 1
             a = g.gcd(h)
             if 0 < a.degree() < g.degree():
+                stack += [a, g // a]
                 break
-        stack += [a, g // a]
-    return out
+        else:
+            return None
+    return out if len(set(out)) == len(out) else None      # a repeated root ends up in two factors
 
 
 def transposed_vandermonde(bases: Sequence[int], values: Sequence[int], p: int) -> list[int]:
@@ -219,7 +223,7 @@ def transposed_vandermonde(bases: Sequence[int], values: Sequence[int], p: int) 
         layer = [a * b for a, b in zip(layer[0::2], layer[1::2])] + ([layer[-1]] if len(layer) % 2 else [])
     lam = layer[0]
     num = ctx(list(values[:t])).mul_low(lam.reverse(), t)
-    tops = num.reverse(degree=t - 1).multipoint_evaluate(list(bases)) if num.length() else [0] * t
+    tops: list[Any] = num.reverse(degree=t - 1).multipoint_evaluate(list(bases)) if num.length() else [0] * t
     bottoms = lam.derivative().multipoint_evaluate(list(bases))
     return [int(a) * pow(int(b), -1, p) % p for a, b in zip(tops, bottoms)]
 
