@@ -19,8 +19,7 @@ from __future__ import annotations
 
 import math
 import random
-from collections.abc import Callable, Hashable, Sequence
-from typing import cast
+from collections.abc import Callable, Sequence
 
 from hkproof import budget
 from hkproof.algebra.modular import free_kernel_mod_p, random_prime
@@ -110,7 +109,7 @@ def reconstruct_vector(box: VectorBox, n: int, count: int, *, rng: random.Random
     """`count` rational functions of n variables from their values mod primes (one probe gives them all): degrees
     along a line, a dense ansatz per function on shared points, Chinese remaindering and Wang's reconstruction until
     stable, and a check at fresh points modulo a fresh prime. A candidate: callers prove what they use."""
-    lifter = CoefficientLifter()
+    lifter: CoefficientLifter[tuple[int, int, Exponents]] = CoefficientLifter()
     degrees: list[tuple[int, int]] | None = None
     shapes: list[tuple[tuple, tuple]] | None = None
     for _ in range(max_primes):
@@ -134,8 +133,8 @@ def reconstruct_vector(box: VectorBox, n: int, count: int, *, rng: random.Random
             shapes = shape
         elif shape != shapes:
             continue                     # the supports changed: this prime was unlucky
-        residues: dict[Hashable, int] = {(j, part, m): c for j, s in enumerate(solved) if s is not None
-                                         for part, poly in enumerate(s) for m, c in poly.items()}
+        residues = {(j, part, m): c for j, s in enumerate(solved) if s is not None
+                    for part, poly in enumerate(s) for m, c in poly.items()}
         before = dict(lifter.rationals)
         _, missing = lifter.add(residues, p)
         if not missing and before == lifter.rationals:
@@ -143,7 +142,7 @@ def reconstruct_vector(box: VectorBox, n: int, count: int, *, rng: random.Random
     else:
         raise ResourceLimitError(f"the coefficients were not stable after {max_primes} primes: raise the bound")
     out: list[Fraction] = []
-    keys = [cast(tuple[int, int, Exponents], k) for k in lifter.rationals]
+    keys = list(lifter.rationals)
     for j in range(count):
         num = {m: lifter.rationals[(jj, part, m)] for jj, part, m in keys if jj == j and part == 0}
         den = {m: lifter.rationals[(jj, part, m)] for jj, part, m in keys if jj == j and part == 1}
