@@ -22,7 +22,7 @@ from hkproof.algebra.ring import Ring, get_ring
 from hkproof.dynamics.degrees import random_prime
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import HKProofError, SingularSystemError
+from hkproof.errors import HKProofError, ResourceLimitError, SingularSystemError
 from hkproof.hk.jacobian import jacobian_determinant, matrix_identity_holds
 from hkproof.proof.status import Status
 
@@ -137,8 +137,10 @@ def candidate_cofactors(jac: Cofactor, limit: int = 400) -> list[Cofactor]:
     ranges = [range(0, e + 1) if e >= 0 else range(e, 1) for e in jac.exponents]
     out = [Cofactor(tuple(c)) for c in itertools.product(*ranges)]
     if len(out) > limit:
-        raise HKProofError(f"{len(out)} candidate cofactors (factors of det Df with their multiplicities): more than "
-                           f"{limit}; the search is too large for this system")
+        raise ResourceLimitError(f"{len(out)} candidate cofactors (products of the factors of det Df with their "
+                                 f"multiplicities): more than the limit of {limit}; the Darboux search is too large "
+                                 "for this system (no option raises this limit)", limit=f"{limit} candidate cofactors",
+                                 raise_with="no option raises it")
     return out
 
 
