@@ -2,15 +2,18 @@
 from __future__ import annotations
 
 import argparse
+import math
 from dataclasses import dataclass
 from typing import Any, Callable
 
 import flint
 
+from hkproof.algebra.formula import read_integer, read_number
 from hkproof.dynamics.catalogue import SYSTEMS, kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import ParseError
+from hkproof.errors import HKProofError, ParseError
+from hkproof.exit_codes import ExitCode
 
 
 @dataclass
@@ -19,7 +22,12 @@ class Result:
 
     payload: Any
     text: str
-    exit_code: int = 0
+    exit_code: int = ExitCode.VERIFIED
+
+
+def answer_code(ok: bool) -> ExitCode:
+    """The exit code of a mathematical answer: 0 for yes (verified, found), 1 for no (refuted, not found)."""
+    return ExitCode.VERIFIED if ok else ExitCode.REFUTED
 
 
 def add_command(sub: argparse._SubParsersAction, name: str, help: str,
@@ -55,18 +63,36 @@ def specialized_map(args: argparse.Namespace) -> tuple[KahanMap, KahanMap, dict[
     return f, kahan_map(f.field.specialize(fixed)), fixed
 
 
+def integer(text: str) -> int:
+    """An argparse type: an integer in ASCII digits (a Bengali four or '1.0' is a usage error, exit 2)."""
+    try:
+        return read_integer(text)
+    except HKProofError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer (ASCII digits 0-9)") from None
+
+
 def at_least(minimum: int) -> Callable[[str], int]:
     """An argparse type: an integer >= minimum (a bad count is a usage error, exit 2)."""
     def read(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        value = integer(text)
         if value < minimum:
             raise argparse.ArgumentTypeError(f"{value} is too small (at least {minimum})")
         return value
     read.__name__ = f"integer >= {minimum}"
     return read
+
+
+def seconds(text: str) -> float:
+    """An argparse type: a time budget, a positive finite number of seconds in ASCII digits ('nan', '-5', 'inf' and
+    '0' are usage errors, exit 2)."""
+    try:
+        value = float(read_number(text.strip()))
+    except (HKProofError, OverflowError):
+        value = math.nan
+    if not 0 < value < math.inf:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a time budget: give a positive number of seconds, e.g. 60 "
+                                         "or 2.5")
+    return value
 
 
 def add_values_options(p: argparse.ArgumentParser) -> None:
@@ -75,7 +101,7 @@ def add_values_options(p: argparse.ArgumentParser) -> None:
                    "the time step; default: random)")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                    help="fix a parameter to an exact rational (repeatable; the others are random)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the random points and values (default 0)")
+    p.add_argument("--seed", type=integer, default=0, help="seed of the random points and values (default 0)")
 
 
 def fixed_values(args: argparse.Namespace) -> dict[str, str]:

@@ -5,32 +5,45 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import signal
+import re
 import sys
-import threading
-from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Callable, Iterator, Sequence
+from typing import Callable, Sequence
 
+from hkproof.algebra.formula import read_integer
 from hkproof.errors import HKProofError
+from hkproof.exit_codes import ExitCode, exit_code_for
 from hkproof.orchestration.execution import EXECUTORS, make_executor, run_graph
 from hkproof.orchestration.graph import in_dependency_order
+from hkproof.orchestration.interrupts import interrupt_label, interrupts_deferred, interrupts_ignored, interrupts_raised
+from hkproof.orchestration.output import emit
 from hkproof.orchestration.registry import REGISTRY, Claim, cached, select
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 
-INTERRUPTED = 130  # the shell's code for a process ended by SIGINT
-
 
 def positive_int(text: str) -> int:
-    """An argparse type: a whole number >= 1."""
+    """An argparse type: a whole number >= 1, in ASCII digits."""
     try:
-        value = int(text)
-    except ValueError:
+        value = read_integer(text)
+    except HKProofError:
         raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
     if value < 1:
         raise argparse.ArgumentTypeError(f"{value} is not a positive number of jobs")
     return value
+
+
+_ADDRESS = re.compile(r"(?:(?:tcp|tls|ucx|ws|wss)://)?(?:\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+)(?::(?P<port>[0-9]{1,5}))?")
+
+
+def scheduler_address(text: str) -> str:
+    """An argparse type: the address of a Dask scheduler, [PROTOCOL://]HOST[:PORT] (e.g. tcp://10.0.0.5:8786)."""
+    address = text.strip()
+    m = _ADDRESS.fullmatch(address)
+    if not address or m is None or (m.group("port") is not None and not 0 < int(m.group("port")) < 65536):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a scheduler address: give [PROTOCOL://]HOST[:PORT], e.g. "
+                                         "tcp://10.0.0.5:8786 (PROTOCOL tcp, tls, ucx, ws or wss; PORT 1 to 65535)")
+    return address
 
 
 def add_run_options(parser: argparse.ArgumentParser) -> None:
@@ -41,7 +54,7 @@ def add_run_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--executor", choices=EXECUTORS, default="process",
                         help="process: a pool of local processes; dask: Dask distributed (pip install "
                              "'hkproof[dask]'), a LocalCluster of N workers unless --scheduler is given")
-    parser.add_argument("--scheduler", metavar="ADDRESS",
+    parser.add_argument("--scheduler", type=scheduler_address, metavar="ADDRESS",
                         help="with --executor dask: the address of a running Dask scheduler, e.g. tcp://host:8786")
 
 
@@ -52,16 +65,17 @@ class Run:
     claims: list[Claim]
     certs: dict[str, Certificate] = field(default_factory=dict)
     interrupted: bool = False
+    interrupted_by: str = ""    # "Ctrl-C", "SIGTERM" or "SIGHUP"
 
     @property
     def finished(self) -> list[tuple[Claim, Certificate]]:
         return [(c, self.certs[c.id]) for c in self.claims if c.id in self.certs]
 
     @property
-    def exit_code(self) -> int:
+    def exit_code(self) -> ExitCode:
         if self.interrupted:
-            return INTERRUPTED
-        return 0 if all(c.succeeded(cert) for c, cert in self.finished) else 1
+            return ExitCode.INTERRUPTED
+        return ExitCode.VERIFIED if all(c.succeeded(cert) for c, cert in self.finished) else ExitCode.REFUTED
 
     def payload(self) -> list[dict]:
         return [certificate_payload(cert) for _, cert in self.finished]
@@ -76,7 +90,7 @@ class Run:
         seconds = sum(cert.seconds for _, cert in finished)
         text = "\n"
         if self.interrupted:
-            text += f"INTERRUPTED (Ctrl-C) after {len(finished)} of {len(self.claims)} claims: "
+            text += f"INTERRUPTED ({self.interrupted_by}) after {len(finished)} of {len(self.claims)} claims: "
         text += f"{verified} of {theorems} theorems verified"
         if theorems < len(finished):
             text += f"; {open_ok} of {len(finished) - theorems} open claims at their expected status (evidence only)"
@@ -85,8 +99,9 @@ class Run:
 
     def summary_record(self) -> dict:
         """The summary as the last object of a JSON Lines stream."""
-        return {"summary": self.summary().strip(), "interrupted": self.interrupted, "claims": len(self.claims),
-                "finished": len(self.certs), "exit_code": self.exit_code,
+        return {"summary": self.summary().strip(), "interrupted": self.interrupted,
+                "signal": self.interrupted_by or None, "claims": len(self.claims),
+                "finished": len(self.certs), "exit_code": int(self.exit_code),
                 "failed": [c.id for c, cert in self.finished if not c.succeeded(cert)]}
 
 
@@ -95,44 +110,16 @@ def certificate_payload(cert: Certificate) -> dict:
     return {**cert.to_dict(), "expected": REGISTRY[cert.claim_id].expected.label}
 
 
-@contextmanager
-def _sigint_ignored() -> Iterator[None]:
-    """A second Ctrl-C while the workers are being stopped is ignored (no traceback from the cleanup)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
-
-
-@contextmanager
-def _sigint_deferred() -> Iterator[None]:
-    """Ctrl-C inside the block takes effect at its end (a line of output is never cut in half)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    caught: list[int] = []
-    previous = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
-    if caught:
-        raise KeyboardInterrupt
-
-
 def execute(claims: Sequence[Claim], args: argparse.Namespace,
             on_done: Callable[[Certificate], None] = lambda cert: None) -> Run:
-    """Prove `claims` (and what they cite) with the executor of `args`; Ctrl-C returns the partial run."""
+    """Prove `claims` (and what they cite) with the executor of `args`; an interrupt (Ctrl-C, SIGTERM, SIGHUP)
+    stops the workers and returns the partial run."""
     run = Run(list(claims))
     ids = [c.id for c in run.claims]
     tasks = sum(cached(cid) is None for cid in in_dependency_order(ids, REGISTRY))
 
     def done(cert: Certificate) -> None:
-        with _sigint_deferred():  # a certificate is recorded and printed whole, or not at all
+        with interrupts_deferred():  # a certificate is recorded and printed whole, or not at all
             run.certs[cert.claim_id] = cert
             on_done(cert)
 
@@ -140,11 +127,11 @@ def execute(claims: Sequence[Claim], args: argparse.Namespace,
     try:
         executor = make_executor(args.executor, args.jobs, args.scheduler, tasks)
         run_graph(ids, executor, done)
-    except KeyboardInterrupt:
-        run.interrupted = True
+    except KeyboardInterrupt as exc:
+        run.interrupted, run.interrupted_by = True, interrupt_label(exc)
     finally:
         if executor is not None:
-            with _sigint_ignored():
+            with interrupts_ignored():
                 executor.close(interrupted=run.interrupted)
     return run
 
@@ -152,10 +139,10 @@ def execute(claims: Sequence[Claim], args: argparse.Namespace,
 def streaming(args: argparse.Namespace) -> Callable[[Certificate], None]:
     """What to print as each certificate completes: its text, a JSON line, or nothing (--json prints at the end)."""
     if getattr(args, "jsonl", False):
-        return lambda cert: print(json.dumps(certificate_payload(cert)), flush=True)
+        return lambda cert: emit(json.dumps(certificate_payload(cert)))
     if args.json:
         return lambda cert: None
-    return lambda cert: print(cert.render(), flush=True)
+    return lambda cert: emit(cert.render())
 
 
 def prove_claims(claims: Sequence[Claim], args: argparse.Namespace) -> tuple[list[dict], str, int]:
@@ -182,9 +169,13 @@ def run_script(groups: Sequence[str], argv: Sequence[str] | None = None) -> int:
     add_run_options(parser)
     args = parser.parse_args(argv)
     try:
-        payload, closing, code = prove_claims(select(groups=groups, include_slow=not args.no_slow), args)
+        with interrupts_raised():
+            payload, closing, code = prove_claims(select(groups=groups, include_slow=not args.no_slow), args)
+            emit(json.dumps(payload, indent=2) if args.json else closing)
     except HKProofError as exc:
         print(f"error: {exc}", file=sys.stderr)
-        return 2
-    print(json.dumps(payload, indent=2) if args.json else closing)
+        return exit_code_for(exc)
+    except KeyboardInterrupt as exc:    # before any claim ran
+        print(f"interrupted ({interrupt_label(exc)})", file=sys.stderr)
+        return ExitCode.INTERRUPTED
     return code
