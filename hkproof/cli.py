@@ -23,19 +23,25 @@ from hkproof.orchestration.output import emit
 EXIT_CODES = ("exit codes: 0 verified or success, 1 refuted, 2 bad input, 3 internal error, 4 a resource limit or an "
               "exhausted budget, 130 interrupted (Ctrl-C, SIGTERM, SIGHUP)")
 
-OUT_OF_MEMORY = ResourceLimitError(
-    "out of memory: the computation needs more memory than this process may use (raise `ulimit -v`, or ask a "
-    "smaller question: a lower degree, fewer iterates, fixed parameters)",
-    limit="the memory this process may use (its address-space limit, or the machine's memory)",
-    raise_with="more memory (a higher `ulimit -v`), or a smaller question (a lower degree, fewer iterates, fixed "
-               "parameters)")
 
-NO_SIGNAL = ResourceLimitError(
-    "stopped by a KeyboardInterrupt that no interrupt signal caused: a library gave up while starting (numpy's "
-    "OpenBLAS does so when it cannot create its threads under a tight memory or process limit; raise `ulimit -v` "
-    "and `ulimit -u`, or set OPENBLAS_NUM_THREADS=1)",
-    limit="the memory and processes this process may use", raise_with="a higher `ulimit -v` / `ulimit -u`, or "
-    "OPENBLAS_NUM_THREADS=1")
+def _limit(what: str, limit: str, raise_with: str) -> ResourceLimitError:
+    return ResourceLimitError(f"{what}; to go further: {raise_with}", limit=limit, raise_with=raise_with)
+
+
+def out_of_memory() -> ResourceLimitError:
+    """A MemoryError, reported as the limit it is."""
+    return _limit("out of memory: the computation needs more memory than this process may use",
+                  "the memory this process may use (its address-space limit, or the machine's memory)",
+                  "more memory (a higher `ulimit -v`), or a smaller question (a lower degree, fewer iterates, fixed "
+                  "parameters)")
+
+
+def interrupt_without_signal() -> ResourceLimitError:
+    """A KeyboardInterrupt that no signal caused, reported as the limit that caused it."""
+    return _limit("stopped by a KeyboardInterrupt that no interrupt signal caused: a library gave up while starting "
+                  "(numpy's OpenBLAS does so when it cannot create its threads under a tight memory or process "
+                  "limit)", "the memory and processes this process may use",
+                  "a higher `ulimit -v` and `ulimit -u`, or OPENBLAS_NUM_THREADS=1")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -116,13 +122,13 @@ def main(argv: Sequence[str] | None = None) -> int:
                 return _run(argv)
             except KeyboardInterrupt as exc:
                 if not from_signal(exc, handled):
-                    raise NO_SIGNAL from exc
+                    raise interrupt_without_signal() from exc
                 raise
     except HKProofError as exc:
         _report(as_json, error_payload(exc))
         return exit_code_for(exc)
     except MemoryError:
-        _report(as_json, error_payload(OUT_OF_MEMORY))
+        _report(as_json, error_payload(out_of_memory()))
         return ExitCode.LIMIT
     except KeyboardInterrupt as exc:
         _report(as_json, {"error": "Interrupted", "message": f"interrupted ({interrupt_label(exc)}); nothing was "

@@ -232,6 +232,7 @@ def _checked_address(scheduler: str) -> str:
 
 
 def _check_run_options(kind: str, scheduler: str | None) -> None:
+    """A known executor, and a scheduler address only for Dask."""
     if kind not in EXECUTORS:
         raise HKProofError(f"unknown executor '{kind}'; executors are {', '.join(EXECUTORS)}")
     if scheduler is not None and kind != "dask":

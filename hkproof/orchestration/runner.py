@@ -15,7 +15,8 @@ from hkproof.errors import HKProofError
 from hkproof.exit_codes import ExitCode, exit_code_for
 from hkproof.orchestration.execution import EXECUTORS, make_executor, run_graph
 from hkproof.orchestration.graph import in_dependency_order
-from hkproof.orchestration.interrupts import interrupt_label, interrupts_deferred, interrupts_ignored, interrupts_raised
+from hkproof.orchestration.interrupts import (interrupt_label, interrupts_deferred, interrupts_ignored,
+                                              interrupts_raised)
 from hkproof.orchestration.output import emit
 from hkproof.orchestration.registry import REGISTRY, Claim, cached, select
 from hkproof.proof.certificate import Certificate
