@@ -74,13 +74,15 @@ class Budget:
         now = time.monotonic()
         if now >= self.deadline:
             raise BudgetExhausted(f"the time budget of {self.seconds:g} s ran out while {doing} (give "
-                                  f"{self.raise_with} to go further)")
+                                  f"{self.raise_with} to go further)", limit=f"a time budget of {self.seconds:g} s",
+                                  raise_with=self.raise_with)
         if self.memory_mb is not None and now - self._memory_checked > 0.2:
             self._memory_checked = now
             used = resident_mb()
             if used is not None and used > self.memory_mb:
                 raise BudgetExhausted(f"the memory ceiling of {self.memory_mb:g} MB was passed ({used:.0f} MB) "
-                                      f"while {doing} (give {self.raise_with} to go further)")
+                                      f"while {doing} (give {self.raise_with} to go further)",
+                                      limit=f"a memory ceiling of {self.memory_mb:g} MB", raise_with=self.raise_with)
 
     def child(self, seconds: float | None = None, *, share: float | None = None) -> Budget:
         """A budget for one part of the work: at most `seconds` (or `share` of what is left), never past this

@@ -1,23 +1,49 @@
 """The `hkproof` command line: every command in hkproof.commands, each with --json.
 
-Exit codes: 0 verified (or success), 1 refuted (a mathematical answer), 2 bad input, 3 internal error, 130 interrupted.
+Exit codes (hkproof.exit_codes): 0 verified (or success), 1 refuted (a mathematical answer), 2 bad input, 3 internal
+error, 4 a resource limit or an exhausted budget, 130 interrupted (Ctrl-C, SIGTERM, SIGHUP).
 """
 from __future__ import annotations
 
 import argparse
 import importlib
 import json
+import os
 import pkgutil
 import signal
 import sys
 import traceback
 from typing import NoReturn, Sequence
 
-from hkproof.errors import HKProofError, UsageError
+from hkproof.errors import HKProofError, ResourceLimitError, UsageError
+from hkproof.exit_codes import ExitCode, exit_code_for
+from hkproof.orchestration.interrupts import from_signal, interrupt_label, interrupts_raised
+from hkproof.orchestration.output import emit
 
-__all__ = ["build_parser", "main"]
+__all__ = ["build_parser", "interrupt_without_signal", "main", "out_of_memory"]
 
-EXIT_VERIFIED, EXIT_REFUTED, EXIT_BAD_INPUT, EXIT_INTERNAL, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
+EXIT_CODES = ("exit codes: 0 verified or success, 1 refuted, 2 bad input, 3 internal error, 4 a resource limit or an "
+              "exhausted budget, 130 interrupted (Ctrl-C, SIGTERM, SIGHUP)")
+
+
+def _limit(what: str, limit: str, raise_with: str) -> ResourceLimitError:
+    return ResourceLimitError(f"{what}; to go further: {raise_with}", limit=limit, raise_with=raise_with)
+
+
+def out_of_memory() -> ResourceLimitError:
+    """A MemoryError, reported as the limit it is."""
+    return _limit("out of memory: the computation needs more memory than this process may use",
+                  "the memory this process may use (its address-space limit, or the machine's memory)",
+                  "more memory (a higher `ulimit -v`), or a smaller question (a lower degree, fewer iterates, fixed "
+                  "parameters)")
+
+
+def interrupt_without_signal() -> ResourceLimitError:
+    """A KeyboardInterrupt that no signal caused, reported as the limit that caused it."""
+    return _limit("stopped by a KeyboardInterrupt that no interrupt signal caused: a library gave up while starting "
+                  "(numpy's OpenBLAS does so when it cannot create its threads under a tight memory or process "
+                  "limit)", "the memory and processes this process may use",
+                  "a higher `ulimit -v` and `ulimit -u`, or OPENBLAS_NUM_THREADS=1")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -31,8 +57,7 @@ def build_parser() -> argparse.ArgumentParser:
     import hkproof.commands as pkg
     parser = _Parser(
         prog="hkproof", description="Exact proofs of integrability of Kahan / Hirota-Kimura discretizations. "
-        "hkproof's eps is half the time step: x~ - x = 2 eps (polarized field).",
-        epilog="exit codes: 0 verified or success, 1 refuted, 2 bad input, 3 internal error, 130 interrupted")
+        "hkproof's eps is half the time step: x~ - x = 2 eps (polarized field).", epilog=EXIT_CODES)
     parser.add_argument("--debug", action="store_true", help="on an internal error, print the traceback")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
@@ -42,12 +67,48 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _error(as_json: bool, kind: str, message: str) -> None:
-    """One line on stderr, or one JSON object on stdout under --json."""
+def error_payload(exc: HKProofError) -> dict:
+    """The JSON object of an error: its class and message; a limit also says which limit and how to raise it."""
+    payload: dict = {"error": type(exc).__name__, "message": str(exc)}
+    if isinstance(exc, ResourceLimitError):
+        payload.update(limit=exc.limit, raise_with=exc.raise_with)
+    return payload
+
+
+def _report(as_json: bool, payload: dict) -> None:
+    """One JSON object on stdout under --json, else (or when stdout cannot take it) one line on stderr."""
     if as_json:
-        print(json.dumps({"error": kind, "message": message}))
-    else:
-        print(f"hkproof: error: {message}", file=sys.stderr)
+        try:
+            emit(json.dumps(payload))
+            return
+        except HKProofError:
+            pass
+    try:
+        print(f"hkproof: error: {payload['message']}", file=sys.stderr, flush=True)
+    except OSError:
+        pass
+
+
+def _quiet_stdout() -> None:
+    """Flush stdout; if it cannot take what is left (a full device), send the rest to /dev/null so that Python's own
+    flush at exit prints no traceback."""
+    try:
+        sys.stdout.flush()
+    except OSError:
+        try:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError, AttributeError):  # no real file descriptor (a captured stream)
+            pass
+
+
+def _run(argv: list[str]) -> int:
+    args = build_parser().parse_args(argv)
+    result = args.run(args)
+    if args.json:
+        emit(json.dumps(result.payload, indent=2))
+    elif result.text:
+        emit(result.text)
+    return result.exit_code
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -58,26 +119,32 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = [a for a in argv if a != "--debug"]
     as_json = "--json" in argv
     try:
-        args = build_parser().parse_args(argv)
-        result = args.run(args)
-        if args.json:
-            print(json.dumps(result.payload, indent=2))
-        elif result.text:
-            print(result.text)
-        return result.exit_code
+        with interrupts_raised() as handled:
+            try:
+                return _run(argv)
+            except KeyboardInterrupt as exc:
+                if not from_signal(exc, handled):
+                    raise interrupt_without_signal() from exc
+                raise
     except HKProofError as exc:
-        _error(as_json, type(exc).__name__, str(exc))
-        return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
-        _error(as_json, "Interrupted", "interrupted by the user; nothing was certified after this point")
-        return EXIT_INTERRUPTED
+        _report(as_json, error_payload(exc))
+        return exit_code_for(exc)
+    except MemoryError:
+        _report(as_json, error_payload(out_of_memory()))
+        return ExitCode.LIMIT
+    except KeyboardInterrupt as exc:
+        _report(as_json, {"error": "Interrupted", "message": f"interrupted ({interrupt_label(exc)}); nothing was "
+                          "certified after this point"})
+        return ExitCode.INTERRUPTED
     except Exception as exc:  # a bug: say so, and keep the traceback for --debug
         if debug:
             traceback.print_exc()
-        kind = "out of memory" if isinstance(exc, MemoryError) else f"{type(exc).__name__}: {exc}"
-        _error(as_json, "InternalError", f"internal error ({kind}); this is a bug in hkproof: please report it "
-               "with the command line" + ("" if debug else " (rerun with --debug for the traceback)"))
-        return EXIT_INTERNAL
+        _report(as_json, {"error": "InternalError", "message": f"internal error ({type(exc).__name__}: {exc}); this "
+                          "is a bug in hkproof: please report it with the command line"
+                          + ("" if debug else " (rerun with --debug for the traceback)")})
+        return ExitCode.INTERNAL
+    finally:
+        _quiet_stdout()
 
 
 if __name__ == "__main__":

@@ -54,13 +54,33 @@ class UsageError(HKProofError):
     """A command line that does not fit the command's options (a missing argument, a bad count, an unknown name)."""
 
 
+class OutputError(HKProofError):
+    """Output could not be written where it was asked to go (a FILE that is no regular file, a directory that takes
+    no new file, a closed or failing output stream)."""
+
+
 class ShapeError(HKProofError):
     """Matrices or vectors whose sizes do not fit (a row of another length, a vector of the wrong dimension)."""
 
 
 class ResourceLimitError(HKProofError):
     """A computation would exceed one of hkproof's documented limits (not bad input: the input is fine, the search is
-    too large). The message names the limit and how to raise it."""
+    too large). The message says what happened; `limit` names the limit and `raise_with` how to raise it (or that no
+    option raises it), for `--json` and for scripts.
+
+    >>> e = ResourceLimitError("too many cofactors", limit="400 candidate cofactors", raise_with="no option raises it")
+    >>> str(e), e.limit, e.raise_with
+    ('too many cofactors', '400 candidate cofactors', 'no option raises it')
+    """
+
+    def __init__(self, message: str, *, limit: str | None = None, raise_with: str | None = None) -> None:
+        super().__init__(message)
+        self.limit = limit
+        self.raise_with = raise_with
+
+    def __reduce__(self) -> tuple:
+        """Pickled with its limit (an error raised in a worker process reaches the parent whole)."""
+        return type(self), (str(self),), {"limit": self.limit, "raise_with": self.raise_with}
 
 
 class BudgetExhausted(ResourceLimitError):

@@ -1,13 +1,18 @@
-"""The exit codes of every hkproof command and script, defined once.
+"""The exit codes of every hkproof command and script, defined once, and the code that each kind of error ends with.
 
 >>> int(ExitCode.VERIFIED), int(ExitCode.REFUTED), int(ExitCode.BAD_INPUT), int(ExitCode.LIMIT)
 (0, 1, 2, 4)
+>>> from hkproof.errors import BudgetExhausted, ParseError
+>>> [int(exit_code_for(e)) for e in (ParseError("x"), BudgetExhausted("t"), MemoryError(), ZeroDivisionError())]
+[2, 4, 4, 3]
 """
 from __future__ import annotations
 
 from enum import IntEnum
 
-__all__ = ["ExitCode"]
+from hkproof.errors import HKProofError, ResourceLimitError
+
+__all__ = ["ExitCode", "exit_code_for"]
 
 
 class ExitCode(IntEnum):
@@ -20,3 +25,15 @@ class ExitCode(IntEnum):
     INTERNAL = 3
     LIMIT = 4
     INTERRUPTED = 130
+
+
+def exit_code_for(error: BaseException) -> ExitCode:
+    """How a command that stopped with `error` ends: a limit or exhausted memory 4, other hkproof errors (bad input)
+    2, an interrupt 130, anything else (a bug) 3."""
+    if isinstance(error, (ResourceLimitError, MemoryError)):
+        return ExitCode.LIMIT
+    if isinstance(error, HKProofError):
+        return ExitCode.BAD_INPUT
+    if isinstance(error, KeyboardInterrupt):
+        return ExitCode.INTERRUPTED
+    return ExitCode.INTERNAL

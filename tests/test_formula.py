@@ -70,7 +70,8 @@ def test_unknown_names(text, why):
 
 
 @pytest.mark.parametrize("text", ["10**10**9*x", "x**1000001", "(x + y + a + eps + 1)**1000", "1e100000*x",
-                                  "1" * 10_001, "2**(10**7)", "(" * 101 + "x" + ")" * 101])
+                                  "1" * 10_001, "2**(10**7)", "(" * 101 + "x" + ")" * 101,
+                                  "(2*x + 1)**1000000", "(3*x + 1)**200000 * (3*y + 1)**200000"])
 def test_size_limits_refuse_quickly(text):
     start = time.perf_counter()
     with pytest.raises(FormulaTooLargeError):
@@ -193,3 +194,23 @@ def test_junk_never_raises_anything_but_a_parse_error(text):
         frac(text)
     except ParseError:
         pass
+
+
+def test_size_estimate_counts_terms_times_bits():
+    """Within the limits on terms, exponents and coefficient bits, a result can still be too large for memory:
+    (2x + 1)^1000000 has 10^6 terms of up to 1.6 * 10^6 bits. The estimate refuses it; a big but feasible power is
+    read."""
+    with pytest.raises(FormulaTooLargeError, match="MB"):
+        frac("(2*x + 1)**1000000")
+    assert len(frac("(x + y + 1)**60").num) == 61 * 62 // 2
+    with pytest.raises(FormulaTooLargeError, match="MB"):
+        parse_formula(R, "(x + y + 1)**60", limits=Limits(megabytes=0))
+
+
+def test_numbers_are_ascii():
+    from hkproof.algebra.formula import read_integer
+    with pytest.raises(ParseError, match="unexpected character"):
+        frac("x + \u09ea")
+    with pytest.raises(ParseError):
+        read_integer("\u09ea")
+    assert read_integer(" -12 ") == -12 and read_integer("+" + "9" * 9_999) == 10 ** 9_999 - 1

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import pytest
@@ -49,6 +50,70 @@ def test_growth_fit_is_not_fooled():
     assert fit_growth([3, 9, 19, 33, 51, 74]).kind != "quadratic"     # a perturbed sequence is not 2 n^2 + 1
     assert fit_growth([6, 21, 46, 81, 126]).kind == "undecided"       # too few terms for any verdict
     assert fit_growth([1, 2, 3, 5, 8, 13, 21, 34, 55]).kind == "exponential"
+
+
+def _period5_quadratic(terms: int) -> list[int]:
+    """2, 4, 7, 11, 16, 23, ...: second differences 1, 1, 1, 2, 1 repeated (period 5: quadratic growth)."""
+    seq, step = [2], 2
+    for i in range(terms - 1):
+        seq.append(seq[-1] + step)
+        step += (1, 1, 1, 2, 1)[i % 5]
+    return seq
+
+
+def test_the_period_5_sequence_is_the_issues():
+    assert _period5_quadratic(6) == [2, 4, 7, 11, 16, 23]
+
+
+@pytest.mark.parametrize("seq, kind, order, period", [
+    (_period5_quadratic(15), "quadratic", 2, 5),
+    (_period5_quadratic(12), "quadratic", 2, 5),                    # each value of the period seen twice
+    ([2 * n * n + 1 for n in range(1, 9)], "quadratic", 2, 1),
+    ([3 * n + 1 for n in range(1, 7)], "linear", 1, 1),
+    ([7] * 6, "bounded", 0, 1),
+    ([6, 19, 42, 73, 114, 163, 222, 289], "quadratic", 2, 2),        # the first Clebsch flow
+])
+def test_polynomial_growth_with_periodic_differences(seq, kind, order, period):
+    g = fit_growth(seq)
+    assert (g.kind, g.order, g.period) == (kind, order, period)
+    assert g.entropy == 0 and "differences" in g.evidence or "degrees themselves" in g.evidence
+
+
+def test_constant_differences_give_the_exact_polynomial():
+    assert fit_growth([2 * n * n + 1 for n in range(1, 9)]).formula() == "2*n^2 + 1"
+    assert fit_growth([3 * n + 1 for n in range(1, 7)]).formula() == "3*n + 1"
+    assert fit_growth(_period5_quadratic(15)).formula().startswith("3/5 n^2 + O(n^1)")
+
+
+@pytest.mark.parametrize("seq, lam", [
+    ([2 ** n for n in range(1, 7)], 2), ([3 ** n for n in range(1, 6)], 3),
+    ([(4 ** (n + 1) - 1) // 3 for n in range(1, 8)], 4), ([1, 2, 3, 5, 8, 13, 21, 34, 55], (1 + 5 ** 0.5) / 2)])
+def test_exponential_growth_only_with_converged_ratios(seq, lam):
+    g = fit_growth(seq)
+    assert g.kind == "exponential" and "ratios d_n/d_(n-1)" in g.evidence
+    assert abs(g.lam - lam) <= g.lam_error + 1e-12 and g.lam_error < 1e-2
+    assert g.entropy == pytest.approx(math.log(g.lam))
+
+
+@pytest.mark.parametrize("seq", [
+    [2, 4, 8, 16],                                   # too short even for a geometric run
+    [6, 21, 46, 81, 126],                            # 5 n^2 + 1, too short to see its differences repeat
+    *[_period5_quadratic(n) for n in range(5, 12)],  # the period-5 quadratic before its period shows twice
+    [3, 9, 19, 33, 51, 74],                          # 2 n^2 + 1 perturbed
+    [], [5],
+])
+def test_too_little_evidence_is_undecided_with_a_reason(seq):
+    g = fit_growth(seq)
+    assert g.kind == "undecided" and g.evidence and g.lam is None and g.entropy is None
+
+
+def test_degrees_prints_lambda_with_its_evidence(capsys):
+    assert main(["degrees", "lotka-volterra", "--iterates", "6"]) == 0
+    out = capsys.readouterr().out
+    assert "growth: exponential, deg f^n ~ lambda^n with lambda = 2 +- 0" in out
+    assert "the last 4 ratios d_n/d_(n-1) are all 2" in out
+    code, payload = run(capsys, "degrees", "lotka-volterra", "--iterates", "4")
+    assert payload["growth"] == "undecided" and "7 positive terms" in payload["growth_evidence"]
 
 
 @pytest.mark.parametrize("args", [("--param", "a1=x"), ("--param", "zz=1"), ("--iterates", "0"),

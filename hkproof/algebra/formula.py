@@ -19,7 +19,7 @@ import math
 import re
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Iterator, Mapping
+from typing import Iterable, Iterator, Mapping, Sequence
 
 import flint
 
@@ -42,13 +42,14 @@ class Limits:
     exponent: int = 1_000_000        # |k| in a ** k
     terms: int = 10_000_000          # terms a product or a power may create
     bits: int = 10_000_000           # bits of a coefficient a power may create
+    megabytes: int = 1_000           # estimated size of the result of one product or power
 
 
 LIMITS = Limits()
 
 _TOKEN = re.compile(r"""
     (?P<space>[ \t\r\n]+)
-  | (?P<number>(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)
+  | (?P<number>(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)
   | (?P<name>[A-Za-z_][A-Za-z0-9_]*)
   | (?P<op>\*\*|[-+*/^()])
 """, re.VERBOSE)
@@ -75,6 +76,25 @@ def check_name(name: str, what: str = "name") -> str:
     return name
 
 
+def check_new_names(names: Sequence[str], taken: Iterable[str], what: str = "name") -> list[str]:
+    """Names for new quantities (kernel coordinates, functions): identifiers, pairwise distinct, and none of the names
+    already `taken` (a system's variables, eps, parameters), which they would shadow.
+
+    >>> check_new_names(["c1", "a1"], ["x1", "eps", "a1"], "coordinate name")
+    Traceback (most recent call last):
+    hkproof.errors.ParseError: coordinate name 'a1' is already a name of the system (x1, eps, a1): choose another
+    """
+    out = [check_name(n, what) for n in names]
+    repeated = sorted({n for n in out if out.count(n) > 1})
+    if repeated:
+        raise ParseError(f"{what}s must be distinct: {', '.join(repeated)} given more than once")
+    taken = list(taken)
+    for n in out:
+        if n in taken:
+            raise ParseError(f"{what} {n!r} is already a name of the system ({', '.join(taken)}): choose another")
+    return out
+
+
 def _excerpt(text: str, pos: int) -> str:
     """The formula (or the part of it around column `pos` when it is long), for error messages."""
     if len(text) <= 80:
@@ -98,8 +118,9 @@ def tokens(text: str) -> Iterator[Token]:
 
 
 def read_number(literal: str, limits: Limits = LIMITS) -> flint.fmpq:
-    """The exact rational written by an integer or decimal literal ('0.1' is 1/10, never a binary float)."""
-    m = re.fullmatch(r"(\d*)(?:\.(\d*))?(?:[eE]([+-]?\d+))?", literal)
+    """The exact rational written by an integer or decimal literal ('0.1' is 1/10, never a binary float), in ASCII
+    digits (a Bengali four is no number), up to `limits.literal_digits` digits (beyond Python's int/str limit)."""
+    m = re.fullmatch(r"([0-9]*)(?:\.([0-9]*))?(?:[eE]([+-]?[0-9]+))?", literal)
     if m is None or not (m.group(1) or m.group(2)):
         raise ParseError(f"{literal!r} is not a number literal")
     whole, frac, exp = m.group(1), m.group(2) or "", m.group(3)
@@ -110,8 +131,27 @@ def read_number(literal: str, limits: Limits = LIMITS) -> flint.fmpq:
     if abs(e) > limits.literal_exponent:
         raise FormulaTooLargeError(f"the exponent of {literal!r} exceeds the limit {limits.literal_exponent}")
     e -= len(frac)
-    mantissa = int(whole + frac or "0")
-    return flint.fmpq(mantissa * 10**e) if e >= 0 else flint.fmpq(mantissa, 10**-e)
+    mantissa = flint.fmpz((whole + frac).lstrip("0") or "0")   # FLINT reads decimal text without Python's limit
+    return flint.fmpq(mantissa * flint.fmpz(10)**e) if e >= 0 else flint.fmpq(mantissa, flint.fmpz(10)**-e)
+
+
+_INTEGER = re.compile(r"[+-]?[0-9]+")
+
+
+def read_integer(text: str, limits: Limits = LIMITS) -> int:
+    """An integer written in ASCII digits with an optional sign ('12', '-3'); anything else ('1.0', a Bengali four,
+    '1e3') is refused.
+
+    >>> read_integer("-12"), read_integer("\u09ea")
+    Traceback (most recent call last):
+    hkproof.errors.ParseError: '৪' is not an integer (ASCII digits 0-9, an optional sign)
+    """
+    if not isinstance(text, str) or not _INTEGER.fullmatch(text.strip()):
+        raise ParseError(f"{text!r} is not an integer (ASCII digits 0-9, an optional sign)")
+    if len(text.strip()) > limits.literal_digits + 1:
+        raise FormulaTooLargeError(f"an integer of {len(text.strip())} characters; the limit is "
+                                   f"{limits.literal_digits} digits")
+    return int(flint.fmpz(text.strip().lstrip("+")))
 
 
 class _Parser:
@@ -241,22 +281,42 @@ class _Parser:
     # ---- size guards ----------------------------------------------------------------------------
     def check_product(self, a: Frac, b: Frac, op: Token) -> None:
         for p, q in ((a.num, b.num), (a.den, b.den)):
-            if len(p) * len(q) > self.limits.terms:
-                raise FormulaTooLargeError(f"the product at column {op.pos} could have {len(p) * len(q)} terms; "
-                                           f"the limit is {self.limits.terms}")
+            terms = len(p) * len(q)
+            if terms > self.limits.terms:
+                raise FormulaTooLargeError(f"the product at column {op.pos} could have {terms} terms; the limit is "
+                                           f"{self.limits.terms}")
+            bits = _norm_bits(p) + _norm_bits(q)
+            self.check_size(terms, bits, f"the product at column {op.pos}")
 
     def check_power(self, base: Frac, k: int, op: Token) -> None:
         lim = self.limits
         if abs(k) > lim.exponent:
             raise FormulaTooLargeError(f"the exponent {k} at column {op.pos} exceeds the limit {lim.exponent}")
         for p in (base.num, base.den):
-            bits = max((abs(int(c)).bit_length() for c in p.coeffs()), default=0)
-            if bits * abs(k) > lim.bits:
-                raise FormulaTooLargeError(f"the power at column {op.pos} would have coefficients of about "
-                                           f"{bits * abs(k)} bits; the limit is {lim.bits}")
-            if len(p) > 1 and _power_terms(p, abs(k)) > lim.terms:
+            bits = _norm_bits(p) * abs(k)
+            if bits > lim.bits:
+                raise FormulaTooLargeError(f"the power at column {op.pos} could have coefficients of about "
+                                           f"{bits:.0f} bits; the limit is {lim.bits}")
+            terms = _power_terms(p, abs(k)) if len(p) > 1 else 1
+            if terms > lim.terms:
                 raise FormulaTooLargeError(f"expanding the power at column {op.pos} could create more than "
                                            f"{lim.terms} terms; the limit is {lim.terms}")
+            self.check_size(terms, bits, f"expanding the power at column {op.pos}")
+
+    def check_size(self, terms: int, bits: float, what: str) -> None:
+        """Refuse a result whose size, bounded before it is computed (terms times coefficient bits, and a word of
+        exponents per term), exceeds `limits.megabytes`."""
+        megabytes = terms * (bits + 64) / 8 / 2**20
+        if megabytes > self.limits.megabytes:
+            raise FormulaTooLargeError(f"{what} could take about {megabytes:,.0f} MB ({terms} terms of up to "
+                                       f"{bits:.0f} bits); the limit is {self.limits.megabytes} MB")
+
+
+def _norm_bits(p: flint.fmpz_mpoly) -> float:
+    """log2 of the sum of |coefficients| of p: a coefficient of p**k has at most k times as many bits, one of p*q
+    at most _norm_bits(p) + _norm_bits(q)."""
+    norm = sum(abs(int(c)) for c in p.coeffs())
+    return math.log2(norm) if norm > 1 else 0.0
 
 
 def _power_terms(p: flint.fmpz_mpoly, k: int) -> int:

@@ -2,17 +2,21 @@
 from __future__ import annotations
 
 import argparse
+import math
 import os
+import re
 import sys
 from dataclasses import dataclass
 from typing import Any, Callable
 
 import flint
 
+from hkproof.algebra.formula import read_integer, read_number
 from hkproof.dynamics.catalogue import SYSTEMS, kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import ParseError
+from hkproof.errors import HKProofError, ParseError
+from hkproof.exit_codes import ExitCode
 from hkproof.orchestration.execution import EXECUTORS
 from hkproof.orchestration.runner import RunOptions
 
@@ -23,7 +27,12 @@ class Result:
 
     payload: Any
     text: str
-    exit_code: int = 0
+    exit_code: int = ExitCode.VERIFIED
+
+
+def answer_code(ok: bool) -> ExitCode:
+    """The exit code of a mathematical answer: 0 for yes (verified, found), 1 for no (refuted, not found)."""
+    return ExitCode.VERIFIED if ok else ExitCode.REFUTED
 
 
 def add_command(sub: argparse._SubParsersAction, name: str, help: str,
@@ -59,6 +68,14 @@ def specialized_map(args: argparse.Namespace) -> tuple[KahanMap, KahanMap, dict[
     return f, kahan_map(f.field.specialize(fixed)), fixed
 
 
+def integer(text: str) -> int:
+    """An argparse type: an integer in ASCII digits (a Bengali four or '1.0' is a usage error, exit 2)."""
+    try:
+        return read_integer(text)
+    except HKProofError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer (ASCII digits 0-9)") from None
+
+
 def at_least(minimum: int) -> Callable[[str], int]:
     """An argparse type: an integer >= minimum (a bad count is a usage error, exit 2).
 
@@ -66,15 +83,25 @@ def at_least(minimum: int) -> Callable[[str], int]:
     3
     """
     def read(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        value = integer(text)
         if value < minimum:
             raise argparse.ArgumentTypeError(f"{value} is too small (at least {minimum})")
         return value
     read.__name__ = f"integer >= {minimum}"
     return read
+
+
+def seconds(text: str) -> float:
+    """An argparse type: a time budget, a positive finite number of seconds in ASCII digits ('nan', '-5', 'inf' and
+    '0' are usage errors, exit 2)."""
+    try:
+        value = float(read_number(text.strip()))
+    except (HKProofError, OverflowError):
+        value = math.nan
+    if not 0 < value < math.inf:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a time budget: give a positive number of seconds, e.g. 60 "
+                                         "or 2.5")
+    return value
 
 
 def add_values_options(p: argparse.ArgumentParser) -> None:
@@ -83,7 +110,7 @@ def add_values_options(p: argparse.ArgumentParser) -> None:
                    "the time step; default: random)")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                    help="fix a parameter to an exact rational (repeatable; the others are random)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the random points and values (default 0)")
+    p.add_argument("--seed", type=integer, default=0, help="seed of the random points and values (default 0)")
 
 
 def fixed_values(args: argparse.Namespace) -> dict[str, str]:
@@ -109,15 +136,39 @@ def progress_printer(args: argparse.Namespace) -> Callable[[str], None] | None:
     return lambda line: print(line, file=sys.stderr, flush=True)
 
 
+def positive_int(text: str) -> int:
+    """An argparse type: a whole number >= 1, in ASCII digits."""
+    try:
+        value = read_integer(text)
+    except HKProofError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value} is not a positive number of jobs")
+    return value
+
+
+_ADDRESS = re.compile(r"(?:(?:tcp|tls|ucx|ws|wss)://)?(?:\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+)(?::(?P<port>[0-9]{1,5}))?")
+
+
+def scheduler_address(text: str) -> str:
+    """An argparse type: the address of a Dask scheduler, [PROTOCOL://]HOST[:PORT] (e.g. tcp://10.0.0.5:8786)."""
+    address = text.strip()
+    m = _ADDRESS.fullmatch(address)
+    if not address or m is None or (m.group("port") is not None and not 0 < int(m.group("port")) < 65536):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a scheduler address: give [PROTOCOL://]HOST[:PORT], e.g. "
+                                         "tcp://10.0.0.5:8786 (PROTOCOL tcp, tls, ucx, ws or wss; PORT 1 to 65535)")
+    return address
+
+
 def add_run_options(parser: argparse.ArgumentParser) -> None:
     """--jobs, --executor, --scheduler: where the claims (or a command's independent steps) run."""
-    parser.add_argument("--jobs", type=at_least(1), default=os.cpu_count() or 1, metavar="N",
+    parser.add_argument("--jobs", type=positive_int, default=os.cpu_count() or 1, metavar="N",
                         help="run up to N independent tasks at once (default: the machine's cores; 1: a plain loop "
                              "in this process)")
     parser.add_argument("--executor", choices=EXECUTORS, default="process",
                         help="process: a pool of local processes; dask: Dask distributed (pip install "
                              "'hkproof[dask]'), a LocalCluster of N workers unless --scheduler is given")
-    parser.add_argument("--scheduler", metavar="ADDRESS",
+    parser.add_argument("--scheduler", type=scheduler_address, metavar="ADDRESS",
                         help="with --executor dask: the address of a running Dask scheduler, e.g. tcp://host:8786")
 
 

@@ -6,7 +6,8 @@ import argparse
 from hkproof.commands import Result, add_command, add_system_argument, add_values_options, at_least, fixed_values
 from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.dynamics.degrees import MAX_DEGREE, degree_growth, fit_growth, symbolic_degree
+from hkproof.dynamics.degrees import MAX_DEGREE, Growth
+from hkproof.experiments.degrees import degree_report
 from hkproof.proof.status import Status
 
 __all__ = ["register", "run_degrees"]
@@ -27,34 +28,25 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run_degrees(args: argparse.Namespace) -> Result:
-    f = kahan_map(args.system)
     fixed = fixed_values(args)
-    res = degree_growth(f, args.iterates, fixed, seed=args.seed, runs=args.runs)
-    exact = [symbolic_degree(f, n) for n in range(1, min(args.symbolic_up_to, len(res.degrees)) + 1)]
-    agree = exact == res.degrees[:len(exact)]
-    if not agree:       # the symbolic degrees are exact: they replace the modular ones, and the growth is refitted
-        res.degrees[:len(exact)] = exact
-        res.growth = fit_growth(res.degrees)
-    status = Status.VERIFIED if agree and len(exact) == args.iterates == len(res.degrees) else Status.EVIDENCE_EXACT
+    report = degree_report(kahan_map(args.system), args.iterates, fixed, seed=args.seed, runs=args.runs,
+                           symbolic_up_to=args.symbolic_up_to)
+    res, exact, status = report.found, report.symbolic, report.status
     payload = {"system": res.system, "degrees": res.degrees, "second_differences": res.second_differences,
-               **res.growth.to_dict(), "status": status.label, "agree": res.agree,
-               "stopped": len(res.degrees) < args.iterates,
-               "symbolic_degrees": exact, "symbolic_agree": exact == res.degrees[:len(exact)],
+               **res.growth.to_dict(), "status": status.label, "agree": res.agree, "stopped": report.stopped,
+               "symbolic_degrees": exact, "symbolic_agree": report.symbolic_agree,
                "runs": [{"prime": r.prime, "values_mod_p": r.values, "degrees": r.degrees} for r in res.runs],
                "eps_convention": EPS_CONVENTION}
     lines = [f"deg f^n of the Kahan map of {res.system}, n = 1..{len(res.degrees)}: {res.degrees}",
-             f"second differences: {res.second_differences}",
-             f"growth: {res.growth.kind}, deg f^n = {res.growth.formula()}"
-             + (f", algebraic entropy log lambda = {res.growth.entropy:.6g}" if res.growth.entropy else "")]
+             f"second differences: {res.second_differences}", *growth_lines(res.growth)]
     for r in res.runs:
         at = ", ".join(f"{k} = {fixed[k]}" if k in fixed else f"{k} = {v} (random)" for k, v in r.values.items())
         lines.append(f"  run mod p = {r.prime} at {at}: {r.degrees}")
     if exact:
-        same = exact == res.degrees[:len(exact)]
         lines.append(f"symbolic iterates (eps and parameters symbolic), n = 1..{len(exact)}: {exact} "
-                     + ("(exact; they agree with the modular values)" if same else
+                     + ("(exact; they agree with the modular values)" if report.symbolic_agree else
                         "(exact; the modular values DISAGREE: trust these)"))
-    if len(res.degrees) < args.iterates:
+    if report.stopped:
         lines.append(f"stopped after {len(res.degrees)} iterates: the next degree could exceed {MAX_DEGREE}")
     lines.append(("the runs agree" if res.agree else "the runs DISAGREE (the largest degree is kept: a special "
                   "choice only lowers degrees)") + f"; status {status.label}: "
@@ -63,3 +55,16 @@ def run_degrees(args: argparse.Namespace) -> Result:
                     + (f" beyond n = {len(exact)}" if exact else "")))
     lines.append(f"({EPS_CONVENTION})")
     return Result(payload, "\n".join(lines))
+
+
+def growth_lines(growth: Growth) -> list[str]:
+    """The growth class: the formula of deg f^n (or lambda and the entropy) and what it was judged on, or
+    "undecided" and why."""
+    if growth.kind == "undecided":
+        return [f"growth: undecided: {growth.evidence}"]
+    if growth.kind == "exponential":
+        head = (f"growth: exponential, deg f^n ~ lambda^n with lambda = {growth.lam:.6g} +- {growth.lam_error:.2g}, "
+                f"algebraic entropy log lambda = {growth.entropy:.6g}")
+    else:
+        head = f"growth: {growth.kind}, deg f^n = {growth.formula()} (algebraic entropy 0)"
+    return [head, f"  (judged on the sequence: {growth.evidence})"]

@@ -5,8 +5,9 @@ import argparse
 import random
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.formula import check_name, split_list
-from hkproof.commands import Result, add_command, add_system_argument, add_values_options, at_least, fixed_values
+from hkproof.algebra.formula import check_name, check_new_names, read_integer, split_list
+from hkproof.commands import (Result, add_command, add_system_argument, add_values_options, answer_code, at_least,
+                              fixed_values)
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ParseError
@@ -34,18 +35,21 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run_depend(args: argparse.Namespace) -> Result:
     f = kahan_map(args.system)
-    (target_name, target), = _functions(f, args.target).items()
-    knowns: dict[str, Frac] = {}
-    for item in args.on:
-        knowns.update(_functions(f, item))
+    target_given = _functions(f, args.target)
+    if len(target_given) != 1:
+        raise ParseError(f"--target names one function T, not {len(target_given)} ({', '.join(target_given)})")
+    (target_name, target), = target_given.items()
+    given = [_functions(f, item) for item in args.on]
+    check_new_names([target_name, *(name for g in given for name in g)], f.ring.names, "function name")
+    knowns = {name: h for g in given for name, h in g.items()}
     caps = {}
     for item in args.cap:
         name, sep, k = item.partition("=")
-        if not sep or not k.strip().isdigit():
+        if not sep or not k.strip().isascii() or not k.strip().isdigit():
             raise ParseError(f"--cap expects NAME=K with K a non-negative integer, got {item!r}")
         if name.strip() not in knowns:
             raise ParseError(f"--cap {name.strip()}: not one of the functions U given with --on ({list(knowns)})")
-        caps[name.strip()] = int(k)
+        caps[name.strip()] = read_integer(k)
     values = random_values(f, random.Random(args.seed), fixed_values(args) or None)
     search = find_rational_relations(target, knowns, values, f.variables, degrees=tuple(args.degrees),
                                      max_degree=caps, target_name=target_name, seed=args.seed)
@@ -63,7 +67,7 @@ def run_depend(args: argparse.Namespace) -> Result:
                "at": {k: str(v) for k, v in values.items()}, "dimension": search.dimension,
                "relations": [r.to_dict() for r in search.relations],
                "among_knowns": [r.to_dict() for r in search.among_knowns]}
-    return Result(payload, "\n".join(lines), 0 if search.dimension else 1)
+    return Result(payload, "\n".join(lines), answer_code(search.dimension > 0))
 
 
 def _functions(f: KahanMap, item: str) -> dict[str, Frac]:

@@ -4,7 +4,8 @@ from __future__ import annotations
 import argparse
 
 from hkproof.algebra.fraction import Frac
-from hkproof.commands import Result, add_command, add_param_option, add_system_argument, specialized_map
+from hkproof.commands import (Result, add_command, add_param_option, add_system_argument, answer_code,
+                              specialized_map)
 from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.hk.modified_hamiltonian import parse_matrix, verify
 from hkproof.proof.status import Status, specialized_label
@@ -46,4 +47,4 @@ def run_hamiltonian(args: argparse.Namespace) -> Result:
              f"[{specialized_label(res.measure, fixed)}] the density 1/({res.density_denominator}) is invariant: "
              "rho(f(x)) det Df(x) = rho(x), det Df = det M(f(x), -eps)/det M(x, eps)"]
     ok = res.integral is Status.VERIFIED and res.measure is Status.VERIFIED
-    return Result(payload, "\n".join(lines), 0 if ok else 1)
+    return Result(payload, "\n".join(lines), answer_code(ok))

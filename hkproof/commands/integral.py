@@ -4,7 +4,8 @@ from __future__ import annotations
 import argparse
 
 from hkproof.algebra.fraction import Frac
-from hkproof.commands import Result, add_command, add_param_option, add_system_argument, specialized_map
+from hkproof.commands import (Result, add_command, add_param_option, add_system_argument, answer_code, integer,
+                              specialized_map)
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.experiments.refute import modular_witness
 from hkproof.hk.integrals import check_integral
@@ -24,7 +25,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="substitution: h(N/Delta) - h = 0; groebner: recipe (G), Delta^k delta = sum lambda_i E_i "
                         "with cofactors checked by expansion")
     add_param_option(p)
-    p.add_argument("--seed", type=int, default=0, help="seed of the random point of the first, modular check")
+    p.add_argument("--seed", type=integer, default=0, help="seed of the random point of the first, modular check")
 
 
 def run_integral(args: argparse.Namespace) -> Result:
@@ -43,7 +44,7 @@ def run_integral(args: argparse.Namespace) -> Result:
         payload.update({"verdict": Status.REFUTED.label, "method": "evaluation mod p at a random point",
                         "witness": witness.to_dict()})
         return Result(payload, f"refuted: {args.expr} is not an integral of the Kahan map of {f.field.name}: "
-                      f"{witness.text()}", 1)
+                      f"{witness.text()}", answer_code(False))
     if args.method == "groebner":
         return _run_recipe_g(f, h, args.expr, status, payload)
     verdict = check_integral(f, h)
@@ -52,7 +53,7 @@ def run_integral(args: argparse.Namespace) -> Result:
     payload.update({**verdict.to_dict(), "verdict": label})
     text = (f"{label}: {args.expr} is {'an' if ok else 'not an'} integral of the Kahan map of {f.field.name} "
             f"(exact, in {verdict.ring}, by {verdict.method})" + "".join(f"\nnote: {n}" for n in notes))
-    return Result(payload, text, 0 if ok else 1)
+    return Result(payload, text, answer_code(ok))
 
 
 def _run_recipe_g(f: KahanMap, h: Frac, expr: str, status: Status, payload: dict) -> Result:
@@ -66,4 +67,4 @@ def _run_recipe_g(f: KahanMap, h: Frac, expr: str, status: Status, payload: dict
     text = (f"{label}: {expr} is {'an' if ok else 'not an'} integral of the Kahan map of "
             f"{f.field.name} (recipe (G) in {ring}; certificate det M^{res.power} * delta = sum lambda_i E_i, "
             f"{res.cofactor_terms} cofactor terms)")
-    return Result(payload, text, 0 if ok else 1)
+    return Result(payload, text, answer_code(ok))

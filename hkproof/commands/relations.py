@@ -6,8 +6,8 @@ import random
 
 import sympy
 
-from hkproof.algebra.formula import check_name, split_list
-from hkproof.commands import Result, add_command, at_least, fixed_values
+from hkproof.algebra.formula import split_list
+from hkproof.commands import Result, add_command, answer_code, at_least, fixed_values
 from hkproof.commands.scan import add_scene_options
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.experiments.points import random_values
@@ -29,7 +29,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run_relations(args: argparse.Namespace) -> Result:
     f = kahan_map(args.system)
-    names = [check_name(n) for n in split_list(args.names, "--names")] if args.names else None
+    names = split_list(args.names, "--names") if args.names else None
     fixed = fixed_values(args)
     search = find_relations(f, args.basis, names=names, values=fixed or None, max_degree=args.max_degree,
                             seed=args.seed)
@@ -53,7 +53,7 @@ def run_relations(args: argparse.Namespace) -> Result:
                      f"{search.dimension}; {ps.rejected} candidate(s) rejected as inconsistent across points")
         cols = [sympy.Symbol(n) for n in search.names] + [sympy.Integer(1)]
         lines += [f"  {sympy.Add(*[a * c for a, c in zip(rel, cols, strict=True)])} = 0" for rel in ps.relations]
-    return Result(payload, "\n".join(lines), 0 if len(search.relations) == search.dimension else 1)
+    return Result(payload, "\n".join(lines), answer_code(len(search.relations) == search.dimension))
 
 
 def _pslq_values(f, fixed: dict, seed: int) -> dict:

@@ -3,11 +3,13 @@ from __future__ import annotations
 
 import argparse
 import os
+import stat
 import tempfile
 from pathlib import Path
 
 from hkproof.commands import Result, add_command, add_run_options, run_options
-from hkproof.errors import HKProofError
+from hkproof.errors import OutputError
+from hkproof.orchestration.output import output_error
 from hkproof.orchestration.registry import select
 from hkproof.orchestration.report import theorems_markdown
 from hkproof.orchestration.runner import execute
@@ -23,28 +25,59 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def writable_target(name: str) -> Path:
-    """FILE of --write, checked before any proof runs: its directory exists and is writable, it is no directory."""
+    """FILE of --write, checked before any proof runs: a regular file or a new name, in an existing directory where a
+    new file can be created -- tried, not read off the permission bits (root passes every access check, yet /proc
+    takes no new file)."""
     target = Path(name)
+    check_replaceable(target)
     folder = target.parent
     if not folder.is_dir():
-        raise HKProofError(f"cannot write {name}: the directory {folder} does not exist")
-    if not os.access(folder, os.W_OK | os.X_OK):
-        raise HKProofError(f"cannot write {name}: the directory {folder} is not writable")
-    if target.is_dir():
-        raise HKProofError(f"cannot write {name}: it is a directory")
+        raise OutputError(f"cannot write {name}: the directory {folder} does not exist")
+    try:
+        fd, probe = tempfile.mkstemp(dir=folder, prefix=f".{target.name}.", suffix=".tmp")
+    except OSError as exc:
+        raise OutputError(f"cannot write {name}: no file can be created in the directory {folder} "
+                          f"({exc.strerror or exc})") from None
+    os.close(fd)
+    os.unlink(probe)
     return target
 
 
-def write_atomically(target: Path, text: str) -> None:
-    """Write through a temporary file in the same directory and a rename: FILE is never left half written."""
-    fd, temporary = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
+def check_replaceable(target: Path) -> None:
+    """FILE may be replaced: it does not exist or is a regular file. A symbolic link, a device node, a FIFO or a
+    directory is refused: the rename that writes FILE would put a regular file in its place (as root, /dev/null)."""
     try:
-        with os.fdopen(fd, "w") as out:
+        mode = os.lstat(target).st_mode
+    except FileNotFoundError:
+        return
+    except OSError as exc:
+        raise OutputError(f"cannot write {target}: {exc.strerror or exc}") from None
+    if stat.S_ISREG(mode):
+        return
+    kind = ("a symbolic link (give the file it points to, or a new name)" if stat.S_ISLNK(mode) else
+            "a directory" if stat.S_ISDIR(mode) else "not a regular file (a device, a FIFO or a socket)")
+    raise OutputError(f"cannot write {target}: it is {kind}; --write replaces a regular file or creates a new one")
+
+
+def write_atomically(target: Path, text: str) -> None:
+    """Write through a temporary file in the same directory and a rename: FILE is never left half written, and the
+    temporary file is removed on every failure (a full disk, an interrupt; only SIGKILL can leave it behind)."""
+    check_replaceable(target)       # again: the proofs ran in between
+    try:
+        fd, temporary = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
+    except OSError as exc:
+        raise output_error(exc, str(target)) from None
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as out:
             out.write(text)
+            out.flush()
+            os.fsync(out.fileno())
         os.chmod(temporary, target.stat().st_mode & 0o777 if target.exists() else 0o666 & ~_umask())
         os.replace(temporary, target)
-    except BaseException:
+    except BaseException as exc:
         os.unlink(temporary)
+        if isinstance(exc, OSError):
+            raise output_error(exc, str(target)) from None
         raise
 
 

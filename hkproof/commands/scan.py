@@ -6,7 +6,7 @@ import argparse
 from hkproof.commands import (Result, add_command, add_run_options, add_system_argument, add_values_options, at_least,
                               fixed_values)
 from hkproof.experiments.profiles import HK_BASIS, SINGULAR, KernelProfile
-from hkproof.experiments.scan import ScanResult, scan
+from hkproof.experiments.scan import ScanResult, parallel_tasks, scan
 from hkproof.orchestration.execution import map_executor
 
 __all__ = ["add_scene_options", "format_scan", "register", "run_scan"]
@@ -34,7 +34,7 @@ def add_scene_options(p: argparse.ArgumentParser, several_bases: bool = False) -
 
 
 def run_scan(args: argparse.Namespace) -> Result:
-    with map_executor(args.executor, args.jobs, args.scheduler) as executor:
+    with map_executor(args.executor, args.jobs, args.scheduler, parallel_tasks(args.points)) as executor:
         result = scan(args.system, args.basis, points=args.points, values=fixed_values(args) or None,
                       arithmetic=args.arithmetic, digits=args.digits, seed=args.seed, executor=executor,
                       progress=None if not args.no_progress and not args.json else False)

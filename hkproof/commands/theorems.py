@@ -8,7 +8,9 @@ from typing import Callable, Sequence
 
 from hkproof.commands import Result, add_command, add_run_options, run_options
 from hkproof.errors import HKProofError
-from hkproof.exit_codes import ExitCode
+from hkproof.exit_codes import ExitCode, exit_code_for
+from hkproof.orchestration.interrupts import interrupt_label, interrupts_raised
+from hkproof.orchestration.output import emit
 from hkproof.orchestration.registry import Claim, select
 from hkproof.orchestration.runner import certificate_payload, execute
 from hkproof.proof.certificate import Certificate
@@ -50,10 +52,10 @@ def run_prove(args: argparse.Namespace) -> Result:
 def streaming(args: argparse.Namespace) -> Callable[[Certificate], None]:
     """What to print as each certificate completes: its text, a JSON line, or nothing (--json prints at the end)."""
     if getattr(args, "jsonl", False):
-        return lambda cert: print(json.dumps(certificate_payload(cert)), flush=True)
+        return lambda cert: emit(json.dumps(certificate_payload(cert)))
     if args.json:
         return lambda cert: None
-    return lambda cert: print(cert.render(), flush=True)
+    return lambda cert: emit(cert.render())
 
 
 def prove_claims(claims: Sequence[Claim], args: argparse.Namespace) -> tuple[list[dict], str, int]:
@@ -80,9 +82,13 @@ def run_script(groups: Sequence[str], argv: Sequence[str] | None = None) -> int:
     add_run_options(parser)
     args = parser.parse_args(argv)
     try:
-        payload, closing, code = prove_claims(select(groups=groups, include_slow=not args.no_slow), args)
+        with interrupts_raised():
+            payload, closing, code = prove_claims(select(groups=groups, include_slow=not args.no_slow), args)
+            emit(json.dumps(payload, indent=2) if args.json else closing)
     except HKProofError as exc:
         print(f"error: {exc}", file=sys.stderr)
-        return ExitCode.BAD_INPUT
-    print(json.dumps(payload, indent=2) if args.json else closing)
+        return exit_code_for(exc)
+    except KeyboardInterrupt as exc:    # before any claim ran
+        print(f"interrupted ({interrupt_label(exc)})", file=sys.stderr)
+        return ExitCode.INTERRUPTED
     return code

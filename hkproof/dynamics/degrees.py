@@ -66,8 +66,9 @@ class DegreeRun:
 
 @dataclass
 class Growth:
-    """Fitted growth of a degree sequence: polynomial of degree k (k-th differences constant, or periodic with a
-    small period: a quasi-polynomial) or exponential with lambda and the algebraic entropy log lambda."""
+    """The growth class of a degree sequence, with the evidence it was judged on: polynomial of degree k (k-th
+    differences constant, or periodic: a quasi-polynomial), exponential with lambda = lim d_n / d_(n-1) (within
+    `lam_error`) and algebraic entropy log lambda, or "undecided" with the reason."""
 
     kind: str
     order: int | None = None
@@ -75,10 +76,12 @@ class Growth:
     pattern: list[int] = field(default_factory=list)
     polynomial: list[Fraction] = field(default_factory=list)
     lam: float | None = None
+    lam_error: float | None = None
+    evidence: str = ""
 
     @property
     def entropy(self) -> float | None:
-        """log lambda for exponential growth, 0 for polynomial growth."""
+        """log lambda for exponential growth, 0 for polynomial growth, None when undecided."""
         if self.kind == "exponential" and self.lam is not None:
             return math.log(self.lam)
         return 0.0 if self.order is not None else None
@@ -103,10 +106,13 @@ class Growth:
 
     def to_dict(self) -> dict:
         return {"growth": self.kind, "order": self.order, "period": self.period, "formula": self.formula(),
-                "lambda": self.lam, "entropy": self.entropy}
+                "lambda": self.lam, "lambda_error": self.lam_error, "entropy": self.entropy,
+                "growth_evidence": self.evidence}
 
 
 NAMES = {0: "bounded", 1: "linear", 2: "quadratic", 3: "cubic"}
+ORDINALS = {0: "the degrees themselves", 1: "the first differences", 2: "the second differences",
+            3: "the third differences"}
 
 
 def differences(seq: Sequence[int], order: int) -> list[int]:
@@ -117,20 +123,84 @@ def differences(seq: Sequence[int], order: int) -> list[int]:
     return out
 
 
-def fit_growth(degrees: Sequence[int], max_order: int = 3, max_period: int = 3, confirm: int = 3) -> Growth:
-    """The least k <= max_order whose k-th differences are periodic (period q <= max_period, each value seen again
-    `confirm` - 1 times in all): polynomial growth of degree k (q = 1: the exact interpolant in n); otherwise
-    exponential with lambda = d_N / d_(N-1) and entropy log lambda ("undecided" when too few terms rule out
-    polynomial growth of degree max_order). A fit on finitely many terms is a guess."""
+def least_period(values: Sequence[int], confirm: int = 3) -> int | None:
+    """The least q with values[i] = values[i + q] for every i, among the periods that the data can show: q at most
+    half the length (each value of a period seen at least twice) and at least `confirm` values beyond one period.
+
+    >>> least_period([1, 1, 1, 2, 1] * 2), least_period([4, 4, 4]), least_period([4, 4, 4, 4])
+    (5, None, 1)
+    """
+    for q in range(1, min(len(values) // 2, len(values) - confirm) + 1):
+        if all(values[i] == values[i + q] for i in range(len(values) - q)):
+            return q
+    return None
+
+
+def fit_growth(degrees: Sequence[int], max_order: int = 3, confirm: int = 3, window: int = 4,
+               contraction: float = 0.5, precision: float = 0.1) -> Growth:
+    """The growth class of deg f^n, n = 1..N, judged on the sequence alone (a guess from finitely many terms):
+
+    - polynomial of degree k for the least k <= max_order whose k-th differences are periodic (`least_period`:
+      periods up to half of them); period 1 gives the exact interpolating polynomial in n;
+    - exponential when the ratios r_n = d_n / d_(n-1) have converged: the last `window` of them are equal, or the
+      last `window` + 1 changes |r_n - r_(n-1)| each shrink to at most c = `contraction` times the one before
+      (geometric convergence: if it goes on, lambda lies within e = last change * c / (1 - c) of the last ratio),
+      with e at most `precision` times lambda - 1 (lambda told apart from 1, which polynomial growth approaches) and
+      the last differences d_n - d_(n-1) growing by the same lambda (polynomial growth does not);
+    - undecided otherwise, saying why.
+
+    >>> [fit_growth([2 ** n for n in range(1, 7)]).lam, fit_growth([3 ** n for n in range(1, 6)]).lam]
+    [2.0, 3.0]
+    >>> fit_growth([2, 4, 7, 11, 16]).kind
+    'undecided'
+    """
     for k in range(max_order + 1):
         diff = differences(degrees, k)
-        for q in range(1, max_period + 1):
-            if len(diff) >= q + confirm and all(diff[i] == diff[i + q] for i in range(len(diff) - q)):
-                poly = _interpolate(degrees, k) if q == 1 else []
-                return Growth(NAMES.get(k, f"polynomial of degree {k}"), k, q, diff[-q:], poly)
-    if len(differences(degrees, max_order)) < 1 + confirm or degrees[-2] == 0:
-        return Growth("undecided")
-    return Growth("exponential", lam=degrees[-1] / degrees[-2])
+        q = least_period(diff, confirm)
+        if q is not None:
+            poly = _interpolate(degrees, k) if q == 1 else []
+            how = (f"constant ({diff[0]})" if q == 1 else f"periodic with period {q} ({diff[:q]})")
+            return Growth(NAMES.get(k, f"polynomial of degree {k}"), k, q, diff[:q], poly,
+                          evidence=f"{ORDINALS.get(k, f'the differences of order {k}')} are {how} over all "
+                                   f"{len(diff)} values")
+    return _exponential(degrees, max_order, window, contraction, precision)
+
+
+def _exponential(degrees: Sequence[int], max_order: int, window: int, contraction: float,
+                 precision: float) -> Growth:
+    """Exponential growth if the ratios d_n / d_(n-1) have converged (see fit_growth), else undecided."""
+    no_period = (f"no differences of order <= {max_order} are periodic within {len(degrees)} terms (a period must "
+                 "show twice)")
+    ratios = [Fraction(b, a) for a, b in pairwise(degrees) if a > 0]
+    if len(ratios) >= window and len(set(ratios[-window:])) == 1:
+        lam = float(ratios[-1])
+        return Growth("exponential", lam=lam, lam_error=0.0,
+                      evidence=f"the last {window} ratios d_n/d_(n-1) are all {lam:.6g} (d_n geometric)")
+    if len(ratios) < window + 2 or len(ratios) < len(degrees) - 1:
+        return Growth("undecided", evidence=f"{no_period}, and {window + 3} positive terms are needed to see the "
+                                            f"ratios d_n/d_(n-1) converge ({window + 1} for an exactly geometric "
+                                            "run)")
+    tail = ratios[-window - 2:]
+    shown = ", ".join(f"{float(r):.6g}" for r in tail)
+    changes = [abs(b - a) for a, b in pairwise(tail)]
+    c = max(float(b / a) if a else math.inf for a, b in pairwise(changes))
+    lam = float(tail[-1])
+    if c > contraction:
+        return Growth("undecided", evidence=f"{no_period}, and the ratios d_n/d_(n-1) ({shown}) have not converged: "
+                                            f"their changes shrink by a factor of {c:.2g} > {contraction}")
+    error = float(changes[-1]) * contraction / (1 - contraction)
+    if lam <= 1 or error > precision * (lam - 1):
+        return Growth("undecided", evidence=f"{no_period}, and the ratios d_n/d_(n-1) ({shown}) cannot yet tell "
+                                            f"lambda from 1 (lambda = {lam:.6g} +- {error:.2g})")
+    steps = differences(degrees[-3:], 1)
+    step = steps[1] / steps[0] if steps[0] > 0 else math.inf
+    if abs(step - lam) > precision * (lam - 1):
+        return Growth("undecided", evidence=f"{no_period}; the ratios d_n/d_(n-1) ({shown}) seem to converge, but "
+                                            f"the differences grow by {step:.6g}, not by the same lambda (polynomial "
+                                            "growth looks so)")
+    return Growth("exponential", lam=lam, lam_error=error,
+                  evidence=f"the ratios d_n/d_(n-1) ({shown}) converge: their changes shrink by a factor <= "
+                           f"{c:.2g}, so lambda = {lam:.6g} +- {error:.2g}; the differences grow by {step:.6g} alike")
 
 
 def _interpolate(degrees: Sequence[int], k: int) -> list[Fraction]:

@@ -1,6 +1,8 @@
 """Quadratic vector fields x' = Q(x) + Bx + c (paper, eq. "diff eq gen"), with symbolic parameters."""
 from __future__ import annotations
 
+import os
+import stat
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -11,7 +13,8 @@ import flint
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.formula import check_name
 from hkproof.algebra.ring import Rational, Ring, get_ring, to_fmpq
-from hkproof.errors import NotQuadraticError, ParseError, UnknownSystemError
+from hkproof.errors import (FormulaTooLargeError, NotQuadraticError, ParseError, ResourceLimitError,
+                            UnknownSystemError)
 
 __all__ = ["EPS", "QuadraticField", "STEP_CONVENTION", "STEPS", "TILDE"]
 
@@ -22,6 +25,9 @@ TILDE = "_t"
 STEPS = ("eps", "h")
 STEP_CONVENTION = ("hkproof's eps is HALF the time step: x~ - x = 2 eps * (polarized field), i.e. h = 2 eps in the "
                    "convention of Celledoni-McLachlan-Owren-Quispel")
+MAX_VARIABLES = 64          # phase variables of a system: exact orbits cost n^3 per step, det M can have 2^n terms
+MAX_PARAMETERS = 64         # parameters of a system
+MAX_FILE_BYTES = 10_000_000  # size of a TOML file of a system
 
 
 @dataclass(frozen=True)
@@ -134,15 +140,12 @@ class QuadraticField:
         table `[rhs]` of formulas (strings, or integers); the file is data, never code."""
         path = Path(path)
         try:
-            data = tomllib.loads(path.read_text(encoding="utf-8"))
-        except FileNotFoundError:
-            raise UnknownSystemError(f"no such file: {path}") from None
-        except IsADirectoryError:
-            raise UnknownSystemError(f"{path} is a directory, not a TOML file") from None
-        except (OSError, UnicodeDecodeError) as exc:
-            raise UnknownSystemError(f"cannot read {path}: {exc}") from None
+            data = tomllib.loads(read_system_file(path))
         except tomllib.TOMLDecodeError as exc:
             raise ParseError(f"{path} is not valid TOML: {exc}") from None
+        except RecursionError:
+            raise ParseError(f"{path} nests arrays or tables too deeply to be a system (variables, parameters and "
+                             "[rhs] need no nesting)") from None
         if "variables" not in data or "rhs" not in data:
             raise ParseError(f"{path} needs a list `variables` and a table `[rhs]`")
         variables = _strings(data["variables"], f"{path}: `variables`")
@@ -169,6 +172,36 @@ class QuadraticField:
                    str(data.get("description", "")), str(data.get("step", "eps")))
 
 
+def read_system_file(path: Path, cap: int = MAX_FILE_BYTES) -> str:
+    """The UTF-8 text of a regular file of at most `cap` bytes. Anything else is refused before it is read: a FIFO
+    would block, /dev/zero and /dev/urandom never end, a directory has no text."""
+    try:
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            raise UnknownSystemError(_not_regular(path))
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    except FileNotFoundError:
+        raise UnknownSystemError(f"no such file: {path}") from None
+    except OSError as exc:
+        raise UnknownSystemError(f"cannot read {path}: {exc.strerror or exc}") from None
+    with os.fdopen(fd, "rb") as fh:
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode):       # replaced between the two looks
+            raise UnknownSystemError(_not_regular(path))
+        data = fh.read(cap + 1) if info.st_size <= cap else b""
+    if info.st_size > cap or len(data) > cap:
+        raise FormulaTooLargeError(f"{path} has more than {cap} bytes, the limit for the file of a system")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise UnknownSystemError(f"cannot read {path}: it is not UTF-8 text ({exc.reason} at byte "
+                                 f"{exc.start})") from None
+
+
+def _not_regular(path: Path) -> str:
+    kind = "a directory" if path.is_dir() else "not a regular file (a FIFO, a device or a socket)"
+    return f"{path} is {kind}: a system is read from a regular TOML file only"
+
+
 def _strings(value: object, what: str) -> list[str]:
     """A TOML list of strings, or a ParseError naming the key."""
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
@@ -183,6 +216,12 @@ def _check_names(variables: tuple[str, ...], parameters: tuple[str, ...], step: 
                          f"step h = 2 eps), not {step!r}")
     if not variables:
         raise ParseError("a system needs at least one phase variable")
+    for what, names, most in (("phase variables", variables, MAX_VARIABLES),
+                              ("parameters", parameters, MAX_PARAMETERS)):
+        if len(names) > most:
+            raise ResourceLimitError(f"the system has {len(names)} {what}; hkproof handles at most {most} (no "
+                                     "option raises this limit)",
+                                     limit=f"{most} {what}", raise_with="no option raises it")
     for what, names in (("variable", variables), ("parameter", parameters)):
         for n in names:
             check_name(n, what)

@@ -37,7 +37,8 @@ class Approximate(FieldArithmetic):
 
     confirm = "suspicious"
 
-    def __init__(self, unit_roundoff: float, gap: float = 100.0):
+    def __init__(self, unit_roundoff: Number, gap: Number = 100.0):
+        """`unit_roundoff` and `gap` in the arithmetic's own numbers: a binary float cannot hold mpmath's 10^-400."""
         super().__init__()
         self.u = unit_roundoff
         self.gap = gap
@@ -50,7 +51,7 @@ class Approximate(FieldArithmetic):
         rows = [self.basis_row(prep, x) for x in orbit]
         row_err = [max(1, degree) * (e + self.u) for e in errors]
         ranks, certainty = self.prefix_ranks(rows, row_err)
-        certainty["orbit_error"] = max(errors)
+        certainty["orbit_error"] = float(max(errors))
         certainty["max_cond_M"] = cond
         zeros = any(r is not None and r < s for s, r in enumerate(ranks, 1))
         if zeros and (self.confirm == "always" or self.confirm == "suspicious" and cond >= self.u ** -0.25):
@@ -82,9 +83,9 @@ class Approximate(FieldArithmetic):
                 for k, coef in lin:
                     dm[r][k] = dm[r][k] + coef
             jac_norm, cond = self.sensitivity(m, dm)
-            xn, yn = float(self.norm(x)), float(self.norm(y))
+            xn, yn = self.norm(x), self.norm(y)
             rel = jac_norm * errors[-1] * (xn / yn if yn else math.inf) + cond * self.u
-            errors.append(float(min(rel, 1.0)))
+            errors.append(min(rel, 1))
             worst = max(worst, float(cond))
         return errors, worst
 
@@ -111,7 +112,7 @@ class Approximate(FieldArithmetic):
             if big and zero:
                 worst_gap = min(worst_gap, float(min(big) / max(max(zero), 1e-300)))
         return ranks, {"method": "singular-value gap", "unit_roundoff": float(self.u),
-                       "noise": worst_noise, "gap_ratio": worst_gap, "gap_factor": self.gap}
+                       "noise": float(worst_noise), "gap_ratio": worst_gap, "gap_factor": float(self.gap)}
 
     def kernel(self, raw: RawProfile, d: int) -> list[list[Number]]:
         """The right singular vectors of the d smallest singular values, columns unscaled, then normalized."""
@@ -201,7 +202,7 @@ class MPMath(Approximate):
     """mpmath at a chosen number of decimal digits (svd_r, lu_solve)."""
 
     def __init__(self, dps: int = 50, gap: float | None = None, confirm: str = "always"):
-        super().__init__(10.0 ** (-dps), gap if gap is not None else 10.0 ** max(2, dps // 8))
+        super().__init__(mpmath.mpf(10) ** -dps, gap if gap is not None else mpmath.mpf(10) ** max(2, dps // 8))
         self.dps = dps
         self.name = f"mpmath({dps})"
         self.confirm = confirm

@@ -12,6 +12,7 @@ import flint
 import sympy
 
 from hkproof import budget
+from hkproof.algebra.formula import check_new_names
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import nullspace_q, q_matrix
 from hkproof.algebra.monomials import exponents_upto, value as monomial_value
@@ -138,7 +139,7 @@ def find_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], *, nam
     rng = random.Random(seed)
     fixed = {k: to_fmpq(v) for k, v in (values or {}).items()}
     parsed = [parse_basis(kmap.ring, b) if isinstance(b, str) else list(b) for b in bases]
-    names = list(names) if names else _default_names(parsed)
+    names = check_new_names(names, kmap.ring.names, "coordinate name") if names else _default_names(parsed)
     sampler = CoordinateSampler(kmap, parsed, rng)
     normalized_name = None
     if len(parsed) == 1 and len(names) == len(parsed[0]):

@@ -24,6 +24,16 @@ from hkproof.proof.status import Status
 __all__ = ["PARALLEL_MIN", "scan", "ScanResult"]
 
 PARALLEL_MIN = 16   # fewer points than this run in the calling process (a pool's workers cost ~0.3 s to start)
+CHUNK = 4           # points per task handed to an executor
+
+
+def parallel_tasks(points: int, chunk: int = CHUNK) -> int:
+    """How many tasks (chunks of points) `scan` hands to an executor for `points` points: none below PARALLEL_MIN.
+
+    >>> parallel_tasks(10), parallel_tasks(16), parallel_tasks(17)
+    (0, 4, 5)
+    """
+    return -(-points // chunk) if points >= PARALLEL_MIN else 0
 
 
 @dataclass
@@ -82,7 +92,7 @@ def _profile_chunk(field_spec: tuple, basis: tuple[str, ...], values: tuple[tupl
 def scan(system: str | KahanMap, basis: str | Sequence[str], *, points: int | Sequence[Sequence[Rational]] = 10,
          values: Mapping[str, Rational] | None = None, arithmetic: str = "exact", digits: int = 50, seed: int = 0,
          executor: Executor | None = None, progress: bool | None = False, with_kernel: bool = True,
-         chunk: int = 4) -> ScanResult:
+         chunk: int = CHUNK) -> ScanResult:
     """Algorithm (N): the kernel profile of Phi at `points` random points (or the given ones), eps and parameters
     fixed to `values` (missing ones drawn at random once), in the chosen arithmetic; chunks of points go to
     `executor` (a process pool, Dask's executor) when it is given and there are enough of them."""
@@ -97,7 +107,7 @@ def scan(system: str | KahanMap, basis: str | Sequence[str], *, points: int | Se
     chunks = [str_points[i:i + chunk] for i in range(0, len(str_points), chunk)]
     bar = Progress(len(str_points), enabled=progress)
     results: dict[int, list[dict]] = {}
-    pool = executor if len(str_points) >= PARALLEL_MIN else None
+    pool = executor if parallel_tasks(len(str_points), chunk) else None
     try:
         if pool is None:
             for i, c in enumerate(chunks):

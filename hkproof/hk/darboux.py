@@ -15,7 +15,7 @@ import flint
 from hkproof.algebra.sampling import random_point
 from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import HKProofError
+from hkproof.errors import HKProofError, ResourceLimitError
 from hkproof.hk.jacobian import jacobian_determinant
 from hkproof.proof.status import Status
 
@@ -96,8 +96,10 @@ def candidate_cofactors(jac: Cofactor, limit: int = 400) -> list[Cofactor]:
     ranges = [range(0, e + 1) if e >= 0 else range(e, 1) for e in jac.exponents]
     out = [Cofactor(tuple(c)) for c in itertools.product(*ranges)]
     if len(out) > limit:
-        raise HKProofError(f"{len(out)} candidate cofactors (factors of det Df with their multiplicities): more than "
-                           f"{limit}; the search is too large for this system")
+        raise ResourceLimitError(f"{len(out)} candidate cofactors (products of the factors of det Df with their "
+                                 f"multiplicities): more than the limit of {limit}; the Darboux search is too large "
+                                 "for this system (no option raises this limit)", limit=f"{limit} candidate cofactors",
+                                 raise_with="no option raises it")
     return out
 
 

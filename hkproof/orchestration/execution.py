@@ -8,7 +8,6 @@ import itertools
 import logging
 import multiprocessing
 import multiprocessing.connection
-import signal
 import uuid
 from multiprocessing.connection import Connection
 from contextlib import contextmanager
@@ -16,6 +15,7 @@ from typing import Any, Callable, Hashable, Iterable, Iterator, Mapping, Sequenc
 
 from hkproof.errors import HKProofError
 from hkproof.orchestration.graph import in_dependency_order
+from hkproof.orchestration.interrupts import as_worker, interrupts_blocked
 from hkproof.orchestration.registry import REGISTRY, cached, get_claim, load_all, remember
 from hkproof.proof.certificate import Certificate
 
@@ -79,19 +79,22 @@ class InProcessExecutor(Executor):
         return [(h, self._done.pop(h)) for h in handles]
 
 
-def _ignore_sigint() -> None:
-    """Workers leave Ctrl-C to the parent, which stops them (no traceback from every worker)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
 def _serve(conn: Connection) -> None:
-    """A worker process: prove the claims the parent sends, one at a time, until it sends None."""
-    _ignore_sigint()
-    while (task := conn.recv()) is not None:
+    """A worker process: prove the claims the parent sends, one at a time, until it sends None or is gone."""
+    as_worker()
+    while True:
+        try:
+            task = conn.recv()
+        except (EOFError, OSError):     # the parent died without stopping this worker: end quietly
+            return
+        if task is None:
+            return
         claim_id, cited = task
         cert = prove_citing(claim_id, cited)
         try:
             conn.send(cert)
+        except OSError:     # the parent is gone
+            return
         except Exception as exc:  # noqa: BLE001 -- e.g. a certificate that cannot be pickled
             conn.send(worker_failed(claim_id, exc))
 
@@ -102,7 +105,8 @@ class _Worker:
     def __init__(self) -> None:
         self.conn, child = multiprocessing.Pipe()
         self.process = multiprocessing.Process(target=_serve, args=(child,), daemon=True)
-        self.process.start()
+        with interrupts_blocked():       # until the worker has its own signal dispositions
+            self.process.start()
         child.close()
 
 
@@ -211,49 +215,67 @@ def dask_client(jobs: int, scheduler: str | None) -> tuple[Any, Any]:
         raise HKProofError("--executor dask needs Dask distributed: pip install 'hkproof[dask]'") from None
     cluster = None
     try:
-        if scheduler:
-            return distributed.Client(scheduler, timeout=10), None
+        if scheduler is not None:
+            return distributed.Client(_checked_address(scheduler), timeout=10), None
         cluster = distributed.LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
                                            dashboard_address=None, silence_logs=logging.ERROR)
         return distributed.Client(cluster), cluster
-    except (OSError, TimeoutError) as exc:
+    except (OSError, TimeoutError, ValueError, TypeError) as exc:   # unreachable, or an address Dask cannot read
         if cluster is not None:
             cluster.close()
         raise HKProofError(f"cannot reach the Dask scheduler {scheduler or '(local cluster)'}: {exc}") from None
 
 
-@contextmanager
-def map_executor(kind: str, jobs: int, scheduler: str | None) -> Iterator[concurrent.futures.Executor | None]:
-    """A concurrent.futures executor for the embarrassingly parallel steps of one command (kernel profiles over many
-    points): a local process pool, Dask's executor on a (local) cluster, or None for a plain loop (jobs 1)."""
+def _checked_address(scheduler: str) -> str:
+    """A Dask scheduler address that is not blank (a blank one would silently start a local cluster)."""
+    if not scheduler.strip():
+        raise HKProofError("--scheduler is empty: give the address of a running Dask scheduler, e.g. "
+                           "tcp://10.0.0.5:8786, or leave --scheduler out for a local cluster")
+    return scheduler.strip()
+
+
+def _check_run_options(kind: str, scheduler: str | None) -> None:
+    """A known executor, and a scheduler address only for Dask."""
     if kind not in EXECUTORS:
         raise HKProofError(f"unknown executor '{kind}'; executors are {', '.join(EXECUTORS)}")
-    if scheduler and kind != "dask":
+    if scheduler is not None and kind != "dask":
         raise HKProofError("--scheduler ADDRESS is the address of a Dask scheduler: use it with --executor dask")
-    if kind == "dask":
-        client, cluster = dask_client(jobs, scheduler)
+
+
+@contextmanager
+def map_executor(kind: str, jobs: int, scheduler: str | None, tasks: int
+                 ) -> Iterator[concurrent.futures.Executor | None]:
+    """A concurrent.futures executor for the embarrassingly parallel steps of one command (kernel profiles over many
+    points), for `tasks` tasks: a local pool of at most `tasks` processes, Dask's executor on a (local) cluster, or
+    None for a plain loop (one job, or at most one task). On an interrupt, tasks not yet started are cancelled."""
+    _check_run_options(kind, scheduler)
+    workers = min(jobs, tasks)
+    if kind == "dask" and workers >= 1:
+        client, cluster = dask_client(workers, scheduler)
         try:
             yield client.get_executor()
         finally:
             client.close()
             if cluster is not None:
                 cluster.close()
-    elif jobs > 1:
-        with concurrent.futures.ProcessPoolExecutor(max_workers=jobs) as pool:
+    elif kind == "process" and workers > 1:
+        pool = concurrent.futures.ProcessPoolExecutor(max_workers=workers, initializer=as_worker)
+        try:
             yield pool
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
     else:
         yield None
 
 
 def make_executor(kind: str, jobs: int, scheduler: str | None, tasks: int) -> Executor:
-    """The executor for `--executor kind --jobs jobs [--scheduler ADDRESS]`, for `tasks` proofs to run."""
-    if kind not in EXECUTORS:
-        raise HKProofError(f"unknown executor '{kind}'; executors are {', '.join(EXECUTORS)}")
-    if scheduler and kind != "dask":
-        raise HKProofError("--scheduler ADDRESS is the address of a Dask scheduler: use it with --executor dask")
-    if kind == "dask":
-        return DaskExecutor(jobs, scheduler)
-    return ProcessPoolExecutor(min(jobs, tasks)) if min(jobs, tasks) > 1 else InProcessExecutor()
+    """The executor for `--executor kind --jobs jobs [--scheduler ADDRESS]`, for `tasks` proofs to run: never more
+    workers than tasks, and none when every claim is already proven."""
+    _check_run_options(kind, scheduler)
+    workers = min(jobs, tasks)
+    if kind == "dask" and workers >= 1:
+        return DaskExecutor(workers, scheduler)
+    return ProcessPoolExecutor(workers) if workers > 1 else InProcessExecutor()
 
 
 def run_graph(claim_ids: Iterable[str], executor: Executor,

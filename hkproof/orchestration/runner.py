@@ -1,16 +1,15 @@
 """Run claims for `hkproof prove`, `hkproof report`, proofs/*.py and the Python API: on an executor, each certificate
-handed to a callback as it completes (the front ends print it), Ctrl-C ending cleanly with the partial results."""
+handed to a callback as it completes (the front ends print it); an interrupt (Ctrl-C, SIGTERM, SIGHUP) stops the
+workers and ends cleanly with the partial results."""
 from __future__ import annotations
 
-import signal
-import threading
-from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Callable, Iterator, Sequence
+from typing import Callable, Sequence
 
 from hkproof.exit_codes import ExitCode
 from hkproof.orchestration.execution import make_executor, run_graph
 from hkproof.orchestration.graph import in_dependency_order
+from hkproof.orchestration.interrupts import interrupt_label, interrupts_deferred, interrupts_ignored
 from hkproof.orchestration.registry import REGISTRY, Claim, cached
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
@@ -35,13 +34,14 @@ class Run:
     claims: list[Claim]
     certs: dict[str, Certificate] = field(default_factory=dict)
     interrupted: bool = False
+    interrupted_by: str = ""    # "Ctrl-C", "SIGTERM" or "SIGHUP"
 
     @property
     def finished(self) -> list[tuple[Claim, Certificate]]:
         return [(c, self.certs[c.id]) for c in self.claims if c.id in self.certs]
 
     @property
-    def exit_code(self) -> int:
+    def exit_code(self) -> ExitCode:
         if self.interrupted:
             return ExitCode.INTERRUPTED
         return ExitCode.VERIFIED if all(c.succeeded(cert) for c, cert in self.finished) else ExitCode.REFUTED
@@ -59,7 +59,7 @@ class Run:
         seconds = sum(cert.seconds for _, cert in finished)
         text = "\n"
         if self.interrupted:
-            text += f"INTERRUPTED (Ctrl-C) after {len(finished)} of {len(self.claims)} claims: "
+            text += f"INTERRUPTED ({self.interrupted_by}) after {len(finished)} of {len(self.claims)} claims: "
         text += f"{verified} of {theorems} theorems verified"
         if theorems < len(finished):
             text += f"; {open_ok} of {len(finished) - theorems} open claims at their expected status (evidence only)"
@@ -68,8 +68,9 @@ class Run:
 
     def summary_record(self) -> dict:
         """The summary as the last object of a JSON Lines stream."""
-        return {"summary": self.summary().strip(), "interrupted": self.interrupted, "claims": len(self.claims),
-                "finished": len(self.certs), "exit_code": self.exit_code,
+        return {"summary": self.summary().strip(), "interrupted": self.interrupted,
+                "signal": self.interrupted_by or None, "claims": len(self.claims),
+                "finished": len(self.certs), "exit_code": int(self.exit_code),
                 "failed": [c.id for c, cert in self.finished if not c.succeeded(cert)]}
 
 
@@ -78,45 +79,16 @@ def certificate_payload(cert: Certificate) -> dict:
     return {**cert.to_dict(), "expected": REGISTRY[cert.claim_id].expected.label}
 
 
-@contextmanager
-def _sigint_ignored() -> Iterator[None]:
-    """A second Ctrl-C while the workers are being stopped is ignored (no traceback from the cleanup)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
-
-
-@contextmanager
-def _sigint_deferred() -> Iterator[None]:
-    """Ctrl-C inside the block takes effect at its end (a line of output is never cut in half)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    caught: list[int] = []
-    previous = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
-    if caught:
-        raise KeyboardInterrupt
-
-
 def execute(claims: Sequence[Claim], options: RunOptions = RunOptions(),
             on_done: Callable[[Certificate], None] = lambda cert: None) -> Run:
     """Prove `claims` (and what they cite) where `options` say, calling `on_done` with each certificate as it
-    completes; Ctrl-C returns the partial run."""
+    completes; an interrupt (Ctrl-C, SIGTERM, SIGHUP) stops the workers and returns the partial run."""
     run = Run(list(claims))
     ids = [c.id for c in run.claims]
     tasks = sum(cached(cid) is None for cid in in_dependency_order(ids, REGISTRY))
 
     def done(cert: Certificate) -> None:
-        with _sigint_deferred():  # a certificate is recorded and printed whole, or not at all
+        with interrupts_deferred():  # a certificate is recorded and printed whole, or not at all
             run.certs[cert.claim_id] = cert
             on_done(cert)
 
@@ -124,10 +96,10 @@ def execute(claims: Sequence[Claim], options: RunOptions = RunOptions(),
     try:
         executor = make_executor(options.executor, options.jobs, options.scheduler, tasks)
         run_graph(ids, executor, done)
-    except KeyboardInterrupt:
-        run.interrupted = True
+    except KeyboardInterrupt as exc:
+        run.interrupted, run.interrupted_by = True, interrupt_label(exc)
     finally:
         if executor is not None:
-            with _sigint_ignored():
+            with interrupts_ignored():
                 executor.close(interrupted=run.interrupted)
     return run

@@ -1,0 +1,49 @@
+"""Degree growth as `hkproof degrees` reports it: deg f^n on random lines mod large primes (evidence), the first
+degrees made exact by symbolic iterates, the growth fitted on the best sequence, and the status this earns."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping
+
+from hkproof.algebra.ring import Rational
+from hkproof.dynamics.degrees import DegreeGrowth, degree_growth, fit_growth, symbolic_degree
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.proof.status import Status
+
+__all__ = ["DegreeReport", "degree_report"]
+
+
+@dataclass
+class DegreeReport:
+    """The degrees found (modular runs, with the symbolic degrees in place where computed) and their growth."""
+
+    found: DegreeGrowth
+    requested: int
+    symbolic: list[int]         # deg f^n from the symbolic iterates, n = 1..len(symbolic): exact
+    symbolic_agree: bool        # the modular runs gave the same first degrees
+
+    @property
+    def stopped(self) -> bool:
+        """Fewer degrees than asked for: the next one could exceed the degree limit."""
+        return len(self.found.degrees) < self.requested
+
+    @property
+    def status(self) -> Status:
+        """verified when every degree asked for comes from the symbolic iterates and the modular runs agree with
+        them, evidence(exact) otherwise (degrees mod p at random values: not a proof)."""
+        exact = self.symbolic_agree and len(self.symbolic) == self.requested
+        return Status.VERIFIED if exact else Status.EVIDENCE_EXACT
+
+
+def degree_report(kmap: KahanMap, iterates: int, fixed: Mapping[str, Rational] | None = None, *, seed: int = 0,
+                  runs: int = 2, symbolic_up_to: int = 0) -> DegreeReport:
+    """deg f^n for n = 1..iterates by `runs` modular runs, the first `symbolic_up_to` also from the symbolic
+    iterates (eps and parameters symbolic); where these disagree they replace the modular values and the growth is
+    fitted again."""
+    found = degree_growth(kmap, iterates, fixed, seed=seed, runs=runs)
+    exact = [symbolic_degree(kmap, n) for n in range(1, min(symbolic_up_to, len(found.degrees)) + 1)]
+    agree = exact == found.degrees[:len(exact)]
+    if not agree:
+        found.degrees[:len(exact)] = exact
+        found.growth = fit_growth(found.degrees)
+    return DegreeReport(found, iterates, exact, agree)
