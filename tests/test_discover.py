@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+import random
 from pathlib import Path
 
 import pytest
@@ -67,8 +68,8 @@ def test_forged_candidate_is_refuted_not_verified(monkeypatch):
 def test_certify_perturbed_integral():
     f = kahan_map("euler-top")
     good = Frac.parse(f.ring, "(a3*x2**2 - a2*x3**2)/(a1*x2**2 - a2*x1**2)")
-    assert certify(f, good)[0] == Status.VERIFIED
-    assert certify(f, good + Frac.parse(f.ring, "eps**2*x1"))[0] == Status.REFUTED
+    assert certify(f, good).status == Status.VERIFIED
+    assert certify(f, good + Frac.parse(f.ring, "eps**2*x1")).status == Status.REFUTED
 
 
 def test_conserved_coordinate_becomes_parameter():
@@ -151,49 +152,63 @@ def test_discovered_integrals_hold_by_an_independent_route():
             assert at_x == at_fx, i.name
 
 
-def _psi_problem():
+_PSI = [(1, 0, 0, 1, 0, 0), (0, 1, 0, 0, 1, 0), (0, 0, 1, 0, 0, 1), (0, 0, 0, 2, 0, 0), (0, 0, 0, 0, 2, 0),
+        (0, 0, 0, 0, 0, 2)]          # m1 p1, m2 p2, m3 p3, p1^2, p2^2, p3^2 in (m1, m2, m3, p1, p2, p3)
+
+
+def _psi_proof():
+    """The HK-basis Psi = (m1 p1, m2 p2, m3 p3, p1^2, p2^2, p3^2) of the first Clebsch flow, proven whole from the
+    integral of (p1^2, p2^2, p3^2, 1) alone (as discover does it)."""
     from hkproof.algebra.fraction import Frac
-    from hkproof.dynamics.catalogue import kahan_map
-    from hkproof.experiments.relations import find_relations
-    from hkproof.hk.reduced import Relation
+    from hkproof.pipelines.discover.context import SearchContext
+    from hkproof.pipelines.discover.solve import prove_basis
     f = kahan_map("clebsch")
-    basis = [Frac.parse(f.ring, t) for t in ("m1*p1", "m2*p2", "m3*p3", "p1**2", "p2**2", "p3**2")]
-    rels = [Relation(r.coefficients, r.rhs) for r in find_relations(f, [basis]).relations]
-    return f, basis, rels
+    known = {"I1": Frac.parse(f.ring, "(-p2**2*eps**2*w1 - p3**2*eps**2*w1 + p2**2*eps**2*w2 + p3**2*eps**2*w3 - 1)"
+                                      "/(p1**2 + p2**2 + p3**2)")}
+    basis = _PSI
+    ctx = SearchContext.for_maps(f, budget=Budget(600))
+    return f, known, prove_basis(ctx, basis, known, random.Random(1))
 
 
-def test_recipe_e_with_prop_even_certifies_the_psi_basis_of_the_first_clebsch_flow():
-    from hkproof.hk.discover import solve_by_evenness
-    f, basis, rels = _psi_problem()
-    solution, status, method = solve_by_evenness(f, basis, rels)
-    assert status is Status.VERIFIED and solution is not None, method
-    assert all(len(c.num) > 100 for c in solution[:3])     # d7, d8, d9 of Th. "dC basis 2" (up to normalization)
-
-
-def test_recipe_e_refuses_a_relation_that_is_not_even_in_eps():
+def test_prove_basis_proves_the_psi_basis_and_refutes_a_perturbed_coordinate():
     from hkproof.algebra.fraction import Frac
-    from hkproof.hk.discover import solve_by_evenness
-    from hkproof.hk.reduced import Relation
-    f, basis, rels = _psi_problem()
-    eps = Frac.parse(f.ring, "eps")
-    bad = [Relation([c + eps if k == 0 else c for k, c in enumerate(rels[0].coefficients)], rels[0].rhs)] + rels[1:]
-    solution, status, method = solve_by_evenness(f, basis, bad)
-    assert solution is None and status < Status.VERIFIED and "even" in method
-    too_few = solve_by_evenness(f, basis, rels[:1])
-    assert too_few[0] is None and "cannot fix" in too_few[2]
+    from hkproof.hk.independence import sample_point
+    from hkproof.hk.reduced import Relation, verify_by_evenness
+    from hkproof.hk.row_check import check_solution_by_rows
+    from hkproof.proof.certificate import Certificate, ProofStopped
+    from hkproof.pipelines.discover.solve import BasisProof
+    f, known, proof = _psi_proof()
+    assert isinstance(proof, BasisProof) and proof.status is Status.VERIFIED, proof
+    assert max(len(c.num) for c in proof.coordinates) > 100        # d7, d8, d9 of Th. "dC basis 2" (normalized)
+    fracs = [Frac.parse(f.ring, t) for t in proof.basis]
+    rows = [Relation(r.combination, r.rhs) for r in proof.relations]
+    names = [f"c{k + 1}" for k in range(len(fracs) - 1)]
+    for bad in (Frac.parse(f.ring, "eps**2*p1*m2"), Frac.parse(f.ring, "1/1000")):
+        candidate = [c + bad if k == 0 else c for k, c in enumerate(proof.coordinates)]
+        cert = Certificate("perturbed", "perturbed", "test", "a perturbed candidate")
+        with pytest.raises(ProofStopped):
+            verify_by_evenness(cert, f, fracs[:-1], fracs[-1], names, candidate, sample_point(f.ring.names, 2),
+                               (0, 1), rows, check=check_solution_by_rows)
+        assert cert.status is Status.REFUTED
 
 
-@pytest.mark.slow
-def test_discover_first_clebsch_flow_finds_three_independent_integrals_by_recipe_e():
-    report = discover("clebsch", 2, budget=Budget(300))
+def test_prove_basis_waits_for_integrals_it_does_not_have():
+    from hkproof.pipelines.discover.context import SearchContext
+    from hkproof.pipelines.discover.solve import Postponed, prove_basis
+    f = kahan_map("clebsch")
+    basis = _PSI
+    result = prove_basis(SearchContext.for_maps(f), basis, {}, random.Random(1))
+    assert isinstance(result, Postponed) and "rank" in result.reason
+
+
+def test_discover_first_clebsch_flow_proves_four_independent_integrals():
+    report = discover("clebsch", 2, budget=Budget(600))
     proven = [i for i in report.integrals if i.status is Status.VERIFIED and i.independent]
-    assert len(proven) >= 3 and report.expected_independent == 4
-    assert any("recipe (E)" in i.method for i in proven)
-    # independent route: each proven integral, read by sympy from its printed form, takes the same value at x and at
-    # the next two points of an orbit that sympy computes from the printed field (no hkproof map)
+    assert len(proven) == 4 == report.expected_independent and report.complete
+    assert sum('Prop. "prop: even"' in i.method for i in proven) >= 2
+    # independent route: each proven integral, evaluated term by term in Python fractions, takes the same value at x
+    # and at the next two points of an orbit that sympy computes from the printed field (no hkproof map)
     from fractions import Fraction
-
-    import sympy
 
     from hkproof.dynamics.catalogue import get_system
     from tests.sympy_bridge import kahan_orbit
@@ -201,8 +216,17 @@ def test_discover_first_clebsch_flow_finds_three_independent_integrals_by_recipe
     values = {"eps": Fraction(1, 3), "w1": Fraction(1, 2), "w2": -2, "w3": 3, "m1": 1, "m2": Fraction(-2, 3),
               "m3": 2, "p1": Fraction(3, 2), "p2": 1, "p3": -1}
     orbit = kahan_orbit([str(c) for c in field.rhs], field.variables, values, 2)
-    params = {sympy.Symbol(k): sympy.Rational(str(v)) for k, v in values.items() if k not in field.variables}
+
+    def at(poly, names, point) -> Fraction:
+        total = Fraction(0)
+        for exps, c in zip(poly.monoms(), poly.coeffs()):
+            term = Fraction(int(c))
+            for name, e in zip(names, exps):
+                term *= Fraction(str(point[name])) ** int(e)
+            total += term
+        return total
     for integral in proven:
-        h = sympy.sympify(str(integral.frac), locals={str(s): s for s in params}).subs(params)
-        at = [h.subs({sympy.Symbol(k): v for k, v in point.items()}) for point in orbit]
-        assert at[0] == at[1] == at[2], integral.name
+        names = integral.frac.ring.names
+        value = [at(integral.frac.num, names, values | dict(x)) / at(integral.frac.den, names, values | dict(x))
+                 for x in orbit]
+        assert value[0] == value[1] == value[2], integral.name

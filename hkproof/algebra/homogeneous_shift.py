@@ -10,9 +10,9 @@ contributions sparse: a term x^e gives one term for each way to lower the expone
 """
 from __future__ import annotations
 
-import itertools
-import math
 from collections.abc import Mapping, Sequence
+
+import flint
 
 __all__ = ["shifted_coefficients"]
 
@@ -20,22 +20,16 @@ __all__ = ["shifted_coefficients"]
 def shifted_coefficients(piece: Mapping[tuple[int, ...], int], degree: int, shift: Sequence[int], p: int
                          ) -> dict[int, dict[tuple[int, ...], int]]:
     """[t^r] P(t z + s) mod p for each r <= degree, as polynomials in z (homogeneous of degree r), for a homogeneous
-    P of that degree given as {exponents: coefficient} (Cuyt–Lee's shift contributions; binomial expansion in the
-    shifted variables only)."""
-    shifted = [i for i, s in enumerate(shift) if s % p]
+    P of that degree given as {exponents: coefficient} (Cuyt–Lee's shift contributions): the homogeneous parts of
+    P(z + s), by one FLINT composition mod p."""
+    if not piece:
+        return {}
+    n = len(shift)
+    ctx = flint.nmod_mpoly_ctx.get(tuple(f"z{i}" for i in range(n)), p, "degrevlex")  # type: ignore[call-arg, arg-type]  # flint's stubs lag the API
+    poly = ctx.from_dict({e: c % p for e, c in piece.items() if c % p})
+    moved = poly.compose(*[g + (s % p) if s % p else g for g, s in zip(ctx.gens(), shift, strict=True)])
     out: dict[int, dict[tuple[int, ...], int]] = {}
-    for e, a in piece.items():
-        ranges = [range(e[i] + 1) for i in shifted]
-        for lowered in itertools.product(*ranges):
-            c = a
-            m = list(e)
-            for i, li in zip(shifted, lowered):
-                if li:
-                    c = c * math.comb(e[i], li) * pow(shift[i], li, p) % p
-                    m[i] -= li
-            if c:
-                r = degree - sum(lowered)
-                terms = out.setdefault(r, {})
-                key = tuple(m)
-                terms[key] = (terms.get(key, 0) + c) % p
-    return {r: {m: c for m, c in terms.items() if c} for r, terms in out.items()}
+    for m, c in moved.to_dict().items():
+        if int(c):
+            out.setdefault(sum(m), {})[tuple(m)] = int(c)
+    return out

@@ -32,10 +32,12 @@ def mulmod(a: Array, b: Array, p: int) -> Array:
     True
     """
     with np.errstate(over="ignore"):
-        q = np.floor(a.astype(np.float64) * b.astype(np.float64) / float(p)).astype(np.int64)
-        r = a * b - q * p
-    r = np.where(r < 0, r + p, r)
-    return np.where(r >= p, r - p, r)
+        q = (a * (1.0 / p) * b).astype(np.int64)
+        r = a * b
+        r -= q * p
+    r[r < 0] += p
+    r[r >= p] -= p
+    return r
 
 
 def solve_projective(a: Array, b: Array, p: int) -> tuple[Array, Array]:

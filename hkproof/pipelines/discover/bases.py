@@ -67,8 +67,7 @@ def minimal_bases(ctx: SearchContext, probe: Probe, degrees: list[int]) -> Minim
         for s in supports:
             ctx.budget.check("choosing the normalizations of the minimal HK-bases")
             basis: list[Exponents] = [monos[j] for j in s]
-            for j, sizes in normalizations(ctx.kmap, basis, ctx.weights, ctx.free, probe.p, ctx.rng,
-                                           len(ctx.free) + n):
+            for j, sizes in normalizations(ctx.kmap, basis, ctx.weights, ctx.free, ctx.rng, len(ctx.free) + n):
                 for cand in ratio_candidates(probe.orbit, basis, j):
                     cand.estimate = sizes[cand.k]
                     out.candidates.append(cand)

@@ -12,17 +12,19 @@ from typing import Callable
 
 import flint
 
-from hkproof.algebra.sampling import random_rational
+from hkproof.algebra.modular import random_prime
 from hkproof.algebra.monomials import Exponents
+from hkproof.algebra.univariate_rational import ThieleInterpolator
 from hkproof.errors import HKProofError
-from hkproof.experiments.reconstruction import dense_size, univariate_degrees
+from hkproof.experiments.reconstruction import dense_size
 from hkproof.experiments.scene import make_scene
 from hkproof.experiments.weights import Weights
 from hkproof.dynamics.kahan import KahanMap
+from hkproof.pipelines.discover.blackbox import KernelBlackBox
 from hkproof.pipelines.discover.screen import TangentOrbit
 
-__all__ = ["Candidate", "coordinate_gradients", "modular_sampler", "normalizations", "ratio_candidates",
-           "recipe_b_mod_p"]
+__all__ = ["Candidate", "coordinate_gradients", "line_degrees", "modular_sampler", "normalizations",
+           "ratio_candidates", "recipe_b_mod_p"]
 
 
 @dataclass
@@ -118,33 +120,62 @@ def modular_sampler(kmap: KahanMap, basis: list[Exponents], k: tuple[int, int] |
     return sample
 
 
-def normalizations(kmap: KahanMap, basis: list[Exponents], weights: Weights, free: list[str], p: int,
-                   rng: random.Random, nvars: int, max_degree: int = 12) -> list[tuple[int, dict[int, int]]]:
+def line_degrees(kmap: KahanMap, basis: list[Exponents], weights: Weights, free: list[str], rng: random.Random,
+                 max_degree: int = 40) -> dict[tuple[int, int], tuple[int, int] | None]:
+    """(deg P, deg Q) of every ratio c_k / c_j of the kernel coordinates of `basis` along one random line through the
+    free names and the phase variables, mod a 50-bit prime: each c_k = c_k / (-c_l) by Thiele's interpolation with
+    early termination (the batch black box), every other ratio from those by products and gcds of univariate
+    polynomials; None above `max_degree`. A special line or prime only lowers degrees."""
+    p = random_prime(rng, 50)
+    inputs = list(free) + list(kmap.variables)
+    box = KernelBlackBox(kmap, basis, 0, len(basis) - 1, inputs, {n: 1 for n in weights.normalized})
+    a = [rng.randrange(1, p) for _ in inputs]
+    b = [rng.randrange(1, p) for _ in inputs]
+    ts = list(range(1, 2 * max_degree + 8))
+    coords, ok = box.vectors(p, [[(x + t * y) % p for x, y in zip(a, b, strict=True)] for t in ts])
+    l = len(basis)
+    fractions: list[tuple[flint.nmod_poly, flint.nmod_poly] | None] = []
+    for k in range(l):                         # c_k / c_l as P_k / Q_k (c_l / c_l = 1)
+        if k == l - 1:
+            fractions.append((flint.nmod_poly([1], p), flint.nmod_poly([1], p)))
+            continue
+        thiele = ThieleInterpolator(p)
+        for i, t in enumerate(ts):
+            bottom = int(coords[l - 1][i])
+            if ok[i] and bottom:
+                thiele.add(t, int(coords[k][i]) * pow(bottom, -1, p) % p)
+            if thiele.terminated:
+                break
+        if not thiele.terminated:
+            fractions.append(None)
+            continue
+        num, den = thiele.fraction()
+        fractions.append((flint.nmod_poly(num, p), flint.nmod_poly(den, p)))
+    out: dict[tuple[int, int], tuple[int, int] | None] = {}
+    for j in range(l):
+        for k in range(l):
+            if k == j:
+                continue
+            fk, fj = fractions[k], fractions[j]
+            if fk is None or fj is None or fj[0].is_zero():
+                out[(k, j)] = None
+                continue
+            upper, lower = fk[0] * fj[1], fk[1] * fj[0]
+            g = upper.gcd(lower)
+            out[(k, j)] = (max((upper // g).degree(), 0), max((lower // g).degree(), 0))
+    return out
+
+
+def normalizations(kmap: KahanMap, basis: list[Exponents], weights: Weights, free: list[str], rng: random.Random,
+                   nvars: int) -> list[tuple[int, dict[int, int]]]:
     """Recipe (B)'s normalization j = l - 1 and the coordinate j whose ratios c_k / c_j have the smallest dense
-    ansatzes, with the size of each ratio's ansatz, from degrees along one random line (values mod p). A special
-    line or prime only lowers degrees, so a size above the limit is a safe reason to skip."""
-    names = list(free) + list(kmap.variables)
-    a = [random_rational(rng, 30) for _ in names]
-    b = [random_rational(rng, 30) for _ in names]
-    sample = modular_sampler(kmap, basis, None, weights, free, p)
-    ts: list[int] = []
-    vecs: list = []
-    for t in range(1, 4 * max_degree + 20):
-        if len(ts) >= 2 * max_degree + 5:
-            break
-        pt = dict(zip(names, (x + t * y for x, y in zip(a, b, strict=True)), strict=True))
-        v = sample({m: pt[m] for m in free}, [{m: pt[m] for m in kmap.variables}])[0]
-        if v is not None and all(v):
-            ts.append(t)
-            vecs.append(v)
+    ansatzes, with the size of each ratio's ansatz, from degrees along one random line (`line_degrees`)."""
+    degrees = line_degrees(kmap, basis, weights, free, rng)
     l = len(basis)
     options = []
     for j in range(l - 1, -1, -1):
-        sizes = {}
-        for k in range(l):
-            if k != j:
-                deg = univariate_degrees(ts, [v[k] * pow(v[j], -1, p) % p for v in vecs], p, max_degree)
-                sizes[k] = 10**9 if deg is None else dense_size(nvars, deg)
+        sizes = {k: 10**12 if d is None else dense_size(nvars, d)
+                 for k, d in ((k, degrees[(k, j)]) for k in range(l) if k != j)}
         options.append((sum(sorted(sizes.values())[:max(1, len(sizes) // 2)]), j, sizes))   # the simpler half
     best = min(options, key=lambda o: o[0])
     return [(options[0][1], options[0][2])] + ([(best[1], best[2])] if best[1] != l - 1 else [])

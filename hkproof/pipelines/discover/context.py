@@ -8,7 +8,8 @@ import flint
 
 from hkproof.budget import Budget
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.experiments.weights import Weights
+from hkproof.dynamics.field import EPS
+from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.pipelines.stages import Stages
 
 __all__ = ["SearchContext"]
@@ -31,6 +32,16 @@ class SearchContext:
     max_degree: int = 16
     max_unknowns: int = 2500
     caches: dict = field(default_factory=dict)
+
+    @classmethod
+    def for_maps(cls, kmap: KahanMap, full_map: KahanMap | None = None, *, fixed: dict[str, flint.fmpq] | None = None,
+                 seed: int = 0, budget: Budget | None = None, stages: Stages | None = None, max_degree: int = 16,
+                 max_unknowns: int = 2500) -> "SearchContext":
+        """A search of `kmap` (the weights from its scaling symmetry; eps and the parameters they leave free)."""
+        weights = scaling_weights(kmap)
+        free = [m for m in (EPS,) + tuple(kmap.field.parameters) if m not in weights.normalized]
+        return cls(kmap, full_map or kmap, weights, free, dict(fixed or {}), random.Random(seed),
+                   budget or Budget(None), stages or Stages("discover"), max_degree, max_unknowns)
 
     @property
     def inner(self) -> list[str]:

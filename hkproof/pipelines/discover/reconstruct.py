@@ -34,6 +34,10 @@ __all__ = ["Reconstructed", "reconstruct_candidates"]
 
 
 
+DENSE_FIRST = 300    # a ratio whose dense ansatz has at most this many unknowns is fitted first (fast when small);
+                     # a larger one is proven with its basis, densely only if that waits for integrals not yet proven
+
+
 @dataclass
 class Skipped:
     """A kernel coordinate left out, with its report entry (basis, coordinate, degrees, reason)."""
@@ -60,6 +64,7 @@ class _Progress:
     proofs: dict[tuple[Exponents, ...], BasisProof] = field(default_factory=dict)
     postponed: dict[tuple[Exponents, ...], tuple[int, str]] = field(default_factory=dict)
     skipped: dict[tuple, dict] = field(default_factory=dict)
+    reported: set[tuple[Exponents, ...]] = field(default_factory=set)
     dense: int = 0
 
 
@@ -94,16 +99,11 @@ def _pass(ctx: SearchContext, report: DiscoveryReport, candidates: list[Candidat
         if rank_mod_p(state.accepted + [cand.gradient], p) <= len(state.accepted):
             continue
         ctx.budget.check(f"proving integral {len(state.accepted) + 1} of {target}")
-        found: FoundIntegral | None = None
-        if cand.estimate <= ctx.max_unknowns and (tuple(cand.basis), cand.k, cand.j) not in state.skipped:
-            dense = _dense(ctx, report, cand, [text(ctx.kmap.variables, e) for e in cand.basis], p)
-            if isinstance(dense, Skipped):
-                state.skipped[(tuple(cand.basis), cand.k, cand.j)] = dense.entry
-            else:
-                found = dense
-                state.dense += 1
+        found = _dense_or_skip(ctx, report, cand, p, state) if cand.estimate <= DENSE_FIRST else None
         if found is None:
             found = _from_basis(ctx, report, cand, state)
+        if found is None and DENSE_FIRST < cand.estimate <= ctx.max_unknowns:
+            found = _dense_or_skip(ctx, report, cand, p, state)
         if found is None:
             continue
         report.integrals.append(found)
@@ -113,6 +113,20 @@ def _pass(ctx: SearchContext, report: DiscoveryReport, candidates: list[Candidat
             state.known[found.name] = found.frac.to_ring(ctx.kmap.ring)
         if found.frac is not None:
             ctx.stages.say(f"{found.name} = {found.frac}: {found.status.label}")
+
+
+def _dense_or_skip(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, p: int,
+                   state: _Progress) -> FoundIntegral | None:
+    """The dense route for a candidate (once: a candidate found too large is remembered)."""
+    key = (tuple(cand.basis), cand.k, cand.j)
+    if key in state.skipped:
+        return None
+    dense = _dense(ctx, report, cand, [text(ctx.kmap.variables, e) for e in cand.basis], p)
+    if isinstance(dense, Skipped):
+        state.skipped[key] = dense.entry
+        return None
+    state.dense += 1
+    return dense
 
 
 def _from_basis(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, state: _Progress) -> FoundIntegral | None:
@@ -129,6 +143,10 @@ def _from_basis(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, st
             return None
         state.proofs[key] = result
     proof = state.proofs[key]
+    if proof.status < Status.VERIFIED_SPECIALIZED:
+        if key in state.reported:
+            return None                  # the basis's failed proof is reported once
+        state.reported.add(key)
     top, bottom = proof.coordinate(cand.basis[cand.k]), proof.coordinate(cand.basis[cand.j])
     if bottom.is_zero():
         return None

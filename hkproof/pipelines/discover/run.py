@@ -9,7 +9,6 @@
 """
 from __future__ import annotations
 
-import random
 import time
 from typing import Mapping
 
@@ -22,11 +21,10 @@ from hkproof.algebra.monomials import count_upto
 from hkproof.algebra.ring import Rational
 from hkproof.budget import Budget
 from hkproof.dynamics.catalogue import get_system, kahan_map
-from hkproof.dynamics.field import EPS, QuadraticField
+from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ParseError, ResourceLimitError
 from hkproof.experiments.scene import make_scene
-from hkproof.experiments.weights import scaling_weights
 from hkproof.hk.discover import certify, independent_subset, jacobian_points
 from hkproof.pipelines.discover.bases import confirm_basis, minimal_bases
 from hkproof.pipelines.discover.context import SearchContext
@@ -63,10 +61,8 @@ def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[s
     full_map = kahan_map(original)
     field, conserved = without_conserved(original)
     kmap = kahan_map(field)
-    weights = scaling_weights(kmap)
-    free = [m for m in (EPS,) + field.parameters if m not in weights.normalized]
-    ctx = SearchContext(kmap, full_map, weights, free, fixed, random.Random(seed), budget, stages, max_degree,
-                        max_unknowns)
+    ctx = SearchContext.for_maps(kmap, full_map, fixed=fixed, seed=seed, budget=budget, stages=stages,
+                                 max_degree=max_degree, max_unknowns=max_unknowns)
     with budget.active():
         _run(ctx, report, conserved)
     return report

@@ -18,20 +18,25 @@ from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
 from hkproof.algebra.fraction import Frac
+from hkproof.algebra.linalg import lcm
 from hkproof.algebra.modular import random_prime
 from hkproof.algebra.monomials import Exponents, text
 from hkproof.dynamics.field import EPS
-from hkproof.errors import HKProofError
+from hkproof.errors import BudgetExhausted, HKProofError
 from hkproof.hk.independence import sample_point
 from hkproof.hk.reduced import Relation, verify_by_evenness
 from hkproof.hk.row_check import check_solution_by_rows
+from hkproof.experiments.reconstruction import dense_size
+from hkproof.pipelines.discover.candidates import line_degrees
 from hkproof.pipelines.discover.context import SearchContext
-from hkproof.pipelines.discover.dependence import plan_mod_p
+from hkproof.pipelines.discover.dependence import ModularPlan, plan_mod_p
 from hkproof.pipelines.discover.symbolic import PRIME_BITS, SymbolicRelation, coordinates, lift_relations
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 
-__all__ = ["BasisProof", "Postponed", "prove_basis"]
+__all__ = ["FIRST_ATTEMPT", "BasisProof", "Postponed", "prove_basis"]
+
+FIRST_ATTEMPT = 20.0     # seconds of sparse reconstruction a normalization of a basis gets first (then 4x, 16x, ...)
 
 
 @dataclass
@@ -76,24 +81,27 @@ def prove_basis(ctx: SearchContext, basis: Sequence[Exponents], known: Mapping[s
     even = {n: h for n, h in known.items() if h.is_even_in(EPS)}
     p = random_prime(rng, PRIME_BITS)
     controls = {n: rng.randrange(1, p) for n in kmap.field.control_names} | {n: 1 for n in ctx.weights.normalized}
-    best = None
-    for last in reversed(range(len(basis))):     # the normalization: which function's coefficient is -1
+    degrees = line_degrees(kmap, list(basis), ctx.weights, ctx.free, rng)
+    nvars = len(ctx.free) + len(kmap.variables)
+
+    def cost(last: int) -> int:                  # the size of the dense ansatzes of the coordinates (an estimate)
+        sizes = [degrees[(k, last)] for k in range(len(basis)) if k != last]
+        return sum(10**12 if d is None else dense_size(nvars, d) for d in sizes)
+    complete, best_rank = [], 0
+    for last in sorted(range(len(basis)), key=cost):     # the normalization: which function's coefficient is -1
         order = [e for k, e in enumerate(basis) if k != last] + [basis[last]]
         plan = plan_mod_p(kmap, order, even, p, controls, rng)
-        if best is None or plan.rank > best[1].rank:
-            best = (order, plan)
+        best_rank = max(best_rank, plan.rank)
         if plan.complete:
-            break
-    assert best is not None
-    basis, plan = best
-    texts = [text(kmap.variables, e) for e in basis]
-    if not plan.complete:
+            complete.append((order, plan))
+    if not complete:
         return Postponed(f"the rows i = 0, 1 and the relations with the {len(even)} proven integrals have rank "
-                         f"at most {plan.rank} of {plan.width} (mod p, every normalization tried)")
+                         f"at most {best_rank} of {len(basis) - 1} (mod p, every normalization tried)")
+    order, _, coords = _race(ctx, complete, rng)
+    basis, plan, candidate = _smallest(order, coords, complete)
+    texts = [text(kmap.variables, e) for e in basis]
     ctx.stages.say(f"({', '.join(texts)}): {len(plan.relations)} relations with proven integrals; lifting them")
     relations = lift_relations(ctx, basis, even, plan, rng)
-    ctx.stages.say(f"({', '.join(texts)}): sparse reconstruction of {len(basis) - 1} coordinates")
-    candidate = coordinates(ctx, basis, rng)
     cert = Certificate(f"basis ({', '.join(texts)})", f"the kernel coordinates of ({', '.join(texts)}) are integrals",
                        'Prop. "prop: even"', f"The kernel of the HK-basis ({', '.join(texts)}) is one-dimensional "
                        "and its coordinates, normalized by the last one (-1), are integrals of the Kahan map.",
@@ -110,6 +118,44 @@ def prove_basis(ctx: SearchContext, basis: Sequence[Exponents], known: Mapping[s
     except HKProofError as exc:
         cert.error = f"{type(exc).__name__}: {exc}"
     return BasisProof(texts, list(basis), candidate, cert, relations, time.perf_counter() - start)
+
+
+def _race(ctx: SearchContext, complete: list[tuple[list[Exponents], ModularPlan]], rng: random.Random
+          ) -> tuple[list[Exponents], ModularPlan, list[Frac]]:
+    """The coordinates in the first normalization whose sparse reconstruction finishes: the sizes of the coordinates
+    differ by orders of magnitude from one normalization to another, and degrees along a line do not show it. Each
+    normalization gets a share of time, which grows (times four) until one finishes or the budget runs out."""
+    seconds = FIRST_ATTEMPT
+    while True:
+        for order, plan in complete:
+            attempt = ctx.budget.child(seconds)
+            texts = ", ".join(text(ctx.kmap.variables, e) for e in order)
+            ctx.stages.say(f"({texts}): sparse reconstruction of {len(order) - 1} coordinates (at most {seconds:g} s)")
+            try:
+                return order, plan, coordinates(ctx, order, rng, budget=attempt)
+            except BudgetExhausted:
+                ctx.budget.check("reconstructing the coordinates of a basis")     # the whole budget, or the next try
+        seconds *= 4
+
+
+def _smallest(order: list[Exponents], coords: list[Frac], complete: list[tuple[list[Exponents], ModularPlan]]
+              ) -> tuple[list[Exponents], ModularPlan, list[Frac]]:
+    """The complete normalization whose coordinates have the fewest terms over their common denominator (the proof
+    substitutes them into the rows over it): the coordinates of one normalization give every other exactly,
+    c'_k = -c_k / c_j."""
+    value = dict(zip(order, [*coords, Frac(coords[0].ring, -1)], strict=True))
+    best = None
+    for basis, plan in complete:
+        last = value[basis[-1]]
+        if last.is_zero():
+            continue
+        moved = [-value[e] / last for e in basis[:-1]]
+        common = lcm([c.den for c in moved])                # the rows are checked over it (hk.row_check)
+        size = len(common) + sum(len(c.num * (common / c.den)) for c in moved)
+        if best is None or size < best[0]:
+            best = (size, basis, plan, moved)
+    assert best is not None
+    return best[1], best[2], best[3]
 
 
 def _cite(cert: Certificate, ring, relations: Sequence[SymbolicRelation], known: Mapping[str, Frac]) -> None:

@@ -22,13 +22,14 @@ import flint
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.functional_reconstruction import Mapper, RationalReconstruction, reconstruct_rational
 from hkproof.algebra.modular import random_prime
+from hkproof.algebra.factored import sum_of_products
 from hkproof.algebra.formula import rename
 from hkproof.algebra.monomials import Exponents, text
 from hkproof.algebra.ring import Ring
 from hkproof.algebra.sparse_interpolation import smooth_prime
 from hkproof.algebra.vector_reconstruction import Fraction, reconstruct_vector
+from hkproof.budget import Budget
 from hkproof.errors import HKProofError
-from hkproof.hk.transport import Substitution
 from hkproof.pipelines.discover.blackbox import KernelBlackBox
 from hkproof.pipelines.discover.context import SearchContext
 from hkproof.pipelines.discover.dependence import ModularPlan, ModularRelation, evaluate_plan
@@ -36,6 +37,7 @@ from hkproof.pipelines.discover.dependence import ModularPlan, ModularRelation, 
 __all__ = ["PRIME_BITS", "SymbolicRelation", "coordinates", "lift_relations"]
 
 PRIME_BITS = 50      # the batch black box reduces products exactly below 2^50 (hkproof.dynamics.batch_map)
+BATCH = 2048         # probes per call of the batch black box (numpy's per-call cost is amortized)
 Weight = list[flint.fmpq]
 
 
@@ -97,7 +99,7 @@ def _free_residues(ctx: SearchContext, t: Sequence[int]) -> dict[str, int]:
     return {**{n: 1 for n in ctx.weights.normalized}, **dict(zip(ctx.free, t, strict=True))}
 
 
-def coordinates(ctx: SearchContext, basis: Sequence[Exponents], rng: random.Random, *,
+def coordinates(ctx: SearchContext, basis: Sequence[Exponents], rng: random.Random, *, budget: Budget | None = None,
                 mapper: Mapper | None = None, progress: Callable[[dict], None] | None = None) -> list[Frac]:
     """c_1, ..., c_(l-1) of the kernel of `basis` (c_l = -1) with eps and the parameters symbolic, by sparse
     reconstruction over prime fields (a candidate)."""
@@ -107,8 +109,8 @@ def coordinates(ctx: SearchContext, basis: Sequence[Exponents], rng: random.Rand
     out = []
     for k in range(len(basis) - 1):
         box = KernelBlackBox(ctx.kmap, basis, k, len(basis) - 1, inputs, fixed)      # c_k / c_l = -c_k
-        rec = reconstruct_rational(box, len(inputs), rng=rng, budget=ctx.budget, primes=_primes(rng), mapper=mapper,
-                                   progress=progress)
+        rec = reconstruct_rational(box, len(inputs), rng=rng, budget=budget or ctx.budget, primes=_primes(rng),
+                                   mapper=mapper, progress=progress, batch_size=BATCH)
         out.append(-_restored(ctx, rec, inputs, weights[k]))
     return out
 
@@ -184,18 +186,18 @@ def _assemble(ctx: SearchContext, basis: Sequence[Exponents], known: Mapping[str
 
 def _compose(ring: Ring, knowns: Sequence[str], num: Mapping[Exponents, Frac], den: Mapping[Exponents, Frac],
              values: Mapping[str, Frac]) -> tuple[Frac, str]:
-    """R = N/D over the names `knowns` (coefficients in Q(eps, parameters)) composed with their values: one
-    homogenized compose (hkproof.hk.transport.Substitution), then lowest terms."""
+    """R = N/D over the names `knowns` (coefficients in Q(eps, parameters)) composed with their values: N(K') and D(K')
+    each as a sum of products over factored denominators (hkproof.algebra.factored: no gcd of a big numerator, no
+    common denominator raised to a power), then one division."""
+    def poly(coeffs: Mapping[Exponents, Frac]) -> Frac:
+        terms = [[c, *[values[n] for n, e in zip(knowns, m, strict=True) for _ in range(e)]]
+                 for m, c in coeffs.items() if not c.is_zero()]
+        return sum_of_products(terms) if terms else Frac(ring, 0)
     source = ring.extend([f"y_{n}" for n in knowns])
     ys = [f"y_{n}" for n in knowns]
 
-    def poly(coeffs: Mapping[Exponents, Frac]) -> Frac:
-        total = Frac(source, 0)
-        for m, c in coeffs.items():
-            total = total + c.to_ring(source) * Frac.parse(source, text(ys, m))
-        return total
-    r = poly(num) / poly(den)
-    formula = rename(str(r), dict(zip(ys, knowns, strict=True)))
-    sub = Substitution(source, ring, {y: values[n] for y, n in zip(ys, knowns, strict=True)})
-    return sub.apply(r), formula
-
+    def text_of(coeffs: Mapping[Exponents, Frac]) -> str:
+        return " + ".join(f"({c})*{text(ys, m)}" for m, c in coeffs.items()) or "0"
+    formula = rename(str(Frac.parse(source, text_of(num)) / Frac.parse(source, text_of(den))),
+                     dict(zip(ys, knowns, strict=True)))
+    return poly(num) / poly(den), formula
