@@ -201,32 +201,83 @@ def test_prove_basis_waits_for_integrals_it_does_not_have():
     assert isinstance(result, Postponed) and "rank" in result.reason
 
 
-def test_discover_first_clebsch_flow_proves_four_independent_integrals():
-    report = discover("clebsch", 2, budget=Budget(600))
+@pytest.fixture(scope="module")
+def clebsch_report():
+    return discover("clebsch", 2, budget=Budget(600))
+
+
+def test_discover_first_clebsch_flow_proves_four_independent_integrals(clebsch_report):
+    report = clebsch_report
     proven = [i for i in report.integrals if i.status is Status.VERIFIED and i.independent]
     assert len(proven) == 4 == report.expected_independent and report.complete
     assert sum('Prop. "prop: even"' in i.method for i in proven) >= 2
-    # independent route: each proven integral, evaluated term by term in Python fractions, takes the same value at x
-    # and at the next two points of an orbit that sympy computes from the printed field (no hkproof map)
-    from fractions import Fraction
-
+    # independent route: each proven integral is constant along an orbit that sympy computes from the printed field
     from hkproof.dynamics.catalogue import get_system
-    from tests.sympy_bridge import kahan_orbit
-    field = get_system("clebsch")
-    values = {"eps": Fraction(1, 3), "w1": Fraction(1, 2), "w2": -2, "w3": 3, "m1": 1, "m2": Fraction(-2, 3),
-              "m3": 2, "p1": Fraction(3, 2), "p2": 1, "p3": -1}
-    orbit = kahan_orbit([str(c) for c in field.rhs], field.variables, values, 2)
+    from tests.sympy_bridge import constant_along_sympy_orbit
+    assert not constant_along_sympy_orbit(get_system("clebsch"), proven)
 
-    def at(poly, names, point) -> Fraction:
-        total = Fraction(0)
-        for exps, c in zip(poly.monoms(), poly.coeffs()):
-            term = Fraction(int(c))
-            for name, e in zip(names, exps):
-                term *= Fraction(str(point[name])) ** int(e)
-            total += term
-        return total
-    for integral in proven:
-        names = integral.frac.ring.names
-        value = [at(integral.frac.num, names, values | dict(x)) / at(integral.frac.den, names, values | dict(x))
-                 for x in orbit]
-        assert value[0] == value[1] == value[2], integral.name
+
+def test_discovered_clebsch_integrals_span_the_field_of_the_theorem_modules(clebsch_report):
+    """J (Th. "dC basis 1"), d_k (Th. "dC basis 2"), A, B, C, D and the alpha coordinates (Th. "dC bases 345"), as
+    the theorem modules prove them, and the four integrals discover proves have Jacobian rank 4 together and each set alone (exact ranks at
+    random rational points: evidence that they generate the same field of integrals)."""
+    from hkproof.api import prove
+    from hkproof.hk.discover import jacobian_points
+    from hkproof.hk.independence import max_jacobian_rank
+    f = kahan_map("clebsch")
+    wanted = {"J", "d7", "d8", "d9", "A", "B", "C", "D", "a1", "a2", "a3"}
+    theorems = {k: v for cert in prove("dc-basis1-relations", "dc-basis2", "dc345-abcd", "dc345-alpha")
+                for k, v in cert.values.items() if k in wanted}
+    assert set(theorems) == wanted
+    theorems = list(theorems.values())
+    found = [i.frac for i in clebsch_report.integrals if i.independent]
+    points = jacobian_points(f.ring.names)
+    assert max_jacobian_rank(theorems, f.variables, points) == 4
+    assert max_jacobian_rank(found, f.variables, points) == 4
+    assert max_jacobian_rank(found + theorems, f.variables, points) == 4
+
+
+def test_a_perturbed_coefficient_in_a_10000_term_numerator_is_refuted(clebsch_report):
+    """The largest basis discover proves, its largest coordinate written over a larger denominator (a numerator of more
+    than 10 000 terms) with one coefficient changed: Prop. "prop: even" refutes it."""
+    from hkproof.algebra.fraction import Frac
+    from hkproof.hk.independence import sample_point
+    from hkproof.hk.reduced import Relation, verify_by_evenness
+    from hkproof.hk.row_check import check_solution_by_rows
+    from hkproof.proof.certificate import Certificate, ProofStopped
+    f = kahan_map("clebsch")
+    proof = max((i.proof for i in clebsch_report.integrals if i.proof is not None),
+                key=lambda p: sum(len(c.num) + len(c.den) for c in p.coordinates))
+    k = max(range(len(proof.coordinates)), key=lambda j: len(proof.coordinates[j].num))
+    c = proof.coordinates[k]
+    factor = Frac.parse(f.ring, "(1 + eps**2*w1*m1*p2 - eps**2*w3*m3**2 + eps**4*w2*p1*p2*m2*m3)**3").num
+    num, den = c.num * factor, c.den * factor
+    assert len(num) > 10_000
+    exps, coeff = num.monoms()[len(num) // 2], num.coeffs()[len(num) // 2]
+    changed = num + f.ring.ctx.from_dict({tuple(exps): 1})         # one coefficient, coeff -> coeff + 1
+    candidate = list(proof.coordinates)
+    candidate[k] = Frac(f.ring, changed, den)
+    assert len(candidate[k].num) > 10_000 and coeff != 0
+    fracs = [Frac.parse(f.ring, t) for t in proof.basis]
+    rows = [Relation(r.combination, r.rhs) for r in proof.relations]
+    cert = Certificate("perturbed", "perturbed", "test", "a perturbed 10 000-term candidate")
+    with pytest.raises(ProofStopped):
+        verify_by_evenness(cert, f, fracs[:-1], fracs[-1], [f"c{k + 1}" for k in range(len(fracs) - 1)], candidate,
+                           sample_point(f.ring.names, 2), (0, 1), rows, check=check_solution_by_rows)
+    assert cert.status is Status.REFUTED
+
+
+@pytest.mark.parametrize("system", ["euler-top", "volterra-3", "volterra-4", "gaudin-2",
+                                    pytest.param("kirchhoff", marks=pytest.mark.slow)])
+def test_integrals_discover_proves_are_constant_along_sympy_orbits(system):
+    """Independent route for every atlas system discover completes: the proven integrals, evaluated term by term,
+    take one value along an orbit sympy computes from the printed field; a perturbed integral does not."""
+    from hkproof.dynamics.catalogue import get_system
+    from tests.sympy_bridge import constant_along_sympy_orbit
+    report = discover(system, 3 if system == "volterra-3" else 2, budget=Budget(600))
+    proven = [i for i in report.integrals if i.status is Status.VERIFIED and i.frac is not None]
+    assert len([i for i in proven if i.independent]) == report.expected_independent + len(report.conserved)
+    assert not constant_along_sympy_orbit(get_system(system), proven)
+    from types import SimpleNamespace
+    eps = Frac.parse(proven[-1].frac.ring, "eps**2*" + report.variables[0])
+    assert constant_along_sympy_orbit(get_system(system), [SimpleNamespace(name="bad", frac=proven[-1].frac + eps)])

@@ -158,7 +158,7 @@ def _from_basis(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, st
                          proof.seconds, f"Prop. \"prop: even\" on the whole basis ({len(proof.relations)} relations "
                          "with proven integrals, coordinates by sparse reconstruction over prime fields)",
                          [] if status >= Status.VERIFIED_SPECIALIZED else [proof.certificate.error],
-                         certificate=proof.certificate)
+                         certificate=proof.certificate, proof=proof)
 
 
 def _dense(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, texts: list[str],

@@ -7,12 +7,16 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import sympy
 
 from hkproof.algebra.fraction import Frac
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
+
+if TYPE_CHECKING:
+    from hkproof.pipelines.discover.solve import BasisProof
 
 __all__ = ["DiscoveryReport", "FoundIntegral", "SKIPPED_SHOWN"]
 
@@ -34,6 +38,7 @@ class FoundIntegral:
     notes: list[str] = field(default_factory=list)
     independent: bool | None = None
     certificate: Certificate | None = None       # the proof (for a basis proven whole, the basis's certificate)
+    proof: BasisProof | None = field(default=None, repr=False, compare=False)   # the basis's data (Prop. "prop: even")
 
     def latex(self) -> str:
         if self.frac is None:
