@@ -15,6 +15,7 @@ import sys
 import traceback
 from typing import NoReturn, Sequence
 
+from hkproof.commands import command_budget
 from hkproof.errors import HKProofError, ResourceLimitError, UsageError
 from hkproof.exit_codes import ExitCode, exit_code_for
 from hkproof.orchestration.interrupts import from_signal, interrupt_label, interrupts_raised
@@ -103,7 +104,8 @@ def _quiet_stdout() -> None:
 
 def _run(argv: list[str]) -> int:
     args = build_parser().parse_args(argv)
-    result = args.run(args)
+    with command_budget(args).active():
+        result = args.run(args)
     if args.json:
         emit(json.dumps(result.payload, indent=2))
     elif result.text:

@@ -120,7 +120,7 @@ def test_budget_reports_what_was_covered(capsys):
     assert not r.complete and any("budget" in c for c in r.covered)
     assert [k["new"] for k in r.kernels] == [1, 2]    # screening always runs before the budget is checked
     assert not r.integrals
-    assert main(["discover", "euler-top", "--seconds", "0"]) == 0
+    assert main(["discover", "euler-top", "--seconds", "0.001"]) == 0
     assert "budget ran out" in capsys.readouterr().out
 
 

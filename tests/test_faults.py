@@ -294,7 +294,8 @@ def test_workers_never_outnumber_tasks(monkeypatch):
             assert pool is None
     assert isinstance(execution.make_executor("process", 8, None, 1), execution.InProcessExecutor)
     started = []
-    monkeypatch.setattr(execution, "DaskExecutor", lambda jobs, scheduler: started.append(jobs))
+    monkeypatch.setattr(execution, "DaskExecutor",
+                        lambda jobs, scheduler: started.append(jobs) or execution.InProcessExecutor())
     monkeypatch.setattr(execution, "dask_client", lambda jobs, scheduler: started.append(jobs) or (_Client(), None))
     execution.make_executor("dask", 8, None, 3)
     with execution.map_executor("dask", 8, None, 2):

@@ -12,6 +12,7 @@ from typing import Any, Callable
 import flint
 
 from hkproof.algebra.formula import read_integer, read_number
+from hkproof.budget import Budget
 from hkproof.dynamics.catalogue import SYSTEMS, kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
@@ -76,18 +77,20 @@ def integer(text: str) -> int:
         raise argparse.ArgumentTypeError(f"{text!r} is not an integer (ASCII digits 0-9)") from None
 
 
-def at_least(minimum: int) -> Callable[[str], int]:
-    """An argparse type: an integer >= minimum (a bad count is a usage error, exit 2).
+def at_least(minimum: int, most: int | None = None) -> Callable[[str], int]:
+    """An argparse type: an integer >= minimum (and <= most, if given); a bad count is a usage error, exit 2.
 
-    >>> at_least(1)("3")
-    3
+    >>> at_least(1)("3"), at_least(1, 8)("8")
+    (3, 8)
     """
     def read(text: str) -> int:
         value = integer(text)
         if value < minimum:
             raise argparse.ArgumentTypeError(f"{value} is too small (at least {minimum})")
+        if most is not None and value > most:
+            raise argparse.ArgumentTypeError(f"{value} is too large (at most {most})")
         return value
-    read.__name__ = f"integer >= {minimum}"
+    read.__name__ = f"integer >= {minimum}" + (f" and <= {most}" if most is not None else "")
     return read
 
 
@@ -102,6 +105,24 @@ def seconds(text: str) -> float:
         raise argparse.ArgumentTypeError(f"{text!r} is not a time budget: give a positive number of seconds, e.g. 60 "
                                          "or 2.5")
     return value
+
+
+def add_budget_option(p: argparse.ArgumentParser, default: float | None = None, *, per_claim: bool = False) -> None:
+    """--seconds: the command's time budget (checked inside every long loop; a partial answer says what it covered),
+    or with `per_claim` the budget of each claim's proof."""
+    what = "time budget of each claim's proof (one that runs out is unknown)" if per_claim else \
+        "time budget: the command stops within it and says what it covered (exit 4 if it has no partial answer)"
+    p.add_argument("--seconds", type=seconds, default=default, metavar="SECONDS",
+                   help=what + (f" (default {default:g})" if default is not None else " (default: no limit)"))
+    p.set_defaults(budget_per_claim=per_claim)
+
+
+def command_budget(args: argparse.Namespace) -> Budget:
+    """The budget a command runs in: its --seconds, unless that is a per-claim budget (or the command has none)."""
+    given = getattr(args, "seconds", None)
+    if given is None or getattr(args, "budget_per_claim", False):
+        return Budget(None)
+    return Budget(given, raise_with=f"a larger --seconds than {given:g}")
 
 
 def add_values_options(p: argparse.ArgumentParser) -> None:
@@ -174,4 +195,5 @@ def add_run_options(parser: argparse.ArgumentParser) -> None:
 
 def run_options(args: argparse.Namespace) -> RunOptions:
     """The RunOptions of --jobs, --executor and --scheduler."""
-    return RunOptions(args.jobs, args.executor, args.scheduler)
+    return RunOptions(args.jobs, args.executor, args.scheduler,
+                      getattr(args, "seconds", None) if getattr(args, "budget_per_claim", False) else None)

@@ -3,7 +3,8 @@ from __future__ import annotations
 
 import argparse
 
-from hkproof.commands import Result, add_command, add_system_argument, add_values_options, at_least, fixed_values
+from hkproof.commands import (Result, add_budget_option, add_command, add_system_argument, add_values_options,
+                              at_least, fixed_values)
 from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.degrees import MAX_DEGREE, Growth
@@ -17,6 +18,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "degrees", "degree growth (algebraic entropy) of the Kahan map: deg f^n for n = 1..N as a "
                     "rational map in lowest terms, by restriction to random lines over large prime fields at random "
                     f"eps and parameters (evidence, not proof). {EPS_CONVENTION}.", run_degrees)
+    add_budget_option(p)
     add_system_argument(p)
     add_values_options(p)
     p.add_argument("--iterates", type=at_least(1), default=8, help="largest n (default 8)")

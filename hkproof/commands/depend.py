@@ -6,8 +6,8 @@ import random
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.formula import check_name, check_new_names, read_integer, split_list
-from hkproof.commands import (Result, add_command, add_system_argument, add_values_options, answer_code, at_least,
-                              fixed_values)
+from hkproof.commands import (Result, add_budget_option, add_command, add_system_argument, add_values_options,
+                              answer_code, at_least, fixed_values)
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ParseError
@@ -21,6 +21,7 @@ __all__ = ["register", "run_depend"]
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "depend", "find relations T * P(U) = Q(U) among integrals, exactly, at fixed eps and "
                     "parameters (evidence: a formula to prove, not a proof)", run_depend)
+    add_budget_option(p)
     add_system_argument(p)
     p.add_argument("--target", required=True, metavar="NAME=EXPR | CLAIM:NAME",
                    help="the function T: a formula, or a formula recorded by a proven claim (e.g. dc-theta:g1)")

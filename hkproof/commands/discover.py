@@ -3,10 +3,12 @@ from __future__ import annotations
 
 import argparse
 
-from hkproof.commands import Result, add_command, add_system_argument, fixed_values, progress_printer
-from hkproof.budget import Budget
+from hkproof.budget import current
+from hkproof.commands import (Result, add_budget_option, add_command, add_system_argument, at_least, fixed_values,
+                              integer, progress_printer)
 from hkproof.dynamics.catalogue import get_system
 from hkproof.pipelines.discover import discover
+from hkproof.pipelines.discover.run import MAX_SEARCH_DEGREE
 
 __all__ = ["register", "run_discover"]
 
@@ -15,12 +17,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "discover", "search HK-bases among monomials of degree <= D, reconstruct the integrals "
                     "and certify them exactly", run_discover)
     add_system_argument(p)
-    p.add_argument("--degree", type=int, default=2, help="largest degree of the basis monomials (default 2)")
+    p.add_argument("--degree", type=at_least(1, MAX_SEARCH_DEGREE), default=2,
+                   help=f"largest degree of the basis monomials (default 2, at most {MAX_SEARCH_DEGREE})")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                    help="fix a parameter to a rational (repeatable); the others stay symbolic")
-    p.add_argument("--seconds", type=float, default=300.0,
-                   help="time budget; the report says what was covered when it runs out (default 300)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the random points and primes (default 0)")
+    add_budget_option(p, 300.0)
+    p.add_argument("--seed", type=integer, default=0, help="seed of the random points and primes (default 0)")
     p.add_argument("--latex", action="store_true", help="print the integrals found as LaTeX")
     p.add_argument("--no-progress", action="store_true", help="no progress lines on stderr")
 
@@ -29,5 +31,5 @@ def run_discover(args: argparse.Namespace) -> Result:
     field = get_system(args.system)
     params = fixed_values(argparse.Namespace(param=args.param, eps=None))    # eps stays symbolic
     report = discover(field, args.degree, params=params, seed=args.seed, progress=progress_printer(args),
-                      budget=Budget(args.seconds, raise_with=f"a larger --seconds than {args.seconds:g}"))
+                      budget=current())
     return Result(report.to_dict(), report.latex() if args.latex else report.text(), 0)

@@ -4,8 +4,8 @@ from __future__ import annotations
 import argparse
 
 from hkproof.algebra.fraction import Frac
-from hkproof.commands import (Result, add_command, add_param_option, add_system_argument, answer_code,
-                              specialized_map)
+from hkproof.commands import (Result, add_budget_option, add_command, add_param_option, add_system_argument,
+                              answer_code, specialized_map)
 from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.hk.modified_hamiltonian import parse_matrix, verify
 from hkproof.proof.status import Status, specialized_label
@@ -20,6 +20,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                     "Hamiltonian H~ = H + (h/3) grad H^T (I - (h/2) F')^-1 F and the measure dx / det(I - (h/2) F') "
                     "of Celledoni-McLachlan-Owren-Quispel (2013) and verify exactly that the Kahan map preserves "
                     f"both. {EPS_CONVENTION}.", run_hamiltonian)
+    add_budget_option(p)
     add_system_argument(p)
     p.add_argument("--hamiltonian", required=True, metavar="H",
                    help="a polynomial of degree <= 3, e.g. 'p**2/2 + q**3'")

@@ -4,8 +4,8 @@ from __future__ import annotations
 import argparse
 
 from hkproof.algebra.fraction import Frac
-from hkproof.commands import (Result, add_command, add_param_option, add_system_argument, answer_code, integer,
-                              specialized_map)
+from hkproof.commands import (Result, add_budget_option, add_command, add_param_option, add_system_argument,
+                              answer_code, integer, specialized_map)
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.experiments.refute import modular_witness
 from hkproof.hk.integrals import check_integral
@@ -18,6 +18,7 @@ __all__ = ["register", "run_integral"]
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "integral", "decide exactly whether EXPR is an integral of the Kahan map of SYSTEM "
                     "(exit 0 verified, 1 refuted)", run_integral)
+    add_budget_option(p)
     add_system_argument(p)
     p.add_argument("expr", help="a rational function in the system's variables, eps (half the time step) and "
                    "parameters, e.g. \"(x1**2 - x2**2)/3\"; decimals are read exactly (0.1 = 1/10)")

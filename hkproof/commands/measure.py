@@ -3,9 +3,10 @@ from __future__ import annotations
 
 import argparse
 
-from hkproof.commands import Result, add_command, add_param_option, add_system_argument, at_least, specialized_map
+from hkproof.commands import (Result, add_budget_option, add_command, add_param_option, add_system_argument, at_least,
+                              integer, specialized_map)
 from hkproof.commands._geometry import EPS_CONVENTION
-from hkproof.pipelines.darboux import search_darboux
+from hkproof.pipelines.darboux import MAX_DARBOUX_DEGREE, search_darboux
 
 __all__ = ["register", "run_measure"]
 
@@ -15,10 +16,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                     "factors of det Df, invariant measures dx/P (rho(f(x)) det Df(x) = rho(x)) and the integrals "
                     "P_i/P_j of equal cofactors: searched mod p at random rational eps and parameters, reconstructed "
                     f"with them symbolic, each checked exactly. {EPS_CONVENTION}.", run_measure)
+    add_budget_option(p)
     add_system_argument(p)
-    p.add_argument("--degree", type=at_least(1), default=4, help="largest degree of P (default 4)")
+    p.add_argument("--degree", type=at_least(1, MAX_DARBOUX_DEGREE), default=4,
+                   help=f"largest degree of P (default 4, at most {MAX_DARBOUX_DEGREE})")
     add_param_option(p)
-    p.add_argument("--seed", type=int, default=0, help="seed of the values, prime and points (default 0)")
+    p.add_argument("--seed", type=integer, default=0, help="seed of the values, prime and points (default 0)")
 
 
 def run_measure(args: argparse.Namespace) -> Result:

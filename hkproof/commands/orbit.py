@@ -5,7 +5,8 @@ import argparse
 from typing import Any
 import random
 
-from hkproof.commands import Result, add_command, add_system_argument, add_values_options, at_least, fixed_values
+from hkproof.commands import (Result, add_budget_option, add_command, add_system_argument, add_values_options,
+                              at_least, fixed_values)
 from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.orbits import exact_orbit
@@ -20,6 +21,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "orbit", "the exact orbit of a rational point under the Kahan map (over Q), stopped when it "
                     "closes (periodic orbit), and a PNG of a float orbit in coordinate projections. "
                     f"{EPS_CONVENTION}.", run_orbit)
+    add_budget_option(p)
     add_system_argument(p)
     p.add_argument("point", help='the initial point: exact rationals separated by commas, e.g. "1/2, 3, -1"')
     p.add_argument("--steps", type=at_least(0), default=20, help="exact steps (default 20)")

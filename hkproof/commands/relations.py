@@ -7,7 +7,7 @@ import random
 import sympy
 
 from hkproof.algebra.formula import split_list
-from hkproof.commands import Result, add_command, answer_code, at_least, fixed_values
+from hkproof.commands import Result, add_budget_option, add_command, answer_code, at_least, fixed_values
 from hkproof.commands.scan import add_scene_options
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.experiments.points import random_values
@@ -20,6 +20,7 @@ __all__ = ["register", "run_relations"]
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "relations", "recipe (E): constant-coefficient linear relations among the kernel "
                     "coordinates of HK-bases with d = 1, with eps and the parameters symbolic", run_relations)
+    add_budget_option(p)
     add_scene_options(p, several_bases=True)
     p.add_argument("--names", help='names of the kernel coordinates, e.g. "c1, c2, c3" (default c1, c2, ...)')
     p.add_argument("--max-degree", type=at_least(0), default=6, help="largest degree of a coefficient tried (default 6)")

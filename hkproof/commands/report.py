@@ -7,7 +7,7 @@ import stat
 import tempfile
 from pathlib import Path
 
-from hkproof.commands import Result, add_command, add_run_options, run_options
+from hkproof.commands import Result, add_budget_option, add_command, add_run_options, run_options
 from hkproof.errors import OutputError
 from hkproof.orchestration.output import output_error
 from hkproof.orchestration.registry import select
@@ -19,6 +19,7 @@ __all__ = ["register", "run_report", "writable_target", "write_atomically"]
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "report", "prove every theorem and write the Markdown table of theorems", run_report)
+    add_budget_option(p, per_claim=True)
     p.add_argument("--write", metavar="FILE", help="write the Markdown to FILE (default: print it)")
     p.add_argument("--no-slow", action="store_true", help="do not run claims marked slow")
     add_run_options(p)

@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import argparse
 
-from hkproof.commands import (Result, add_command, add_run_options, add_system_argument, add_values_options, at_least,
-                              fixed_values)
+from hkproof.commands import (Result, add_budget_option, add_command, add_run_options, add_system_argument,
+                              add_values_options, at_least, fixed_values)
 from hkproof.experiments.profiles import HK_BASIS, SINGULAR, KernelProfile
 from hkproof.experiments.scan import ScanResult, parallel_tasks, scan
 from hkproof.orchestration.execution import map_executor
@@ -15,6 +15,7 @@ __all__ = ["add_scene_options", "format_scan", "register", "run_scan"]
 def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "scan", "algorithm (N): kernel-dimension profiles of a candidate HK-basis at random points",
                     run_scan)
+    add_budget_option(p)
     add_scene_options(p)
     p.add_argument("--points", type=at_least(1), default=10, help="number of random initial points (default 10)")
     p.add_argument("--arithmetic", choices=["exact", "modular", "float", "mpmath"], default="exact",

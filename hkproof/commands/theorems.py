@@ -6,7 +6,7 @@ import json
 import sys
 from typing import Callable, Sequence
 
-from hkproof.commands import Result, add_command, add_run_options, run_options
+from hkproof.commands import Result, add_budget_option, add_command, add_run_options, run_options
 from hkproof.errors import HKProofError
 from hkproof.exit_codes import ExitCode, exit_code_for
 from hkproof.orchestration.interrupts import interrupt_label, interrupts_raised
@@ -22,6 +22,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = add_command(sub, "list", "list the theorems of the paper that hkproof certifies", run_list)
     p.add_argument("--group", action="append", default=[], help="only this theorem group (repeatable)")
     p = add_command(sub, "prove", "prove theorems and print their certificates", run_prove)
+    add_budget_option(p, per_claim=True)
     p.add_argument("ids", nargs="*", help="theorem ids (see `hkproof list`)")
     p.add_argument("--all", action="store_true", help="every theorem, slow ones included")
     p.add_argument("--group", action="append", default=[], help="every theorem of this group (repeatable)")

@@ -25,11 +25,12 @@ __all__ = ["dask_client", "DaskExecutor", "Executor", "EXECUTORS", "InProcessExe
 EXECUTORS = ("process", "dask")
 
 
-def prove_citing(claim_id: str, cited: Mapping[str, Certificate]) -> Certificate:
-    """A worker's task: the run's cache seeded with the certificates `claim_id` cites, then the claim proven once."""
+def prove_citing(claim_id: str, cited: Mapping[str, Certificate], seconds: float | None = None) -> Certificate:
+    """A worker's task: the run's cache seeded with the certificates `claim_id` cites, then the claim proven once
+    (within `seconds`, if given)."""
     load_all()
     remember(cited.values())
-    return get_claim(claim_id).prove()
+    return get_claim(claim_id).prove(seconds=seconds)
 
 
 def worker_failed(claim_id: str, exc: BaseException) -> Certificate:
@@ -42,9 +43,10 @@ def worker_failed(claim_id: str, exc: BaseException) -> Certificate:
 
 class Executor:
     """Runs proofs somewhere: `submit` one claim with the certificates it cites, `wait` until some finish.
-    `slots` is how many proofs it runs at once."""
+    `slots` is how many proofs it runs at once, `seconds` the budget of each proof (None: no limit)."""
 
     slots = 1
+    seconds: float | None = None
 
     def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
         raise NotImplementedError
@@ -72,7 +74,7 @@ class InProcessExecutor(Executor):
 
     def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
         handle = next(self._handles)
-        self._done[handle] = get_claim(claim_id).prove()
+        self._done[handle] = get_claim(claim_id).prove(seconds=self.seconds)
         return handle
 
     def wait(self, handles: Sequence[Hashable]) -> list[tuple[Hashable, Certificate]]:
@@ -89,8 +91,8 @@ def _serve(conn: Connection) -> None:
             return
         if task is None:
             return
-        claim_id, cited = task
-        cert = prove_citing(claim_id, cited)
+        claim_id, cited, seconds = task
+        cert = prove_citing(claim_id, cited, seconds)
         try:
             conn.send(cert)
         except OSError:     # the parent is gone
@@ -129,11 +131,11 @@ class ProcessPoolExecutor(Executor):
     def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
         worker = self._idle.pop() if self._idle else _Worker()
         try:
-            worker.conn.send((claim_id, dict(cited)))
+            worker.conn.send((claim_id, dict(cited), self.seconds))
         except OSError:  # the worker died while idle
             self._discard(worker)
             worker = _Worker()
-            worker.conn.send((claim_id, dict(cited)))
+            worker.conn.send((claim_id, dict(cited), self.seconds))
         self._busy.append(worker)
         return _Task(claim_id, worker)
 
@@ -190,7 +192,7 @@ class DaskExecutor(Executor):
         self._claims: dict[Hashable, str] = {}
 
     def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
-        future = self._client.submit(prove_citing, claim_id, dict(cited), key=f"prove-{claim_id}-{uuid.uuid4().hex}")
+        future = self._client.submit(prove_citing, claim_id, dict(cited), self.seconds, key=f"prove-{claim_id}-{uuid.uuid4().hex}")
         self._claims[future] = claim_id
         return future
 
@@ -268,14 +270,18 @@ def map_executor(kind: str, jobs: int, scheduler: str | None, tasks: int
         yield None
 
 
-def make_executor(kind: str, jobs: int, scheduler: str | None, tasks: int) -> Executor:
+def make_executor(kind: str, jobs: int, scheduler: str | None, tasks: int, seconds: float | None = None) -> Executor:
     """The executor for `--executor kind --jobs jobs [--scheduler ADDRESS]`, for `tasks` proofs to run: never more
-    workers than tasks, and none when every claim is already proven."""
+    workers than tasks, and none when every claim is already proven; each proof within `seconds` (if given)."""
     _check_run_options(kind, scheduler)
     workers = min(jobs, tasks)
+    executor: Executor
     if kind == "dask" and workers >= 1:
-        return DaskExecutor(workers, scheduler)
-    return ProcessPoolExecutor(workers) if workers > 1 else InProcessExecutor()
+        executor = DaskExecutor(workers, scheduler)
+    else:
+        executor = ProcessPoolExecutor(workers) if workers > 1 else InProcessExecutor()
+    executor.seconds = seconds
+    return executor
 
 
 def run_graph(claim_ids: Iterable[str], executor: Executor,

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Iterable, Mapping
 
 from hkproof.errors import UnknownClaimError
+from hkproof.budget import Budget
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 
@@ -43,10 +44,12 @@ class Claim:
         """A conjecture or a specialized result: the registry promises less than `verified`."""
         return self.expected < Status.VERIFIED
 
-    def prove(self, overrides: Mapping[str, str] | None = None) -> Certificate:
+    def prove(self, overrides: Mapping[str, str] | None = None, seconds: float | None = None) -> Certificate:
         """The certificate of this claim: the run's cached one when unperturbed (proven at most once per run);
-        with `overrides` (replacing claimed formulas: a perturbed claim must be refuted) proven afresh, never cached."""
-        return self.certify(overrides) if overrides else proven(self.id)
+        with `overrides` (replacing claimed formulas: a perturbed claim must be refuted) proven afresh, never cached.
+        With `seconds`, the proof runs within that budget; when it runs out, the certificate is `unknown` and says so."""
+        with Budget(seconds, raise_with="a larger --seconds (per claim)").active():
+            return self.certify(overrides) if overrides else proven(self.id)
 
     def certify(self, overrides: Mapping[str, str] | None = None) -> Certificate:
         """Run the prover now. Total: any exception of the prover (a bug included, KeyboardInterrupt excepted)

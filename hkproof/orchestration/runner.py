@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
+from hkproof.errors import BudgetExhausted
 from hkproof.exit_codes import ExitCode
 from hkproof.orchestration.execution import make_executor, run_graph
 from hkproof.orchestration.graph import in_dependency_order
@@ -25,6 +26,7 @@ class RunOptions:
     jobs: int = 1
     executor: str = "process"
     scheduler: str | None = None
+    seconds: float | None = None     # the budget of each claim's proof (None: no limit)
 
 
 @dataclass
@@ -44,7 +46,12 @@ class Run:
     def exit_code(self) -> ExitCode:
         if self.interrupted:
             return ExitCode.INTERRUPTED
-        return ExitCode.VERIFIED if all(c.succeeded(cert) for c, cert in self.finished) else ExitCode.REFUTED
+        failed = [cert for c, cert in self.finished if not c.succeeded(cert)]
+        if not failed:
+            return ExitCode.VERIFIED
+        if all(cert.status is not Status.REFUTED and _ran_out(cert) for cert in failed):
+            return ExitCode.LIMIT      # nothing refuted: the per-claim budget stopped a proof (or one it cites)
+        return ExitCode.REFUTED
 
     def payload(self) -> list[dict]:
         return [certificate_payload(cert) for _, cert in self.finished]
@@ -74,6 +81,14 @@ class Run:
                 "failed": [c.id for c, cert in self.finished if not c.succeeded(cert)]}
 
 
+def _ran_out(cert: Certificate) -> bool:
+    """The proof stopped on its budget, or on a cited claim that did (the run's cache holds the cited ones)."""
+    if cert.error.startswith(f"{BudgetExhausted.__name__}:"):
+        return True
+    return any(cited is not None and cited.status is not Status.VERIFIED and _ran_out(cited)
+               for cited in map(cached, cert.cites))
+
+
 def certificate_payload(cert: Certificate) -> dict:
     """A certificate as JSON, with what its claim promises."""
     return {**cert.to_dict(), "expected": REGISTRY[cert.claim_id].expected.label}
@@ -94,7 +109,7 @@ def execute(claims: Sequence[Claim], options: RunOptions = RunOptions(),
 
     executor = None
     try:
-        executor = make_executor(options.executor, options.jobs, options.scheduler, tasks)
+        executor = make_executor(options.executor, options.jobs, options.scheduler, tasks, options.seconds)
         run_graph(ids, executor, done)
     except KeyboardInterrupt as exc:
         run.interrupted, run.interrupted_by = True, interrupt_label(exc)

@@ -24,13 +24,15 @@ from hkproof.algebra.ring import Ring, get_ring
 from hkproof.dynamics.field import EPS, STEP_CONVENTION
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.dynamics.modular_map import ModularKahanMap
-from hkproof.errors import HKProofError, SingularSystemError
+from hkproof.errors import BudgetExhausted, HKProofError, SingularSystemError
 from hkproof.hk.darboux import (Atom, Cofactor, DarbouxPolynomial, candidate_cofactors, check_at_points,
                                 check_darboux, cofactor_value, jacobian_atoms)
 from hkproof.hk.jacobian import matrix_identity_holds
 from hkproof.proof.status import Status, specialized_label
 
-__all__ = ["DarbouxSearch", "JACOBIAN", "ModularScene", "search_darboux"]
+__all__ = ["DarbouxSearch", "JACOBIAN", "MAX_DARBOUX_DEGREE", "ModularScene", "search_darboux"]
+
+MAX_DARBOUX_DEGREE = 8      # C(n + 8, 8) monomials times the cofactors: already 12 870 unknowns per cofactor for n = 8
 
 JACOBIAN = "det Df(x) = det M(f(x), -eps) / det M(x, eps), from M(x, eps) Df(x) = M(f(x), -eps)"
 
@@ -50,6 +52,11 @@ class DarbouxSearch:
     jacobian_lemma: bool = False
     symbolic: bool = True
     fixed: dict[str, flint.fmpq] = field(default_factory=dict)     # parameters the user fixed (specialized map)
+    stopped: str = ""       # why the search stopped early (a budget ran out); "" when it covered everything
+
+    @property
+    def complete(self) -> bool:
+        return not self.stopped
 
     def densities(self) -> list[tuple[str, Status]]:
         """1/P for each P with cofactor det Df (rho(f(x)) det Df(x) = rho(x)); 1 itself when det Df = 1."""
@@ -88,7 +95,7 @@ class DarbouxSearch:
                 "integrals": [{"expr": e, "status": label(st)} for e, st in self.integrals()],
                 "search": {"values": {k: str(v) for k, v in self.values.items()}, "prime": self.prime,
                            "symbolic": self.symbolic},
-                "unverified": self.unverified}
+                "unverified": self.unverified, "complete": self.complete, "stopped": self.stopped or None}
 
     def text(self) -> str:
         """The report for a person."""
@@ -110,6 +117,8 @@ class DarbouxSearch:
                          "every P above reconstructed with eps and the parameters symbolic" if self.symbolic else
                          "the system is too large for the symbolic reconstruction: every P above holds at these "
                          "values only (evidence)"))
+        if self.stopped:
+            lines.append(f"INCOMPLETE: {self.stopped}")
         return "\n".join(lines)
 
 
@@ -302,8 +311,9 @@ def search_darboux(kmap: KahanMap, degree: int = 4, *, seed: int = 0, symbolic_l
     `symbolic_limit` phase variables; otherwise reconstructed at the search's rational eps and parameters and checked
     at random exact points there (evidence(exact) at those values only). `fixed`: the parameter values that made
     `kmap` a specialization (its results are then verified(specialized))."""
-    if degree < 1:
-        raise HKProofError(f"the degree must be at least 1, got {degree}")
+    if not 1 <= degree <= MAX_DARBOUX_DEGREE:
+        raise HKProofError(f"the degree of the Darboux polynomials must be between 1 and {MAX_DARBOUX_DEGREE}, got "
+                           f"{degree}")
     rng = random.Random(seed)
     atoms, jac = jacobian_atoms(kmap, expand_limit=symbolic_limit)
     cofactors = candidate_cofactors(jac)
@@ -316,11 +326,22 @@ def search_darboux(kmap: KahanMap, degree: int = 4, *, seed: int = 0, symbolic_l
         values = {EPS: flint.fmpq(1, rng.randint(3, 11)),
                   **dict(zip(kmap.field.parameters, map(flint.fmpq, ints), strict=True))}
     prime = random_prime(rng)
-    scene = ModularScene(kmap, atoms, values, prime)
-    kernels = modular_kernels(scene, cofactors, monos, rng)
     result = DarbouxSearch(kmap.field.name, degree, atoms, jac, values=values, prime=prime,
                            jacobian_lemma=matrix_identity_holds(kmap), symbolic=symbolic, fixed=dict(fixed or {}))
-    rows = SymbolicRows(kmap, atoms, random.Random(seed + 1))
+    try:
+        _search(kmap, result, cofactors, monos, rng, random.Random(seed + 1), progress)
+    except BudgetExhausted as exc:
+        result.stopped = f"{exc}; the polynomials listed were found before it ran out"
+    return result
+
+
+def _search(kmap: KahanMap, result: DarbouxSearch, cofactors: Sequence[Cofactor], monos: Sequence[Exponents],
+            rng: random.Random, row_rng: random.Random, progress: Callable[[DarbouxPolynomial], None] | None) -> None:
+    """The modular kernels per cofactor, then each kernel vector reconstructed and checked (filling `result`)."""
+    atoms, symbolic, values = result.atoms, result.symbolic, result.values
+    scene = ModularScene(kmap, atoms, values, result.prime)
+    kernels = modular_kernels(scene, cofactors, monos, rng)
+    rows = SymbolicRows(kmap, atoms, row_rng)
     one = tuple(0 for _ in atoms)
     for k, basis in kernels.items():
         cof = cofactors[k]
@@ -349,4 +370,3 @@ def search_darboux(kmap: KahanMap, degree: int = 4, *, seed: int = 0, symbolic_l
             result.darboux.append(DarbouxPolynomial(p, cof, status, how))
             if progress:
                 progress(result.darboux[-1])
-    return result
