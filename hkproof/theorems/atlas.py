@@ -120,13 +120,14 @@ _register(Entry("toda-3", 3, (), 4), "Periodic Toda lattice, N = 3 (Flaschka var
           "Up to degree 3 the Kahan map has only the linear integral b1 + b2 + b3: no deformation of the energy or of "
           "a1 a2 a3 of degree <= 3 survives; Liouville integrability would need 4", 1, "1,0,0", 1)
 _register(Entry("kirchhoff", 2, (), 4, seconds=900.0), "Kirchhoff case of a rigid body in "
-          "an ideal fluid", "The Kahan map keeps m3 and a deformed quadric ratio (2 independent integrals proven); "
-          "the degree-2 kernel of the moving coordinates carries 3 independent integrals, with m3 the 4 Liouville "
-          "integrability needs; the other 2 are beyond dense reconstruction", 2, "0,3", 3, slow=True)
+          "an ideal fluid", "The Kahan map has 4 functionally independent rational integrals proven (the conserved m3, "
+          "a deformed quadric ratio by interpolation, and two more from whole HK-bases by Prop. \"prop: even\" with "
+          "relations whose right-hand sides are proven integrals), what Liouville integrability needs (2 Casimirs + 2)",
+          4, "0,3", 3, slow=True)
 _register(Entry("gaudin-2", 2, (), 4, seconds=900.0), "Classical Gaudin magnet, two spins in a field",
-          "The Kahan map has 4 functionally independent rational integrals proven (s3 + t3, two deformed quadric "
-          "ratios by interpolation, and one more by recipe (E) with Prop. \"prop: even\"), all that the degree-2 "
-          "kernel carries and what Liouville integrability needs (2 Casimirs + 2)", 4, "1,3", 4, slow=True)
+          "The Kahan map has 4 functionally independent rational integrals proven (s3 + t3, a deformed quadric "
+          "ratio by interpolation, and two more from whole HK-bases by Prop. \"prop: even\"), all that the degree-2 "
+          "kernel carries and what Liouville integrability needs (2 Casimirs + 2)", 4, "1,3", 4)
 # the commuting flow's integrals have larger coefficients in a_i: its parameters are fixed (verified(specialized))
 _A_FIXED = (("a1", "1"), ("a2", "2"), ("a3", "3"), ("a4", "5"))
 for _name, _title, _fixed in (("so4-euler-top", "Euler top on so(4), Manakov case", ()),
@@ -134,5 +135,6 @@ for _name, _title, _fixed in (("so4-euler-top", "Euler top on so(4), Manakov cas
     _register(Entry(_name, 2, _fixed, 4, seconds=900.0), _title,
               "The orbits lie on 4 quadrics (kernel of the 28 quadratic monomials) whose coordinates carry 4 "
               "independent integrals, what Liouville integrability needs (2 Casimirs + 2); one of them, a ratio of "
-              "quadrics, is reconstructed and proven, the others exceed dense reconstruction (degree >= 10)",
+              "quadrics, is reconstructed and proven; the others need relations with integral coefficients or bases "
+              "solved together (docs/discover.md, Limits)",
               1, "0,4", 4, slow=True)
