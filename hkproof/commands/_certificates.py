@@ -40,10 +40,16 @@ def write_certificate(target: Path | None, doc: dict | None, payload: dict) -> s
 
 
 def theorem_document(certs: Sequence[Certificate]) -> dict:
-    """The recorded steps of the theorems' certificates (those that verified), in the order they ran."""
-    done = [c for c in certs if c.status >= Status.VERIFIED_SPECIALIZED]
-    return document(f"theorems {', '.join(c.claim_id for c in done)}",
-                    " ".join(c.statement for c in done), [], certificates=done)
+    """The recorded steps of the verified theorems' certificates, in the order they ran; a theorem whose relations
+    use integrals proven by another claim (not written in this file's integrals) is listed under "not exported"."""
+    done = [c for c in certs if c.status >= Status.VERIFIED_SPECIALIZED and c.checks]
+    kept = [c for c in done if not any("cites" in s for s in c.checks)]
+    doc = document(f"theorems {', '.join(c.claim_id for c in kept)}", " ".join(c.statement for c in kept), [],
+                   certificates=kept)
+    doc["claim"]["not exported"] = {c.claim_id: "a relation uses integrals proven by "
+                                    f"{', '.join(sorted({x for s in c.checks for x in s.get('cites', [])}))}"
+                                    for c in done if all(c is not k for k in kept)}
+    return doc
 
 
 def discover_document(report: DiscoveryReport) -> dict:

@@ -159,7 +159,13 @@ def _record(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], target: Fr
         if point is None:
             return
     rows = [relation_data(r.coefficients, r.formula or r.rhs, r.uses) for r in relations]
-    cert.checks.append(prop_even_step(kmap.field, basis, target, names, solution, iterates, rows, point))
+    step = prop_even_step(kmap.field, basis, target, names, solution, iterates, rows, point)
+    phase = set(kmap.variables)
+    cited = [r.source for r in relations
+             if not r.formula and any(q.variables() & phase for q in (*r.coefficients, r.rhs))]
+    if cited:
+        step["cites"] = cited       # integrals proven by other claims, not written in the file's integrals
+    cert.checks.append(step)
 
 
 def _det_or_zero(kmap: KahanMap, basis: Sequence[Frac], iterates: Sequence[int], relations: Sequence[Relation],
