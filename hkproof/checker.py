@@ -283,8 +283,8 @@ def _substitution(f: KahanData, step: Any, known: Mapping[str, Frac], where: str
 
 
 def _prop_even(f: KahanData, step: Any, known: Mapping[str, Frac], where: str) -> dict[str, Frac]:
-    """Prop. "prop: even": (1) det != 0 at a rational point, (2) rows i in a non-symmetric range of {-1, 0, 1}
-    containing 0, relation data even in eps and written in integrals proven before, (3) every component even in eps,
+    """Prop. "prop: even": (1) det != 0 at a rational point, (2) basis functions even in eps, rows i in a
+    non-symmetric range of {-1, 0, 1} containing 0, relation data even in eps and written in integrals proven before, (3) every component even in eps,
     (4) every row satisfied exactly. Then the components are integrals."""
     basis = [f.parse(t, where) for t in _strings(step, "basis", where)]
     target = f.parse(_get(step, "target", str, where), where)
@@ -293,6 +293,8 @@ def _prop_even(f: KahanData, step: Any, known: Mapping[str, Frac], where: str) -
     iterates = _get(step, "iterates", list, where)
     if sorted(iterates) not in ([0, 1], [-1, 0]):
         raise CertificateError(f"{where}: iterates {iterates}: this checker takes rows i in {{0, 1}} or {{-1, 0}}")
+    if not all(phi.is_even_in(EPS) for phi in (*basis, target)):
+        raise CertificateError(f"{where}: Prop. \"prop: even\" needs basis functions even in eps")
     if len(names) != len(basis) or len(solution) != len(basis) or set(names) & {*f.ring.names, *known}:
         raise CertificateError(f"{where}: {len(basis)} basis functions need as many new component names and values")
     scope, rows = dict(known), []

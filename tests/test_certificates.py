@@ -113,6 +113,7 @@ MUTATIONS = {
     "a component that is not even": (lambda d: d["steps"][0]["solution"].__setitem__(
         0, f"({d['steps'][0]['solution'][0]}) + eps"), "refuted"),
     "a swapped basis element": (_swap_basis, "refuted"),
+    "a basis function odd in eps": (lambda d: d["steps"][0]["basis"].__setitem__(0, "eps*x1**2"), "malformed"),
     "a changed relation": (lambda d: d["steps"][2]["relations"][0].__setitem__("rhs", "eps**2*w1 + eps**2*w2"),
                            "refuted"),
     "a dropped relation": (lambda d: d["steps"][2].__setitem__("relations", []), "malformed"),
