@@ -1,7 +1,7 @@
 """Exceptions of hkproof: each message says what was wrong and what to do about it."""
 
-__all__ = ["BudgetExhausted", "DependentBasisError", "FormulaTooLargeError", "HKProofError", "NotQuadraticError",
-           "ParseError", "ResourceLimitError", "RingMismatchError", "ShapeError", "SingularPointError",
+__all__ = ["BudgetExhausted", "CertificateError", "DependentBasisError", "FormulaTooLargeError", "HKProofError",
+           "NotQuadraticError", "ParseError", "ResourceLimitError", "RingMismatchError", "ShapeError", "SingularPointError",
            "SingularSystemError", "UnknownClaimError", "UnknownSymbolError", "UnknownSystemError", "UnluckyPrimeError",
            "UsageError"]
 
@@ -57,6 +57,11 @@ class UsageError(HKProofError):
 class OutputError(HKProofError):
     """Output could not be written where it was asked to go (a FILE that is no regular file, a directory that takes
     no new file, a closed or failing output stream)."""
+
+
+class CertificateError(HKProofError):
+    """A certificate file that cannot be checked: not JSON, another format or version, a missing or ill-typed entry,
+    a step kind the checker does not know, or a step whose data does not make the claimed argument (exit 2)."""
 
 
 class ShapeError(HKProofError):

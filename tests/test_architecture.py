@@ -14,6 +14,8 @@ PACKAGE = ROOT / "hkproof"
 LAYERS = [
     ("base", ("hkproof.errors", "hkproof.exit_codes", "hkproof.budget")),
     ("algebra", ("hkproof.algebra",)),
+    # the certificate checker trusts the parser and FLINT only (docs/certificates.md)
+    ("checker", ("hkproof.checker",)),
     ("dynamics", ("hkproof.dynamics",)),
     ("proof kernel", ("hkproof.proof",)),
     ("hk", ("hkproof.hk",)),

@@ -6,6 +6,8 @@ import argparse
 from hkproof.budget import current
 from hkproof.commands import (Result, add_budget_option, add_command, add_system_argument, at_least, fixed_values,
                               integer, progress_printer)
+from hkproof.commands._certificates import (add_certificate_option, certificate_target, discover_document,
+                                            write_certificate)
 from hkproof.dynamics.catalogue import get_system
 from hkproof.pipelines.discover import discover
 from hkproof.pipelines.discover.run import MAX_SEARCH_DEGREE
@@ -25,11 +27,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=integer, default=0, help="seed of the random points and primes (default 0)")
     p.add_argument("--latex", action="store_true", help="print the integrals found as LaTeX")
     p.add_argument("--no-progress", action="store_true", help="no progress lines on stderr")
+    add_certificate_option(p)
 
 
 def run_discover(args: argparse.Namespace) -> Result:
+    target = certificate_target(args)
     field = get_system(args.system)
     params = fixed_values(argparse.Namespace(param=args.param, eps=None))    # eps stays symbolic
     report = discover(field, args.degree, params=params, seed=args.seed, progress=progress_printer(args),
                       budget=current())
-    return Result(report.to_dict(), report.latex() if args.latex else report.text(), 0)
+    payload = report.to_dict()
+    text = report.latex() if args.latex else report.text()
+    if target is not None:
+        text += write_certificate(target, discover_document(report), payload)
+    return Result(payload, text, 0)

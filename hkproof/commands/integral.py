@@ -6,10 +6,12 @@ import argparse
 from hkproof.algebra.fraction import Frac
 from hkproof.commands import (Result, add_budget_option, add_command, add_param_option, add_system_argument,
                               answer_code, integer, specialized_map)
+from hkproof.commands._certificates import add_certificate_option, certificate_target, write_certificate
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.experiments.refute import modular_witness
 from hkproof.hk.integrals import check_integral
 from hkproof.hk.recipe_g import recipe_g
+from hkproof.proof.export import document, field_data, substitution_step
 from hkproof.proof.status import Status
 
 __all__ = ["register", "run_integral"]
@@ -27,9 +29,11 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "with cofactors checked by expansion")
     add_param_option(p)
     p.add_argument("--seed", type=integer, default=0, help="seed of the random point of the first, modular check")
+    add_certificate_option(p)
 
 
 def run_integral(args: argparse.Namespace) -> Result:
+    target = certificate_target(args)
     full, f, fixed = specialized_map(args)
     h = full.field.parse(args.expr)
     if fixed:
@@ -47,14 +51,25 @@ def run_integral(args: argparse.Namespace) -> Result:
         return Result(payload, f"refuted: {args.expr} is not an integral of the Kahan map of {f.field.name}: "
                       f"{witness.text()}", answer_code(False))
     if args.method == "groebner":
-        return _run_recipe_g(f, h, args.expr, status, payload)
-    verdict = check_integral(f, h)
-    ok = verdict.status is Status.VERIFIED
-    label = status.label if ok else Status.REFUTED.label
-    payload.update({**verdict.to_dict(), "verdict": label})
-    text = (f"{label}: {args.expr} is {'an' if ok else 'not an'} integral of the Kahan map of {f.field.name} "
-            f"(exact, in {verdict.ring}, by {verdict.method})" + "".join(f"\nnote: {n}" for n in notes))
-    return Result(payload, text, answer_code(ok))
+        result = _run_recipe_g(f, h, args.expr, status, payload)
+        step = {"kind": "recipe-g", "field": field_data(f.field), "function": str(h),
+                "multiplier": payload.get("multiplier"), "integrals": [{"name": "h", "formula": str(h), "from": "h"}]}
+    else:
+        verdict = check_integral(f, h)
+        ok = verdict.status is Status.VERIFIED
+        label = status.label if ok else Status.REFUTED.label
+        payload.update({**verdict.to_dict(), "verdict": label})
+        text = (f"{label}: {args.expr} is {'an' if ok else 'not an'} integral of the Kahan map of {f.field.name} "
+                f"(exact, in {verdict.ring}, by {verdict.method})" + "".join(f"\nnote: {n}" for n in notes))
+        result = Result(payload, text, answer_code(ok))
+        step = substitution_step(f.field, "h", h)
+    if result.exit_code != 0 and target is not None:
+        result.text += f"\nno certificate written to {target}: the claim is not verified"
+    elif result.exit_code == 0:
+        doc = document(f"an integral of the Kahan map of {f.field.name}", f"h = {h} is an integral of the Kahan map "
+                       f"of {f.field.name}", [step], {k: str(v) for k, v in fixed.items()})
+        result.text += write_certificate(target, doc, payload)
+    return result
 
 
 def _run_recipe_g(f: KahanMap, h: Frac, expr: str, status: Status, payload: dict) -> Result:

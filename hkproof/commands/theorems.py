@@ -7,6 +7,8 @@ import sys
 from typing import Callable, Sequence
 
 from hkproof.commands import Result, add_budget_option, add_command, add_run_options, run_options
+from hkproof.commands._certificates import (add_certificate_option, certificate_target, theorem_document,
+                                            write_certificate)
 from hkproof.errors import HKProofError
 from hkproof.exit_codes import ExitCode, exit_code_for
 from hkproof.orchestration.interrupts import interrupt_label, interrupts_raised
@@ -29,6 +31,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-slow", action="store_true", help="with --all or --group: skip theorems marked slow")
     p.add_argument("--jsonl", action="store_true",
                    help="print each certificate as one JSON line as it completes, then a summary line")
+    add_certificate_option(p)
     add_run_options(p)
 
 
@@ -45,8 +48,13 @@ def run_list(args: argparse.Namespace) -> Result:
 def run_prove(args: argparse.Namespace) -> Result:
     if not (args.ids or args.all or args.group):
         args.all = True
+    target = certificate_target(args)
     claims = select(ids=args.ids, groups=args.group, include_slow=not args.no_slow)
-    payload, closing, code = prove_claims(claims, args)  # certificates are printed as they complete
+    done: list[Certificate] = []
+    payload, closing, code = prove_claims(claims, args, done.append)  # certificates are printed as they complete
+    if target is not None:
+        summary: dict = {}
+        closing += write_certificate(target, theorem_document(done), summary)
     return Result(payload, closing, code)
 
 
@@ -59,13 +67,20 @@ def streaming(args: argparse.Namespace) -> Callable[[Certificate], None]:
     return lambda cert: emit(cert.render())
 
 
-def prove_claims(claims: Sequence[Claim], args: argparse.Namespace) -> tuple[list[dict], str, int]:
-    """Prove, streaming each certificate; the JSON payload, the closing text (summary; with --jsonl a JSON line),
-    and the exit code (0 all succeeded, 1 some did not, 130 interrupted)."""
+def prove_claims(claims: Sequence[Claim], args: argparse.Namespace,
+                 keep: Callable[[Certificate], None] | None = None) -> tuple[list[dict], str, int]:
+    """Prove, streaming each certificate (and handing it to `keep`); the JSON payload, the closing text (summary;
+    with --jsonl a JSON line), and the exit code (0 all succeeded, 1 some did not, 130 interrupted)."""
     if args.json and getattr(args, "jsonl", False):
         raise HKProofError("--json (one JSON array at the end) and --jsonl (one JSON object per line) exclude each "
                            "other: choose one")
-    run = execute(claims, run_options(args), streaming(args))
+    show = streaming(args)
+
+    def completed(cert: Certificate) -> None:
+        show(cert)
+        if keep is not None:
+            keep(cert)
+    run = execute(claims, run_options(args), completed)
     if run.interrupted and args.json:
         print(run.summary().strip(), file=sys.stderr)
     closing = json.dumps(run.summary_record()) if getattr(args, "jsonl", False) else run.summary()

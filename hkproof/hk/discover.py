@@ -19,6 +19,7 @@ from hkproof.errors import SingularPointError
 from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.integrals import check_integral
 from hkproof.proof.certificate import Certificate, ProofStopped
+from hkproof.proof.export import substitution_step
 from hkproof.proof.status import Status
 
 __all__ = ["certify", "independent_subset", "is_phase_constant", "jacobian_points"]
@@ -36,6 +37,7 @@ def certify(kmap: KahanMap, h: Frac, fixed: Mapping[str, Rational] | None = None
             s.require(verdict.status is Status.VERIFIED,
                       f"{verdict.method} is not zero in {verdict.ring} ({verdict.difference_terms} terms)")
             s.note(f"{verdict.method} = 0 in {verdict.ring}")
+        cert.checks.append(substitution_step(kmap.field, name, h.to_ring(kmap.ring)))
     except ProofStopped as exc:
         cert.error = str(exc)
     cert.formula(name, h)

@@ -12,7 +12,9 @@ from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
+from hkproof.hk.independence import sample_point
 from hkproof.proof.certificate import Certificate
+from hkproof.proof.export import prop_even_step, relation_data
 
 __all__ = ["block_rows_at", "check_solution", "det_at_point", "even_components", "hk_row", "kernel_coordinates",
            "linear_combination_equals", "orbit_points", "prop_even_hypotheses", "prove_by_evenness", "Relation",
@@ -25,12 +27,15 @@ SolutionCheck = Callable[..., bool]
 class Relation:
     """A linear relation sum coefficients[k] * a_k = rhs among the unknowns (recipe E).
 
-    `source` names what makes rhs an integral: 'constant', or the id of the claim that proved it.
+    `source` names what makes rhs an integral: 'constant', or the id of the claim that proved it; `formula` is rhs
+    as text over the integrals named in `uses` (for a certificate file), when rhs depends on the phase variables.
     """
 
     coefficients: Sequence[Frac]
     rhs: Frac
     source: str = "constant"
+    formula: str = ""
+    uses: Sequence[str] = ()
 
 
 def hk_row(kmap: KahanMap, basis: Sequence[Frac], target: Frac, i: int) -> tuple[list[Frac], Frac]:
@@ -139,7 +144,37 @@ def verify_by_evenness(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac],
         for n, a in zip(names, candidate, strict=True):
             cert.formula(n, a)
     _prop_even_checks(cert, kmap, basis, target, names, iterates, relations, list(candidate), check)
+    _record(cert, kmap, basis, target, names, candidate, iterates, relations, point)
     return list(candidate)
+
+
+def _record(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], target: Frac, names: Sequence[str],
+            solution: Sequence[Frac], iterates: Sequence[int], relations: Sequence[Relation],
+            point: Mapping[str, Rational] | None = None) -> None:
+    """The data of a checked Prop. "prop: even" argument, for a certificate file (proof.export); without a point,
+    the first sample point where the determinant is not 0."""
+    if point is None:
+        point = next((q for q in (sample_point(kmap.ring.names, seed) for seed in range(1, 9))
+                      if _det_or_zero(kmap, basis, iterates, relations, q) != 0), None)
+        if point is None:
+            return
+    rows = [relation_data(r.coefficients, r.formula or r.rhs, r.uses) for r in relations]
+    step = prop_even_step(kmap.field, basis, target, names, solution, iterates, rows, point)
+    phase = set(kmap.variables)
+    cited = [r.source for r in relations
+             if not r.formula and any(q.variables() & phase for q in (*r.coefficients, r.rhs))]
+    if cited:
+        step["cites"] = cited       # integrals proven by other claims, not written in the file's integrals
+    cert.checks.append(step)
+
+
+def _det_or_zero(kmap: KahanMap, basis: Sequence[Frac], iterates: Sequence[int], relations: Sequence[Relation],
+                 point: Mapping[str, Rational]) -> flint.fmpq:
+    """det_at_point, 0 where the point is a pole (of the map or of a basis function)."""
+    try:
+        return det_at_point(kmap, basis, iterates, relations, point)
+    except (HKProofError, ZeroDivisionError):
+        return flint.fmpq(0)
 
 
 def det_at_point(kmap: KahanMap, basis: Sequence[Frac], iterates: Sequence[int], relations: Sequence[Relation],
@@ -231,4 +266,5 @@ def prove_by_evenness(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], 
         for n, a in zip(names, solution, strict=True):
             cert.formula(n, a)
     _prop_even_checks(cert, kmap, basis, target, names, iterates, relations, solution, check)
+    _record(cert, kmap, basis, target, names, solution, iterates, relations)
     return solution

@@ -96,6 +96,7 @@ class Certificate:
     cites: list[str] = field(default_factory=list)
     values: dict[str, Frac] = field(default_factory=dict, compare=False, repr=False)  # exact values of `formulas`
     fixed: dict[str, str] = field(default_factory=dict)    # parameter values the whole proof holds at (specialized)
+    checks: list[dict] = field(default_factory=list, compare=False, repr=False)  # re-checkable steps (proof.export)
 
     @property
     def status(self) -> Status:

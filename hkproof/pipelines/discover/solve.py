@@ -108,8 +108,8 @@ def prove_basis(ctx: SearchContext, basis: Sequence[Exponents], known: Mapping[s
                        fixed={k: str(v) for k, v in ctx.fixed.items()})
     _cite(cert, kmap.ring, relations, even)
     fracs = [Frac.parse(kmap.ring, t) for t in texts]
-    rows = [Relation(r.combination, r.rhs, source="a rational function of proven integrals (step 1)")
-            for r in relations]
+    rows = [Relation(r.combination, r.rhs, source="a rational function of proven integrals (step 1)",
+                     formula=r.formula, uses=r.knowns) for r in relations]
     try:
         verify_by_evenness(cert, kmap, fracs[:-1], fracs[-1], _names(texts), candidate,
                            sample_point(kmap.ring.names, 2), (0, 1), rows, check=check_solution_by_rows)

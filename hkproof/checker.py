@@ -1,0 +1,342 @@
+"""The certificate checker: re-verifies a certificate file (docs/certificates.md) from the file alone.
+
+It trusts python-flint (polynomial arithmetic, gcd, determinants over Q), hkproof's formula parser
+(hkproof.algebra.formula) and the fraction type it returns (hkproof.algebra.fraction.Frac: lowest terms by a gcd,
+parity in eps by eps -> -eps), and Prop. "prop: even" of the paper as a theorem. It imports nothing else of hkproof:
+it rebuilds the Kahan map from the field's right-hand sides by its own Cramer's rule, and every identity it reports
+as verified is an exact polynomial identity it computed. What it cannot check, it refuses (malformed, exit 2).
+
+    verified   every step's identities hold exactly, and every claimed integral is concluded by a step
+    refuted    a stated identity is false (h o f != h, a row not satisfied, a component not even, det = 0 at the point)
+    malformed  not a certificate this checker can read (format, version, convention, entries, step kind, scope)
+"""
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+import flint
+
+from hkproof.algebra.formula import check_name, parse_formula, parse_rational, tokens
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.ring import Ring
+from hkproof.errors import CertificateError, HKProofError
+
+__all__ = ["check_document", "check_file", "CheckReport", "KahanData", "MAX_BYTES"]
+
+FORMAT, VERSION, CONVENTION = "hkproof-certificate", 1, "eps = h/2"
+EPS = "eps"
+MAX_BYTES = 200_000_000
+Poly = flint.fmpz_mpoly
+
+
+class _Refutation(Exception):
+    """A stated identity is false (control flow inside the checker)."""
+
+
+@dataclass
+class CheckReport:
+    """The verdict on a certificate file, with one line per step."""
+
+    verdict: str                                   # "verified", "refuted" or "malformed"
+    lines: list[str] = field(default_factory=list)
+    seconds: float = 0.0
+
+    def text(self) -> str:
+        return "\n".join([f"{self.verdict} ({self.seconds:.3f} s)", *(f"  {line}" for line in self.lines)])
+
+
+def check_file(path: str | Path) -> CheckReport:
+    """Read a certificate file (JSON, numbers as strings) and check it."""
+    start = time.perf_counter()
+    try:
+        raw = Path(path).read_bytes()
+        if len(raw) > MAX_BYTES:
+            raise CertificateError(f"{path} has {len(raw)} bytes; the checker reads at most {MAX_BYTES}")
+        doc = json.loads(raw.decode("utf-8"), parse_float=_no_float, parse_constant=_no_float)
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        return CheckReport("malformed", [f"cannot read {path} as a JSON certificate: {exc}"],
+                           time.perf_counter() - start)
+    except CertificateError as exc:
+        return CheckReport("malformed", [str(exc)], time.perf_counter() - start)
+    return check_document(doc)
+
+
+def check_document(doc: Any) -> CheckReport:
+    """Check every step of a certificate (a decoded JSON object) in order; the first failing step decides."""
+    start = time.perf_counter()
+    report = CheckReport("verified")
+    try:
+        _check(doc, report)
+    except _Refutation as exc:
+        report.verdict = "refuted"
+        report.lines.append(f"refuted: {exc}")
+    except (HKProofError, ZeroDivisionError) as exc:
+        report.verdict = "malformed"
+        report.lines.append(f"malformed: {exc}")
+    report.seconds = time.perf_counter() - start
+    return report
+
+
+def _no_float(text: str) -> None:
+    raise CertificateError(f"the number {text} is written as a JSON float; certificates write numbers as exact text "
+                           "('3/7')")
+
+
+def _get(obj: Any, key: str, kind: type, where: str) -> Any:
+    """obj[key] of the given JSON type, or a CertificateError naming the place."""
+    if not isinstance(obj, dict) or key not in obj:
+        raise CertificateError(f"{where}: the entry {key!r} is missing")
+    value = obj[key]
+    if not isinstance(value, kind) or isinstance(value, bool):
+        raise CertificateError(f"{where}: {key!r} must be a JSON {kind.__name__}, got {type(value).__name__}")
+    return value
+
+
+def _strings(obj: Any, key: str, where: str) -> list[str]:
+    values = _get(obj, key, list, where)
+    if not all(isinstance(v, str) for v in values):
+        raise CertificateError(f"{where}: every entry of {key!r} must be a string")
+    return values
+
+
+def _check(doc: Any, report: CheckReport) -> None:
+    if _get(doc, "format", str, "certificate") != FORMAT:
+        raise CertificateError(f"the format is {doc['format']!r}, not {FORMAT!r}")
+    if _get(doc, "version", int, "certificate") != VERSION:
+        raise CertificateError(f"version {doc['version']} is not the version {VERSION} this checker reads")
+    if _get(doc, "convention", str, "certificate") != CONVENTION:
+        raise CertificateError(f"the step convention {doc['convention']!r} is not {CONVENTION!r}: this checker "
+                               "rebuilds the Kahan map as x~ - x = 2 eps F(x, x~) only")
+    fields = {k: KahanData(k, v) for k, v in _get(doc, "fields", dict, "certificate").items()}
+    proven: dict[str, tuple[str, Frac]] = {}            # integral name -> (field key, value)
+    steps = _get(doc, "steps", list, "certificate")
+    if not steps:
+        raise CertificateError("the certificate has no steps")
+    for k, step in enumerate(steps, 1):
+        where = f"step {k}"
+        key = _get(step, "field", str, where)
+        if key not in fields:
+            raise CertificateError(f"{where}: no field {key!r} in 'fields'")
+        kind = _get(step, "kind", str, where)
+        if kind not in _STEPS:
+            raise CertificateError(f"{where}: cannot check this step kind {kind!r} (this checker knows "
+                                   f"{', '.join(sorted(_STEPS))})")
+        local = _STEPS[kind](fields[key], step, {n: v for n, (f, v) in proven.items() if f == key}, where)
+        for entry in _get(step, "integrals", list, where):
+            name, value = _conclude(fields[key], entry, local, proven, where)
+            proven[name] = (key, value)
+        report.lines.append(f"{where} ({kind}, field {key}): verified; integrals "
+                            f"{', '.join(_get(e, 'name', str, where) for e in step['integrals']) or 'none'}")
+    claimed = _strings(_get(doc, "claim", dict, "certificate"), "integrals", "claim")
+    missing = [n for n in claimed if n not in proven]
+    if missing:
+        raise CertificateError(f"the claim names integrals no step concludes: {', '.join(missing)}")
+
+
+def _conclude(f: KahanData, entry: Any, local: Mapping[str, Frac], proven: Mapping[str, object],
+              where: str) -> tuple[str, Frac]:
+    """An integral concluded by a step: `from`, a formula in the step's proven quantities (and eps, parameters),
+    must equal `formula` exactly."""
+    name = check_name(_get(entry, "name", str, where), "integral name")
+    if name in proven or name in f.ring.names:
+        raise CertificateError(f"{where}: the integral name {name!r} is already taken")
+    value = f.parse_in(_get(entry, "from", str, where), local, where)
+    formula = f.parse(_get(entry, "formula", str, where), where)
+    if value != formula:
+        raise _Refutation(f"{where}: {name} = {entry['from']} is not the stated formula")
+    return name, formula
+
+
+class KahanData:
+    """A field read from a certificate and its Kahan map f = N / Delta, rebuilt by Cramer's rule on
+    x~ - x = 2 eps F(x, x~), F(x, y) = 2 F((x + y)/2) - (F(x) + F(y))/2 (eq. "Kahan gen", eps = h/2)."""
+
+    def __init__(self, key: str, data: Any):
+        where = f"field {key}"
+        self.variables = [check_name(v, "variable") for v in _strings(data, "variables", where)]
+        self.parameters = [check_name(v, "parameter") for v in _strings(data, "parameters", where)]
+        names = [*self.variables, EPS, *self.parameters]
+        if len(set(names)) != len(names) or not self.variables:
+            raise CertificateError(f"{where}: the variables, eps and the parameters must be distinct names")
+        self.ring = Ring(names)
+        rhs = [self.parse(t, where) for t in _strings(data, "rhs", where)]
+        if len(rhs) != len(self.variables):
+            raise CertificateError(f"{where}: {len(self.variables)} variables but {len(rhs)} right-hand sides")
+        for v, g in zip(self.variables, rhs, strict=True):
+            if EPS in g.variables() or g.den_variables_in(self.variables) or g.degrees_in(self.variables)[0] > 2:
+                raise CertificateError(f"{where}: {v}' = {g} is not a quadratic polynomial in the phase variables "
+                                       "free of eps")
+        self.nums, self.delta = self._kahan(rhs)
+        if self.delta.is_zero():
+            raise CertificateError(f"{where}: the Kahan system is singular (det M = 0)")
+
+    def parse(self, text: str, where: str) -> Frac:
+        """A formula over the field's names, read exactly."""
+        try:
+            return parse_formula(self.ring, text)
+        except HKProofError as exc:
+            raise CertificateError(f"{where}: {exc}") from None
+
+    def parse_in(self, text: str, known: Mapping[str, Frac], where: str) -> Frac:
+        """A formula in the names `known`, eps and the parameters only (no phase variable directly)."""
+        allowed = {EPS, *self.parameters, *known}
+        for tok in tokens(text):
+            if tok.kind == "name" and tok.text not in allowed:
+                raise CertificateError(f"{where}: {tok.text!r} in {text[:80]!r} is neither an integral proven "
+                                       "before nor eps nor a parameter")
+        try:
+            return parse_formula(self.ring, text, known)
+        except HKProofError as exc:
+            raise CertificateError(f"{where}: {exc}") from None
+
+    def _kahan(self, rhs: Sequence[Frac]) -> tuple[list[Poly], Poly]:
+        """(N_1..N_n, Delta) with f = N/Delta: for F_i = g_i/d_i, E_i = d_i (y_i - x_i) - eps (4 g_i((x+y)/2) - g_i(x)
+        - g_i(y)) = 0 is linear in y = x~; solved by Cramer's rule (fraction-free determinants)."""
+        n, big = len(self.variables), Ring([*self.ring.names, *(f"{v}_y" for v in self.variables)])
+        xs = [big.gen(v) for v in self.variables]
+        ys = [big.gen(f"{v}_y") for v in self.variables]
+        z = flint.fmpz_mpoly_ctx.get((*self.ring.names, "_z"), "degrevlex")
+        rows, rhs_b = [], []
+        for i, g in enumerate(rhs):
+            num, den = (p.compose(*big.gens()[:len(self.ring.names)], ctx=big.ctx) for p in (g.num, g.den))
+            hom = _homogenize(g.num, [self.ring.index(v) for v in self.variables], 2, z)
+            mid = hom.compose(*[xs[k] + ys[k] if k < n else big.gens()[k] for k in range(len(self.ring.names))],
+                              big.constant(2), ctx=big.ctx)
+            at_y = big.substitute(num, dict(zip(self.variables, ys, strict=True)))
+            e = den * (ys[i] - xs[i]) - big.gen(EPS) * (mid - num - at_y)
+            rows.append([self._down(big, e.derivative(big.index(f"{v}_y"))) for v in self.variables])
+            rhs_b.append(-self._down(big, e))
+        delta = _det(rows)
+        nums = [_det([[rhs_b[r] if c == j else rows[r][c] for c in range(n)] for r in range(n)]) for j in range(n)]
+        return nums, delta
+
+    def _down(self, big: Ring, p: Poly) -> Poly:
+        """p with y = 0, in the field's ring."""
+        return big.substitute(p, {f"{v}_y": 0 for v in self.variables}, self.ring)
+
+    def image(self, i: int) -> tuple[list[Poly], Poly]:
+        """f^i = (N, Delta) for i in {-1, 1} (f^-1(x, eps) = f(x, -eps)); the identity for i = 0."""
+        if i == 0:
+            return [self.ring.gen(v) for v in self.variables], self.ring.constant(1)
+        if i == 1:
+            return self.nums, self.delta
+        flip = {EPS: -self.ring.gen(EPS)}
+        return [self.ring.substitute(p, flip) for p in self.nums], self.ring.substitute(self.delta, flip)
+
+    def pull(self, h: Frac, i: int) -> Frac:
+        """h o f^i, exactly."""
+        nums, delta = self.image(i)
+        idx = [self.ring.index(v) for v in self.variables]
+        (pn, dn), (pd, dd) = (self._compose(p, idx, nums, delta) for p in (h.num, h.den))
+        if pd.is_zero():
+            raise _Refutation(f"the denominator of {h} vanishes on the image of the Kahan map")
+        return Frac(self.ring, pn * delta ** max(dd - dn, 0), pd * delta ** max(dn - dd, 0))
+
+    def _compose(self, p: Poly, idx: list[int], nums: list[Poly], delta: Poly) -> tuple[Poly, int]:
+        """(p(N/Delta) Delta^d, d), d the degree of p in the phase variables: one compose of p homogenized."""
+        d = max((sum(m[k] for k in idx) for m in p.monoms()), default=0)
+        z = flint.fmpz_mpoly_ctx.get((*self.ring.names, "_z"), "degrevlex")
+        args = list(self.ring.gens())
+        for k, image in zip(idx, nums, strict=True):
+            args[k] = image
+        return _homogenize(p, idx, d, z).compose(*args, delta, ctx=self.ring.ctx), d
+
+
+def _homogenize(p: Poly, idx: list[int], d: int, ctx: flint.fmpz_mpoly_ctx) -> Poly:
+    """p with the extra last variable z making every term of degree d in the variables `idx` (and z)."""
+    return ctx.from_dict({(*m, d - sum(m[k] for k in idx)): c for m, c in p.to_dict().items()})
+
+
+def _det(matrix: list[list[Poly]]) -> Poly:
+    """The determinant of a square polynomial matrix by Bareiss' fraction-free elimination (exact divisions)."""
+    a = [row[:] for row in matrix]
+    n, sign = len(a), 1
+    previous = a[0][0] - a[0][0] + 1
+    for k in range(n - 1):
+        pivot = next((r for r in range(k, n) if not a[r][k].is_zero()), None)
+        if pivot is None:
+            return previous - previous
+        if pivot != k:
+            a[k], a[pivot], sign = a[pivot], a[k], -sign
+        for i in range(k + 1, n):
+            for j in range(k + 1, n):
+                q, r = divmod(a[i][j] * a[k][k] - a[i][k] * a[k][j], previous)
+                assert r.is_zero(), "Bareiss division is exact"
+                a[i][j] = q
+        previous = a[k][k]
+    return sign * a[n - 1][n - 1]
+
+
+def _substitution(f: KahanData, step: Any, known: Mapping[str, Frac], where: str) -> dict[str, Frac]:
+    """h o f - h = 0 (sec. 3): h(N/Delta) Delta^d over a common denominator, compared exactly."""
+    h = f.parse(_get(step, "function", str, where), where)
+    names = [_get(e, "name", str, where) for e in _get(step, "integrals", list, where)]
+    if len(names) != 1:
+        raise CertificateError(f"{where}: a substitution step concludes exactly one integral")
+    if f.pull(h, 1) != h:
+        raise _Refutation(f"{where}: h(f(x)) - h(x) is not 0 for h = {str(h)[:200]}")
+    return {names[0]: h}
+
+
+def _prop_even(f: KahanData, step: Any, known: Mapping[str, Frac], where: str) -> dict[str, Frac]:
+    """Prop. "prop: even": (1) det != 0 at a rational point, (2) basis functions even in eps, rows i in a
+    non-symmetric range of {-1, 0, 1} containing 0, relation data even in eps and written in integrals proven before, (3) every component even in eps,
+    (4) every row satisfied exactly. Then the components are integrals."""
+    basis = [f.parse(t, where) for t in _strings(step, "basis", where)]
+    target = f.parse(_get(step, "target", str, where), where)
+    names = [check_name(n, "component name") for n in _strings(step, "names", where)]
+    solution = [f.parse(t, where) for t in _strings(step, "solution", where)]
+    iterates = _get(step, "iterates", list, where)
+    if sorted(iterates) not in ([0, 1], [-1, 0]):
+        raise CertificateError(f"{where}: iterates {iterates}: this checker takes rows i in {{0, 1}} or {{-1, 0}}")
+    if not all(phi.is_even_in(EPS) for phi in (*basis, target)):
+        raise CertificateError(f"{where}: Prop. \"prop: even\" needs basis functions even in eps")
+    if len(names) != len(basis) or len(solution) != len(basis) or set(names) & {*f.ring.names, *known}:
+        raise CertificateError(f"{where}: {len(basis)} basis functions need as many new component names and values")
+    scope, rows = dict(known), []
+    for k, rel in enumerate(_get(step, "relations", list, where)):
+        uses = _strings(rel, "uses", where)
+        if any(u not in known and not (u.startswith("_l") and u[2:].isdigit() and int(u[2:]) < k) for u in uses):
+            raise CertificateError(f"{where}: relation {k + 1} uses {uses}, not all proven before it")
+        coefficients = [f.parse_in(t, scope, where) for t in _strings(rel, "coefficients", where)]
+        rhs = f.parse_in(_get(rel, "rhs", str, where), scope, where)
+        if len(coefficients) != len(basis):
+            raise CertificateError(f"{where}: relation {k + 1} has {len(coefficients)} coefficients, not {len(basis)}")
+        if not all(c.is_even_in(EPS) for c in (*coefficients, rhs)):
+            raise _Refutation(f"{where}: relation {k + 1} has a coefficient or right-hand side not even in eps")
+        scope[f"_l{k}"] = rhs
+        rows.append((coefficients, rhs))
+    if len(iterates) + len(rows) != len(basis):
+        raise CertificateError(f"{where}: {len(iterates)} rows and {len(rows)} relations for {len(basis)} unknowns: "
+                               "the system must be square")
+    point = {n: parse_rational(_get(_get(step, "point", dict, where), n, str, where)) for n in f.ring.names}
+    moved = {i: [f.pull(phi, i) for phi in (*basis, target)] for i in iterates}
+    matrix = [[_at(m, point) for m in moved[i][:-1]] for i in iterates]
+    matrix += [[_at(c, point) for c in coefficients] for coefficients, _ in rows]
+    if flint.fmpq_mat(matrix).det() == 0:
+        raise _Refutation(f"{where}: the determinant of the system vanishes at the stated point")
+    for n, a in zip(names, solution, strict=True):
+        if not a.is_even_in(EPS):
+            raise _Refutation(f"{where}: the component {n} is not even in eps")
+    for i in iterates:
+        if sum((a * m for a, m in zip(solution, moved[i][:-1], strict=True)), Frac(f.ring, 0)) != moved[i][-1]:
+            raise _Refutation(f"{where}: the row i = {i} is not satisfied by the solution")
+    for k, (coefficients, rhs) in enumerate(rows, 1):
+        if sum((c * a for c, a in zip(coefficients, solution, strict=True)), Frac(f.ring, 0)) != rhs:
+            raise _Refutation(f"{where}: the relation {k} is not satisfied by the solution")
+    return dict(zip(names, solution, strict=True))
+
+
+def _at(q: Frac, point: Mapping[str, flint.fmpq]) -> flint.fmpq:
+    try:
+        return q.evaluate(point)
+    except HKProofError:
+        raise CertificateError("the stated point is a pole of the system: the certificate must give another "
+                               "point") from None
+
+
+_STEPS = {"substitution": _substitution, "prop-even": _prop_even}

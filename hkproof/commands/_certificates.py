@@ -1,0 +1,92 @@
+"""--certificate FILE: the options and the writing shared by the commands that state a status (docs/certificates.md)."""
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import Sequence
+
+from hkproof.algebra.fraction import Frac
+from hkproof.commands.report import writable_target, write_atomically
+from hkproof.errors import OutputError
+from hkproof.pipelines.discover.report import DiscoveryReport, FoundIntegral
+from hkproof.proof.certificate import Certificate
+from hkproof.proof.export import document
+from hkproof.proof.status import Status
+
+
+def add_certificate_option(p: argparse.ArgumentParser) -> None:
+    """--certificate FILE on a command that proves something."""
+    p.add_argument("--certificate", metavar="FILE",
+                   help="write a self-contained JSON certificate of what was verified, for `hkproof check FILE` "
+                        "(docs/certificates.md); FILE is replaced atomically")
+
+
+def certificate_target(args: argparse.Namespace) -> Path | None:
+    """FILE of --certificate, checked before the work starts (a regular file or a new name)."""
+    return writable_target(args.certificate) if getattr(args, "certificate", None) else None
+
+
+def write_certificate(target: Path | None, doc: dict | None, payload: dict) -> str:
+    """Write the certificate (when asked for) and say so in the payload; the line for the text output."""
+    if target is None:
+        return ""
+    if doc is None or not doc["steps"]:
+        raise OutputError(f"no certificate written to {target}: nothing was verified by a step a certificate can "
+                          "record (an exact substitution or Prop. \"prop: even\")")
+    write_atomically(target, json.dumps(doc, indent=1) + "\n")
+    payload["certificate"] = str(target)
+    return f"\ncertificate: {target} ({len(doc['steps'])} step(s); check it with `hkproof check {target}`)"
+
+
+def theorem_document(certs: Sequence[Certificate]) -> dict:
+    """The recorded steps of the verified theorems' certificates, in the order they ran; a theorem whose relations
+    use integrals proven by another claim (not written in this file's integrals) is listed under "not exported"."""
+    done = [c for c in certs if c.status >= Status.VERIFIED_SPECIALIZED and c.checks]
+    kept = [c for c in done if not any("cites" in s for s in c.checks)]
+    doc = document(f"theorems {', '.join(c.claim_id for c in kept)}", " ".join(c.statement for c in kept), [],
+                   certificates=kept)
+    doc["claim"]["not exported"] = {c.claim_id: "a relation uses integrals proven by "
+                                    f"{', '.join(sorted({x for s in c.checks for x in s.get('cites', [])}))}"
+                                    for c in done if all(c is not k for k in kept)}
+    return doc
+
+
+def discover_document(report: DiscoveryReport) -> dict:
+    """The steps that proved each verified integral of `discover`: its substitution, or the Prop. "prop: even" step
+    of its basis with the integral concluded as c_a / c_b (the coordinates, the normalized one -1)."""
+    steps: list[dict] = []
+    seen: dict[int, dict] = {}
+    for found in report.verified:
+        cert = found.certificate
+        if cert is None or found.frac is None or not cert.checks:
+            continue
+        if id(cert) not in seen:
+            fresh = [dict(s) for s in cert.checks]
+            for s in fresh:
+                if s["kind"] == "prop-even":
+                    s["integrals"] = []
+            seen[id(cert)] = fresh[-1]
+            steps += fresh
+        step = seen[id(cert)]
+        if step["kind"] == "prop-even":
+            ratio = _as_ratio(found, cert, step["names"])
+            if ratio is not None:
+                step["integrals"].append({"name": found.name, "formula": str(found.frac), "from": ratio})
+    return document(f"integrals of the Kahan map of {report.system}",
+                    f"the integrals {', '.join(i for s in steps for i in (e['name'] for e in s['integrals']))} are "
+                    f"integrals of the Kahan map of {report.system}", steps, report.fixed)
+
+
+def _as_ratio(found: FoundIntegral, cert: Certificate, names: Sequence[str]) -> str | None:
+    """'c2/c1', '-c2' or '-1/c1': the quotient of two coordinates (c_l = -1) that equals the integral, if any."""
+    assert found.frac is not None
+    values = [(n, cert.values[n]) for n in names if n in cert.values]
+    if len(values) != len(names) or values[0][1].ring != found.frac.ring:
+        return None
+    one = Frac(found.frac.ring, -1)
+    for top, a in [*values, ("-1", one)]:
+        for bottom, b in [*values, ("-1", one)]:
+            if top != bottom and not b.is_zero() and a / b == found.frac:
+                return f"({top})/({bottom})"
+    return None
