@@ -3,9 +3,11 @@ from __future__ import annotations
 
 import argparse
 
-from hkproof.commands import Result, add_command, add_system_argument, fixed_values, progress_printer
+from hkproof.commands import (Result, add_command, add_progress_option, add_system_argument, fixed_values,
+                              progress_bar)
 from hkproof.budget import Budget
 from hkproof.dynamics.catalogue import get_system
+from hkproof.experiments.progress import message_bar
 from hkproof.pipelines.discover import discover
 
 __all__ = ["register", "run_discover"]
@@ -22,12 +24,13 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="time budget; the report says what was covered when it runs out (default 300)")
     p.add_argument("--seed", type=int, default=0, help="seed of the random points and primes (default 0)")
     p.add_argument("--latex", action="store_true", help="print the integrals found as LaTeX")
-    p.add_argument("--no-progress", action="store_true", help="no progress lines on stderr")
+    add_progress_option(p)
 
 
 def run_discover(args: argparse.Namespace) -> Result:
     field = get_system(args.system)
     params = fixed_values(argparse.Namespace(param=args.param, eps=None))    # eps stays symbolic
-    report = discover(field, args.degree, params=params, seed=args.seed, progress=progress_printer(args),
-                      budget=Budget(args.seconds, raise_with=f"a larger --seconds than {args.seconds:g}"))
+    with progress_bar(args, "discover", "events") as shown:
+        report = discover(field, args.degree, params=params, seed=args.seed, progress=message_bar(shown),
+                          budget=Budget(args.seconds, raise_with=f"a larger --seconds than {args.seconds:g}"))
     return Result(report.to_dict(), report.latex() if args.latex else report.text(), 0)

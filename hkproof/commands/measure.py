@@ -3,7 +3,8 @@ from __future__ import annotations
 
 import argparse
 
-from hkproof.commands import Result, add_command, add_param_option, add_system_argument, at_least, specialized_map
+from hkproof.commands import (Result, add_command, add_param_option, add_progress_option, add_system_argument, at_least,
+                              progress_bar, specialized_map)
 from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.pipelines.darboux import search_darboux
 
@@ -19,9 +20,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--degree", type=at_least(1), default=4, help="largest degree of P (default 4)")
     add_param_option(p)
     p.add_argument("--seed", type=int, default=0, help="seed of the values, prime and points (default 0)")
+    add_progress_option(p)
 
 
 def run_measure(args: argparse.Namespace) -> Result:
     _, f, fixed = specialized_map(args)
-    res = search_darboux(f, args.degree, seed=args.seed, fixed=fixed)
+    with progress_bar(args, "measure", "Darboux polynomials") as shown:
+        res = search_darboux(f, args.degree, seed=args.seed, fixed=fixed, progress=lambda found: shown.update())
     return Result(res.to_dict(), res.text())
