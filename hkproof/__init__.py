@@ -1,7 +1,8 @@
 """hkproof: exact, certified proofs of integrability of Kahan / Hirota-Kimura discretizations of quadratic ODEs.
 
 The notebook API (`import hkproof as hk`): `hk.system`, `hk.kahan_map`, `hk.discover`, `hk.measure`, `hk.degrees`,
-`hk.check_integral`, `hk.prove`, and the classes `QuadraticField` and `KahanMap`. Names are loaded on first use, so
+`hk.orbit`, `hk.orbit_figure`, `hk.scan`, `hk.check_integral`, `hk.prove`, `hk.to_sympy`, and the classes
+`QuadraticField` and `KahanMap`; results show in Jupyter as Markdown with LaTeX (docs/tutorial.ipynb). Names are loaded on first use, so
 `import hkproof` stays light. hkproof's eps is half the time step (x~ - x = 2 eps * polarized field).
 """
 from __future__ import annotations
@@ -9,13 +10,14 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
-__all__ = ["KahanMap", "QuadraticField", "check_integral", "degrees", "discover", "kahan_map", "measure", "prove",
-           "system"]
+__all__ = ["KahanMap", "QuadraticField", "check_integral", "degrees", "discover", "kahan_map", "measure", "orbit",
+           "orbit_figure", "prove", "scan", "system", "to_sympy"]
 
 _HOMES = {"KahanMap": "hkproof.dynamics.kahan", "QuadraticField": "hkproof.dynamics.field"}
 
 if TYPE_CHECKING:
-    from hkproof.api import check_integral, degrees, discover, kahan_map, measure, prove, system
+    from hkproof.api import (check_integral, degrees, discover, kahan_map, measure, orbit, orbit_figure, prove, scan,
+                             system, to_sympy)
     from hkproof.dynamics.field import QuadraticField
     from hkproof.dynamics.kahan import KahanMap
 
