@@ -85,6 +85,7 @@ def _specialized(source: System, params: Mapping[str, Rational] | None) -> tuple
 def discover(source: System, degree: int = 2, *, params: Mapping[str, Rational] | None = None,
              seconds: float | None = None, seed: int = 0, progress: Progress | None = None) -> DiscoveryReport:
     """Integrals of the Kahan map whose HK-bases are monomials of degree <= `degree`, certified (docs/discover.md)."""
+    _show_reports_in_ipython()
     return _discover(system(source), degree, params=params, seed=seed, progress=progress,
                      budget=Budget(seconds, raise_with="a larger `seconds`"))
 
@@ -93,6 +94,7 @@ def measure(source: System, degree: int = 4, *, params: Mapping[str, Rational] |
             seed: int = 0) -> DarbouxSearch:
     """Darboux polynomials, invariant measures dx/P and integrals P_i/P_j of degree <= `degree` (docs/geometry.md)."""
     f, fixed = _specialized(source, params)
+    _show_reports_in_ipython()
     return search_darboux(f, degree, seed=seed, fixed=fixed)
 
 
@@ -158,11 +160,8 @@ def to_sympy(result: Any) -> Any:
 
 
 def _show_reports_in_ipython() -> None:
-    """In a running IPython (Jupyter), show discover and measure reports as Markdown."""
+    """In a running IPython (Jupyter), show discover and measure reports as Markdown (idempotent)."""
     ipython = sys.modules.get("IPython")
     shell = ipython.get_ipython() if ipython is not None else None
     if shell is not None:
         display.register(shell)
-
-
-_show_reports_in_ipython()

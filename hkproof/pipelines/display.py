@@ -19,9 +19,7 @@ __all__ = ["darboux_markdown", "discovery_markdown", "register", "report_to_symp
 def discovery_markdown(report: DiscoveryReport) -> str:
     """The integrals (LaTeX, status, kind), the kernels and what the search covered."""
     fixed = f" at {', '.join(f'{k} = {v}' for k, v in report.fixed.items())}" if report.fixed else ""
-    seconds = sum(report.stages.values())
-    lines = [f"**discover {report.system}**{fixed}: HK-bases among monomials of degree <= {report.degree} "
-             f"({seconds:.1f} s)", ""]
+    lines = [f"**discover {report.system}**{fixed}: HK-bases among monomials of degree <= {report.degree}", ""]
     rows = [[i.name, f"${latex(sympy.factor(i.frac.to_sympy()))}$" if i.frac is not None else "not reconstructed",
              i.status.label, "yes" if i.independent else "", i.kind, f"{i.seconds:.2f} s"] for i in report.integrals]
     lines.append(markdown_table(["integral", "formula", "status", "independent", "found as", "time"], rows)
@@ -31,6 +29,8 @@ def discovery_markdown(report: DiscoveryReport) -> str:
     lines.append(f"- {report.independent} functionally independent verified integrals in dimension "
                  f"{len(report.variables)}")
     lines.append(("- complete: " if report.complete else "- budget ran out: ") + "; ".join(report.covered))
+    if report.stages:
+        lines.append("- time: " + ", ".join(f"{k} {v:.2f} s" for k, v in report.stages.items()))
     return "\n".join(lines)
 
 

@@ -186,7 +186,7 @@ class Certificate:
         if self.fixed:
             lines += ["at " + ", ".join(f"{k} = {v}" for k, v in self.fixed.items()), ""]
         exact = self.to_sympy()
-        lines += [f"- ${name} = {latex(exact[name])}$" if name in exact else f"- {name} = `{text}`"
+        lines += [f"- ${latex(sympy.Symbol(name))} = {latex(exact[name])}$" if name in exact else f"- {name} = `{text}`"
                   for name, text in self.formulas.items()]
         rows = [[s.status.label, s.name, s.method, s.ring + (f", {s.points} points" if s.points else ""),
                  f"{s.seconds:.3f} s", s.detail] for s in self.steps]
