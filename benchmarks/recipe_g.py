@@ -7,7 +7,6 @@ Kahan ideal by FLINT's Buchberger plus a normal form (parameters fixed to number
 from __future__ import annotations
 
 import argparse
-import shutil
 import time
 from pathlib import Path
 
@@ -127,7 +126,7 @@ def write_markdown(rows: list[dict], path: Path, gb_seconds: float) -> None:
              "| case | substitution (s) | recipe (G) total (s) | cofactors / check (s) | cofactor terms | "
              "Buchberger + normal form (s) | Singular lift (s) | Singular std + reduce (s) | Singular's best / recipe (G) |",
              "|---|---|---|---|---|---|---|---|---|"]
-    have = shutil.which("Singular") is not None
+    have = singular_peer.singular_executable() is not None
     for r in rows:
         gb = "-" if r["gb"] is None else f"{r['gb']:.3f} ({r['gb_verdict']})"
         peer = [("n/a" if not have else f"> {gb_seconds:.0f}" if t is None else f"{t:.3f}") for t in (r["lift"], r["std"])]

@@ -4,14 +4,28 @@ from __future__ import annotations
 import shutil
 import subprocess
 import tempfile
+from pathlib import Path
 from typing import Sequence
 
 import flint
 
 
+def singular_executable() -> str | None:
+    """Singular on PATH (the Debian package), else the binary passagemath-singular ships (pip install -e '.[bench]')."""
+    exe = shutil.which("Singular")
+    if exe:
+        return exe
+    try:
+        import sage_wheels
+    except ImportError:
+        return None
+    found = [Path(folder, "bin", "Singular") for folder in sage_wheels.__path__]
+    return next((str(p) for p in found if p.exists()), None)
+
+
 def singular_stdout(script: str, seconds: int = 1800) -> str:
     """What the script prints (what it printed so far if it runs out of time; '' without Singular)."""
-    exe = shutil.which("Singular")
+    exe = singular_executable()
     if not exe:
         return ""
     with tempfile.NamedTemporaryFile("w", suffix=".sing", delete=False) as fh:

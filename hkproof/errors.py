@@ -1,9 +1,9 @@
 """Exceptions of hkproof: each message says what was wrong and what to do about it."""
 
 __all__ = ["BudgetExhausted", "CertificateError", "DependentBasisError", "FormulaTooLargeError", "HKProofError",
-           "NotQuadraticError", "ParseError", "ResourceLimitError", "RingMismatchError", "ShapeError", "SingularPointError",
-           "SingularSystemError", "UnknownClaimError", "UnknownSymbolError", "UnknownSystemError", "UnluckyPrimeError",
-           "UsageError"]
+           "MissingDependencyError", "NotQuadraticError", "ParseError", "ResourceLimitError", "RingMismatchError",
+           "ShapeError", "SingularPointError", "SingularSystemError", "UnknownClaimError", "UnknownSymbolError",
+           "UnknownSystemError", "UnluckyPrimeError", "UsageError"]
 
 
 class HKProofError(Exception):
@@ -52,6 +52,10 @@ class DependentBasisError(ParseError):
 
 class UsageError(HKProofError):
     """A command line that does not fit the command's options (a missing argument, a bad count, an unknown name)."""
+
+
+class MissingDependencyError(HKProofError):
+    """An optional extra is needed and not installed (e.g. Sage interop: pip install 'hkproof[sage]')."""
 
 
 class OutputError(HKProofError):

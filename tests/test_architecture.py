@@ -25,7 +25,7 @@ LAYERS = [
     ("registry", ("hkproof.orchestration.registry",)),
     ("theorems", ("hkproof.theorems",)),
     ("orchestration", ("hkproof.orchestration",)),
-    ("front ends", ("hkproof.commands", "hkproof.cli", "hkproof.__main__", "hkproof.api")),
+    ("front ends", ("hkproof.commands", "hkproof.cli", "hkproof.__main__", "hkproof.api", "hkproof.sage")),
 ]
 
 

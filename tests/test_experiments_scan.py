@@ -5,7 +5,7 @@ import io
 
 from hkproof.dynamics import kahan_map
 from hkproof.experiments import scan
-from hkproof.experiments.progress import Progress
+from hkproof.experiments.progress import bar, message_bar
 from hkproof.experiments.weights import scaling_weights
 
 
@@ -15,15 +15,26 @@ def test_a_long_scan_runs_in_the_default_process_pool():
 
 
 def test_progress_bar_counts_points():
+    """tqdm on the given stream when enabled; nothing off a terminal (a StringIO is none) or when disabled."""
     out = io.StringIO()
-    bar = Progress(4, enabled=True, stream=out)
-    bar.update(3)
-    bar.update(1)
-    bar.close()
-    assert "4/4 points" in out.getvalue() and out.getvalue().endswith("\n")
-    silent = io.StringIO()
-    Progress(4, enabled=False, stream=silent).update(4)
-    assert silent.getvalue() == ""
+    with bar(4, "points", enabled=True, stream=out) as shown:
+        shown.update(3)
+        shown.update(1)
+        shown.refresh()
+    assert "4/4" in out.getvalue() and "points" in out.getvalue()
+    for enabled in (None, False):
+        silent = io.StringIO()
+        with bar(4, "points", enabled=enabled, stream=silent) as shown:
+            shown.update(4)
+        assert silent.getvalue() == ""
+
+
+def test_message_bar_shows_pipeline_lines():
+    out = io.StringIO()
+    with bar(None, "events", enabled=True, stream=out) as shown:
+        message_bar(shown)("discover: screening (0.1 s)")
+        shown.refresh()
+    assert "discover: screening" in out.getvalue()
 
 
 def test_scaling_weights_of_the_clebsch_flows():

@@ -9,6 +9,7 @@ from typing import Mapping, Sequence, TypeAlias
 import flint
 import sympy
 
+from hkproof.algebra.printing import math
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.errors import ParseError, RingMismatchError, SingularPointError
 
@@ -310,10 +311,11 @@ class Frac:
     __repr__ = __str__
 
     def to_sympy(self) -> sympy.Expr:
+        """num/den as a sympy expression in the ring's own names."""
         return self.ring.to_sympy(self.num) / self.ring.to_sympy(self.den)
 
     def _repr_latex_(self) -> str:
-        return f"${sympy.latex(self.to_sympy())}$"
+        return math(self.to_sympy())
 
 
 class ModularFrac:

@@ -10,6 +10,7 @@ from typing import Iterable, Iterator, Mapping, Sequence
 import flint
 import sympy
 
+from hkproof.algebra.printing import poly_to_sympy
 from hkproof.errors import ParseError, UnknownSymbolError
 
 __all__ = ["flint_threads", "get_ring", "Rational", "Ring", "to_fmpq"]
@@ -44,7 +45,6 @@ class Ring:
         self.names = names
         self.ctx = flint.fmpz_mpoly_ctx.get(names, "degrevlex")
         self.qctx = flint.fmpq_mpoly_ctx.get(names, "degrevlex")
-        self._symbols = {n: sympy.Symbol(n) for n in names}
 
     def __repr__(self) -> str:
         return f"Ring(Z[{', '.join(self.names)}])"
@@ -72,9 +72,7 @@ class Ring:
 
     # ---- conversion -------------------------------------------------------------------------
     def to_sympy(self, p: flint.fmpz_mpoly) -> sympy.Expr:
-        syms = list(self._symbols.values())
-        return sympy.Add(*[sympy.Integer(int(c)) * sympy.Mul(*[s**e for s, e in zip(syms, m, strict=True)])
-                           for m, c in p.to_dict().items()])
+        return poly_to_sympy(p)
 
     def substitute(self, p: flint.fmpz_mpoly, values: Mapping[str, flint.fmpz_mpoly | int],
                    target: "Ring | None" = None) -> flint.fmpz_mpoly:

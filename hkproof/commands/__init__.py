@@ -5,11 +5,11 @@ import argparse
 import math
 import os
 import re
-import sys
 from dataclasses import dataclass
 from typing import Any, Callable
 
 import flint
+from tqdm import tqdm
 
 from hkproof.algebra.formula import read_integer, read_number
 from hkproof.budget import Budget
@@ -18,6 +18,7 @@ from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ParseError
 from hkproof.exit_codes import ExitCode
+from hkproof.experiments.progress import bar
 from hkproof.orchestration.execution import EXECUTORS
 from hkproof.orchestration.runner import RunOptions
 
@@ -150,11 +151,15 @@ def fixed_values(args: argparse.Namespace) -> dict[str, str]:
     return values
 
 
-def progress_printer(args: argparse.Namespace) -> Callable[[str], None] | None:
-    """Progress lines on stderr for a person at a terminal (not under --json or --no-progress)."""
-    if getattr(args, "no_progress", False) or getattr(args, "json", False) or not sys.stderr.isatty():
-        return None
-    return lambda line: print(line, file=sys.stderr, flush=True)
+def progress_bar(args: argparse.Namespace, desc: str, unit: str, total: int | None = None) -> tqdm:
+    """A progress bar on stderr for a person at a terminal (none under --json or --no-progress, or off a terminal)."""
+    quiet = getattr(args, "no_progress", False) or getattr(args, "json", False)
+    return bar(total, unit, enabled=False if quiet else None, desc=desc)
+
+
+def add_progress_option(p: argparse.ArgumentParser) -> None:
+    """--no-progress: no progress bar on stderr."""
+    p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
 
 
 def positive_int(text: str) -> int:

@@ -7,7 +7,7 @@ from hkproof.commands import (Result, add_budget_option, add_command, add_system
                               at_least, fixed_values)
 from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.dynamics.degrees import MAX_DEGREE, Growth
+from hkproof.dynamics.degrees import MAX_DEGREE
 from hkproof.experiments.degrees import degree_report
 from hkproof.proof.status import Status
 
@@ -40,7 +40,7 @@ def run_degrees(args: argparse.Namespace) -> Result:
                "runs": [{"prime": r.prime, "values_mod_p": r.values, "degrees": r.degrees} for r in res.runs],
                "eps_convention": EPS_CONVENTION}
     lines = [f"deg f^n of the Kahan map of {res.system}, n = 1..{len(res.degrees)}: {res.degrees}",
-             f"second differences: {res.second_differences}", *growth_lines(res.growth)]
+             f"second differences: {res.second_differences}", *res.growth.describe()]
     for r in res.runs:
         at = ", ".join(f"{k} = {fixed[k]}" if k in fixed else f"{k} = {v} (random)" for k, v in r.values.items())
         lines.append(f"  run mod p = {r.prime} at {at}: {r.degrees}")
@@ -58,15 +58,3 @@ def run_degrees(args: argparse.Namespace) -> Result:
     lines.append(f"({EPS_CONVENTION})")
     return Result(payload, "\n".join(lines))
 
-
-def growth_lines(growth: Growth) -> list[str]:
-    """The growth class: the formula of deg f^n (or lambda and the entropy) and what it was judged on, or
-    "undecided" and why."""
-    if growth.kind == "undecided":
-        return [f"growth: undecided: {growth.evidence}"]
-    if growth.kind == "exponential":
-        head = (f"growth: exponential, deg f^n ~ lambda^n with lambda = {growth.lam:.6g} +- {growth.lam_error:.2g}, "
-                f"algebraic entropy log lambda = {growth.entropy:.6g}")
-    else:
-        head = f"growth: {growth.kind}, deg f^n = {growth.formula()} (algebraic entropy 0)"
-    return [head, f"  (judged on the sequence: {growth.evidence})"]

@@ -4,11 +4,12 @@ from __future__ import annotations
 import argparse
 
 from hkproof.budget import current
-from hkproof.commands import (Result, add_budget_option, add_command, add_system_argument, at_least, fixed_values,
-                              integer, progress_printer)
+from hkproof.commands import (Result, add_budget_option, add_command, add_progress_option, add_system_argument,
+                              at_least, fixed_values, integer, progress_bar)
 from hkproof.commands._certificates import (add_certificate_option, certificate_target, discover_document,
                                             write_certificate)
 from hkproof.dynamics.catalogue import get_system
+from hkproof.experiments.progress import message_bar
 from hkproof.pipelines.discover import discover
 from hkproof.pipelines.discover.run import MAX_SEARCH_DEGREE
 
@@ -26,7 +27,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_budget_option(p, 300.0)
     p.add_argument("--seed", type=integer, default=0, help="seed of the random points and primes (default 0)")
     p.add_argument("--latex", action="store_true", help="print the integrals found as LaTeX")
-    p.add_argument("--no-progress", action="store_true", help="no progress lines on stderr")
+    add_progress_option(p)
     add_certificate_option(p)
 
 
@@ -34,8 +35,9 @@ def run_discover(args: argparse.Namespace) -> Result:
     target = certificate_target(args)
     field = get_system(args.system)
     params = fixed_values(argparse.Namespace(param=args.param, eps=None))    # eps stays symbolic
-    report = discover(field, args.degree, params=params, seed=args.seed, progress=progress_printer(args),
-                      budget=current())
+    with progress_bar(args, "discover", "events") as shown:
+        report = discover(field, args.degree, params=params, seed=args.seed, progress=message_bar(shown),
+                          budget=current())
     payload = report.to_dict()
     text = report.latex() if args.latex else report.text()
     if target is not None:

@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import argparse
 
-from hkproof.commands import (Result, add_budget_option, add_command, add_param_option, add_system_argument, at_least,
-                              integer, specialized_map)
+from hkproof.commands import (Result, add_budget_option, add_command, add_param_option, add_progress_option,
+                              add_system_argument, at_least, integer, progress_bar, specialized_map)
 from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.pipelines.darboux import MAX_DARBOUX_DEGREE, search_darboux
 
@@ -22,9 +22,11 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help=f"largest degree of P (default 4, at most {MAX_DARBOUX_DEGREE})")
     add_param_option(p)
     p.add_argument("--seed", type=integer, default=0, help="seed of the values, prime and points (default 0)")
+    add_progress_option(p)
 
 
 def run_measure(args: argparse.Namespace) -> Result:
     _, f, fixed = specialized_map(args)
-    res = search_darboux(f, args.degree, seed=args.seed, fixed=fixed)
+    with progress_bar(args, "measure", "Darboux polynomials") as shown:
+        res = search_darboux(f, args.degree, seed=args.seed, fixed=fixed, progress=lambda found: shown.update())
     return Result(res.to_dict(), res.text())

@@ -52,15 +52,7 @@ def run_orbit(args: argparse.Namespace) -> Result:
         if len(text) > 160:
             text = text[:150] + f" ... ({orbit.height(i)} digits)"
         lines.append(f"  x_{i} = ({text})")
-    if orbit.closes:
-        lines.append(f"periodic: f^{orbit.period}(x_0) = x_0 exactly (period {orbit.period})")
-    elif orbit.period and orbit.preperiod is not None:
-        lines.append(f"eventually periodic: x_{orbit.preperiod + orbit.period} = x_{orbit.preperiod} "
-                     f"(period {orbit.period})")
-    elif orbit.stopped:
-        lines.append(f"no repetition; {orbit.stopped}")
-    else:
-        lines.append(f"no repetition within {args.steps} steps (largest size {max(payload['digits'])} digits)")
+    lines.append(orbit.outcome())
     if args.plot:
         drawn = plot_orbit(f, values, [point[v] for v in f.variables], args.plot_steps, args.plot)
         payload["plot"] = {"file": args.plot, "points": drawn, "arithmetic": "float64"}

@@ -7,8 +7,10 @@ import stat
 import tempfile
 from pathlib import Path
 
-from hkproof.commands import Result, add_budget_option, add_command, add_run_options, run_options
+from hkproof.commands import (Result, add_budget_option, add_command, add_progress_option, add_run_options,
+                              progress_bar, run_options)
 from hkproof.errors import OutputError
+from hkproof.experiments.progress import message_bar
 from hkproof.orchestration.output import output_error
 from hkproof.orchestration.registry import select
 from hkproof.orchestration.report import theorems_markdown
@@ -23,6 +25,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--write", metavar="FILE", help="write the Markdown to FILE (default: print it)")
     p.add_argument("--no-slow", action="store_true", help="do not run claims marked slow")
     add_run_options(p)
+    add_progress_option(p)
 
 
 def writable_target(name: str) -> Path:
@@ -91,7 +94,10 @@ def _umask() -> int:
 def run_report(args: argparse.Namespace) -> Result:
     target = writable_target(args.write) if args.write else None
     claims = select()
-    run = execute([c for c in claims if not (c.slow and args.no_slow)], run_options(args))
+    chosen = [c for c in claims if not (c.slow and args.no_slow)]
+    with progress_bar(args, "report", "claims", total=len(chosen)) as shown:
+        show = message_bar(shown)
+        run = execute(chosen, run_options(args), lambda cert: show(f"{cert.claim_id}: {cert.status.label}"))
     statuses = {cid: cert.status.label for cid, cert in run.certs.items()}
     if run.interrupted:
         return Result({"written": None, "interrupted": True, "statuses": statuses},

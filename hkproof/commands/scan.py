@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import argparse
 
-from hkproof.commands import (Result, add_budget_option, add_command, add_run_options, add_system_argument,
-                              add_values_options, at_least, fixed_values)
+from hkproof.commands import (Result, add_budget_option, add_command, add_progress_option, add_run_options,
+                              add_system_argument, add_values_options, at_least, fixed_values)
 from hkproof.experiments.profiles import HK_BASIS, SINGULAR, KernelProfile
 from hkproof.experiments.scan import ScanResult, parallel_tasks, scan
 from hkproof.orchestration.execution import map_executor
@@ -21,7 +21,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--arithmetic", choices=["exact", "modular", "float", "mpmath"], default="exact",
                    help="exact Q, mod large primes, float64 or mpmath (default exact)")
     p.add_argument("--digits", type=at_least(1), default=50, help="decimal digits for --arithmetic mpmath (default 50)")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    add_progress_option(p)
     add_run_options(p)
 
 
@@ -38,7 +38,7 @@ def run_scan(args: argparse.Namespace) -> Result:
     with map_executor(args.executor, args.jobs, args.scheduler, parallel_tasks(args.points)) as executor:
         result = scan(args.system, args.basis, points=args.points, values=fixed_values(args) or None,
                       arithmetic=args.arithmetic, digits=args.digits, seed=args.seed, executor=executor,
-                      progress=None if not args.no_progress and not args.json else False)
+                      progress=False if args.no_progress or args.json else None)
     return Result(result.to_dict(), format_scan(result))
 
 

@@ -86,6 +86,18 @@ class Growth:
             return math.log(self.lam)
         return 0.0 if self.order is not None else None
 
+    def describe(self) -> list[str]:
+        """The growth class: the formula of deg f^n (or lambda and the entropy) and what it was judged on, or
+        "undecided" and why."""
+        if self.kind == "undecided":
+            return [f"growth: undecided: {self.evidence}"]
+        if self.kind == "exponential":
+            head = (f"growth: exponential, deg f^n ~ lambda^n with lambda = {self.lam:.6g} +- {self.lam_error:.2g}, "
+                    f"algebraic entropy log lambda = {self.entropy:.6g}")
+        else:
+            head = f"growth: {self.kind}, deg f^n = {self.formula()} (algebraic entropy 0)"
+        return [head, f"  (judged on the sequence: {self.evidence})"]
+
     def formula(self, var: str = "n") -> str:
         if self.kind == "exponential":
             return f"~ {self.lam:.6g}^{var}"

@@ -5,16 +5,20 @@ from functools import cached_property
 from typing import Mapping, Sequence
 
 import flint
+import sympy
 
 from hkproof.algebra.fraction import Frac, homogenized_compose, normalize_sign
 from hkproof.algebra.linalg import cramer_polynomials
+from hkproof.algebra.printing import latex, poly_to_sympy
 from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import EPS, TILDE, QuadraticField
 from hkproof.dynamics.heights import HeightGuard
 from hkproof.dynamics.modular_map import ModularKahanMap
 from hkproof.errors import ParseError, SingularPointError
 
-__all__ = ["commutator_at", "KahanMap"]
+__all__ = ["commutator_at", "KahanMap", "SHOWN_TERMS"]
+
+SHOWN_TERMS = 200        # a Kahan map with more terms shows in Jupyter by its term counts
 
 
 class KahanMap:
@@ -122,6 +126,19 @@ class KahanMap:
         """f_i = N_i / Delta, each in lowest terms."""
         nums, delta = self.explicit
         return [Frac(self.ring, p, delta) for p in nums]
+
+    def _repr_markdown_(self) -> str:
+        """x~ = N(x)/Delta(x) in LaTeX (term counts only for a large map): how Jupyter shows a Kahan map."""
+        nums, delta = self.explicit
+        head = f"**Kahan map of {self.field.name}** (eps = half the time step)"
+        tilde = [rf"\tilde{{{latex(sympy.Symbol(v))}}}" for v in self.variables]
+        if sum(len(p) for p in nums) + len(delta) > SHOWN_TERMS:
+            return "\n".join([head, "", *(f"- ${t} = N_{i + 1}/\\Delta$: {len(p)} terms"
+                                          for i, (t, p) in enumerate(zip(tilde, nums, strict=True))),
+                              f"- $\\Delta$: {len(delta)} terms"])
+        den = latex(poly_to_sympy(delta))
+        return "\n\n".join([head, *(rf"$${t} = \frac{{{latex(poly_to_sympy(p))}}}{{{den}}}$$"
+                                     for t, p in zip(tilde, nums, strict=True))])
 
     # ---- composition and iterates ---------------------------------------------------------------
     def negate_eps(self, p: flint.fmpz_mpoly) -> flint.fmpz_mpoly:

@@ -5,7 +5,9 @@ from dataclasses import dataclass
 from typing import Mapping
 
 import flint
+import sympy
 
+from hkproof.algebra.printing import markdown_table, sympy_rational
 from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.heights import HeightGuard
 from hkproof.dynamics.kahan import KahanMap
@@ -32,6 +34,35 @@ class ExactOrbit:
     def height(self, index: int) -> int:
         """About the largest number of decimal digits of a numerator or denominator of x_index."""
         return digits(self.points[index])
+
+    def outcome(self) -> str:
+        """Periodic, eventually periodic, stopped (too many digits) or no repetition within the steps."""
+        if self.closes:
+            return f"periodic: f^{self.period}(x_0) = x_0 exactly (period {self.period})"
+        if self.period and self.preperiod is not None:
+            return f"eventually periodic: x_{self.preperiod + self.period} = x_{self.preperiod} (period {self.period})"
+        if self.stopped:
+            return f"no repetition; {self.stopped}"
+        return f"no repetition within {len(self.points) - 1} steps (largest size {max(map(digits, self.points))} digits)"
+
+    def to_sympy(self) -> list[tuple[sympy.Rational, ...]]:
+        """The points x_0, x_1, ... as tuples of exact sympy Rationals."""
+        return [tuple(sympy_rational(x[v]) for v in self.variables) for x in self.points]
+
+    def _repr_markdown_(self) -> str:
+        """The points (long coordinates cut, with their digit counts) and the outcome: how Jupyter shows the orbit."""
+        at = ", ".join(f"{k} = {v}" for k, v in self.values.items())
+        rows = [[f"x_{i}", *(_cut(str(x[v])) for v in self.variables)] for i, x in enumerate(self.points[:SHOWN])]
+        more = [f"... {len(self.points) - SHOWN} more points"] if len(self.points) > SHOWN else []
+        return "\n".join([f"**exact orbit over Q** at {at}", "", markdown_table(["", *self.variables], rows), *more,
+                          "", self.outcome()])
+
+
+SHOWN = 12          # points of an orbit shown in a notebook
+
+
+def _cut(text: str, width: int = 40) -> str:
+    return text if len(text) <= width else f"{text[:width - 12]}... ({len(text)} chars)"
 
 
 def digits(point: Mapping[str, flint.fmpq]) -> int:

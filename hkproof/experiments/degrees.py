@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Mapping
 
+from hkproof.algebra.printing import markdown_table
 from hkproof.algebra.ring import Rational
 from hkproof.dynamics.degrees import DegreeGrowth, degree_growth, fit_growth, symbolic_degree
 from hkproof.dynamics.kahan import KahanMap
@@ -33,6 +34,21 @@ class DegreeReport:
         them, evidence(exact) otherwise (degrees mod p at random values: not a proof)."""
         exact = self.symbolic_agree and len(self.symbolic) == self.requested
         return Status.VERIFIED if exact else Status.EVIDENCE_EXACT
+
+    @property
+    def degrees(self) -> list[int]:
+        """deg f^n for n = 1, 2, ... (the symbolic ones where computed)."""
+        return self.found.degrees
+
+    def _repr_markdown_(self) -> str:
+        """The degrees, the growth and the status: how Jupyter shows the report."""
+        found = self.found
+        how = (f"the first {len(self.symbolic)} from the symbolic iterates, " if self.symbolic else "") + (
+            f"{len(found.runs)} runs mod p on random lines at random values "
+            + ("(they agree)" if found.agree else "(they DISAGREE: the largest degree is kept)"))
+        table = markdown_table(["n", *range(1, len(found.degrees) + 1)], [["deg f^n", *found.degrees]])
+        return "\n".join([f"**[{self.status.label}] degree growth of the Kahan map of {found.system}**", "", table,
+                          "", *(f"- {line.strip()}" for line in found.growth.describe()), f"- degrees: {how}"])
 
 
 def degree_report(kmap: KahanMap, iterates: int, fixed: Mapping[str, Rational] | None = None, *, seed: int = 0,

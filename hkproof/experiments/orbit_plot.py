@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Mapping, Sequence
+from typing import TYPE_CHECKING, Mapping, Sequence
 
 import numpy as np
 
@@ -12,7 +12,10 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ParseError, SingularPointError
 from hkproof.experiments.figures import kahan_orbit
 
-__all__ = ["check_plot_path", "float_orbit", "panels", "plot_orbit"]
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+__all__ = ["check_plot_path", "float_orbit", "orbit_figure", "panels", "plot_orbit"]
 
 
 def float_orbit(kmap: KahanMap, values: Mapping[str, object], x0: Sequence[Rational], steps: int) -> np.ndarray:
@@ -47,19 +50,16 @@ def check_plot_path(path: str | Path) -> Path:
     return path
 
 
-def plot_orbit(kmap: KahanMap, values: Mapping[str, object], x0: Sequence[Rational], steps: int,
-               path: str | Path) -> int:
-    """Write a PNG of the float orbit of x0 (matplotlib, Agg); returns the number of points drawn."""
-    path = check_plot_path(path)
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+def orbit_figure(kmap: KahanMap, values: Mapping[str, object], x0: Sequence[Rational], steps: int) -> tuple[Figure, int]:
+    """A matplotlib figure of the float orbit of x0 (no pyplot: it displays in Jupyter and saves with Agg), and the
+    number of points drawn."""
+    from matplotlib.figure import Figure
 
     orbit = float_orbit(kmap, values, x0, steps)
     orbit = orbit[np.all(np.isfinite(orbit), axis=1)]
     names = kmap.variables
     groups = panels(names)
-    fig = plt.figure(figsize=(max(7.0, 5 * len(groups)), 5))
+    fig = Figure(figsize=(max(7.0, 5 * len(groups)), 5))
     shown = ", ".join(f"{k} = {v}" for k, v in values.items())
     for i, cols in enumerate(groups):
         ax = fig.add_subplot(1, len(groups), i + 1, **({"projection": "3d"} if len(cols) == 3 else {}))
@@ -74,13 +74,19 @@ def plot_orbit(kmap: KahanMap, values: Mapping[str, object], x0: Sequence[Ration
     fig.suptitle(f"Kahan map of {kmap.field.name}, {len(orbit)} points (float64)\n{shown} (eps = half the time step)",
                  fontsize=10)
     fig.tight_layout()
+    return fig, len(orbit)
+
+
+def plot_orbit(kmap: KahanMap, values: Mapping[str, object], x0: Sequence[Rational], steps: int,
+               path: str | Path) -> int:
+    """Write a PNG of the float orbit of x0 (matplotlib, Agg); returns the number of points drawn."""
+    path = check_plot_path(path)
+    fig, drawn = orbit_figure(kmap, values, x0, steps)
     try:
         fig.savefig(path, dpi=110)
     except OSError as exc:
         raise HKProofError(f"cannot write the plot {path}: {exc}") from None
-    finally:
-        plt.close(fig)
-    return len(orbit)
+    return drawn
 
 
 def _percentile_limits(ax, xyz: np.ndarray, q: float = 1.0) -> None:

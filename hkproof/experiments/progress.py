@@ -1,36 +1,35 @@
-"""A one-line progress bar on stderr for long scans (no dependency)."""
+"""Progress bars on stderr through tqdm: shown at a terminal, silent otherwise or when switched off."""
 from __future__ import annotations
 
 import sys
-import time
-from typing import TextIO
+from typing import Callable, TextIO
 
-__all__ = ["Progress"]
+from tqdm import tqdm
+
+__all__ = ["bar", "message_bar"]
 
 
-class Progress:
-    """`[#####.....] 12/40 points, 3.1 s` rewritten in place; silent when disabled."""
+def bar(total: int | None, unit: str, *, enabled: bool | None = None, stream: TextIO | None = None,
+        desc: str = "") -> tqdm:
+    """A tqdm bar of `total` units (None: a counter) on `stream` (stderr); enabled=None shows it only at a terminal.
 
-    def __init__(self, total: int, label: str = "points", enabled: bool | None = None, stream: TextIO | None = None,
-                 width: int = 30):
-        self.stream = stream or sys.stderr
-        self.total = total
-        self.label = label
-        self.enabled = self.stream.isatty() if enabled is None else enabled
-        self.width = width
-        self.done = 0
-        self.start = time.perf_counter()
+    >>> import io
+    >>> out = io.StringIO()
+    >>> with bar(3, "points", enabled=True, stream=out) as b:
+    ...     b.update(3)
+    ...     _ = b.refresh()
+    >>> "3/3" in out.getvalue()
+    True
+    """
+    stream = stream or sys.stderr
+    shown = stream.isatty() if enabled is None else enabled
+    return tqdm(total=total, unit=unit, desc=desc, file=stream, disable=not shown, leave=False, dynamic_ncols=True,
+                mininterval=0.2)
 
-    def update(self, n: int = 1) -> None:
-        self.done += n
-        if not self.enabled:
-            return
-        filled = int(self.width * self.done / max(self.total, 1))
-        self.stream.write(f"\r[{'#' * filled}{'.' * (self.width - filled)}] {self.done}/{self.total} {self.label}, "
-                          f"{time.perf_counter() - self.start:.1f} s")
-        self.stream.flush()
 
-    def close(self) -> None:
-        if self.enabled:
-            self.stream.write("\n")
-            self.stream.flush()
+def message_bar(progress: tqdm) -> Callable[[str], None]:
+    """A progress callback of a pipeline (one line per event) shown as the bar's description, counting the events."""
+    def show(line: str) -> None:
+        progress.set_description_str(line, refresh=False)
+        progress.update()
+    return show

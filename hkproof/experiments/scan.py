@@ -17,7 +17,7 @@ from hkproof.algebra.sampling import random_rationals
 from hkproof.experiments.points import random_values
 from hkproof.experiments.profiles import (AMBIGUOUS, HK_BASIS, IRREGULAR, NO_BASIS, SINGULAR, KernelProfile,
                                           ProfileProblem, parse_basis)
-from hkproof.experiments.progress import Progress
+from hkproof.experiments.progress import bar
 from hkproof.experiments.scene import make_scene
 from hkproof.proof.status import Status
 
@@ -105,21 +105,18 @@ def scan(system: str | KahanMap, basis: str | Sequence[str], *, points: int | Se
     args = (_field_spec(kmap.field), basis_texts, tuple((k, str(v)) for k, v in scene_values.items()),
             (arithmetic, digits, seed))
     chunks = [str_points[i:i + chunk] for i in range(0, len(str_points), chunk)]
-    bar = Progress(len(str_points), enabled=progress)
     results: dict[int, list[dict]] = {}
     pool = executor if parallel_tasks(len(str_points), chunk) else None
-    try:
+    with bar(len(str_points), "points", enabled=progress, desc="scan") as shown:
         if pool is None:
             for i, c in enumerate(chunks):
                 results[i] = _profile_chunk(*args, c, with_kernel)
-                bar.update(len(c))
+                shown.update(len(c))
         else:
             futures = {pool.submit(_profile_chunk, *args, c, with_kernel): i for i, c in enumerate(chunks)}
             for fut in as_completed(futures):
                 results[futures[fut]] = fut.result()
-                bar.update(len(results[futures[fut]]))
-    finally:
-        bar.close()
+                shown.update(len(results[futures[fut]]))
     profiles = [KernelProfile(**d) for i in range(len(chunks)) for d in results[i]]
     return ScanResult(kmap.field.name, list(basis_texts), get_arithmetic(arithmetic, digits=digits).name,
                       {k: str(v) for k, v in scene_values.items()}, profiles)

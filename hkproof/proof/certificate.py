@@ -7,7 +7,10 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Iterator, Mapping
 
+import sympy
+
 from hkproof.algebra.fraction import Frac
+from hkproof.algebra.printing import latex, markdown_table
 from hkproof.algebra.ring import Ring
 from hkproof.proof.status import Status
 
@@ -172,6 +175,27 @@ class Certificate:
         self.__dict__.update(state)
         self.values = {k: _unpack(v, rings) for k, v in state["values"].items()}
         self._packed = state["values"]
+
+    def to_sympy(self) -> dict[str, sympy.Expr]:
+        """The formulas found that carry exact values, as sympy expressions in the system's own names."""
+        return {name: value.to_sympy() for name, value in self.values.items()}
+
+    def _repr_markdown_(self) -> str:
+        """Status, claim, formulas (LaTeX), steps and time: how Jupyter shows a certificate."""
+        lines = [f"**[{self.status.label}] {self.claim_id}**: {self.title} ({self.paper_ref}; {self.seconds:.3f} s)",
+                 "", f"claim: {self.statement}", ""]
+        if self.fixed:
+            lines += ["at " + ", ".join(f"{k} = {v}" for k, v in self.fixed.items()), ""]
+        exact = self.to_sympy()
+        lines += [f"- ${latex(sympy.Symbol(name))} = {latex(exact[name])}$" if name in exact else f"- {name} = `{text}`"
+                  for name, text in self.formulas.items()]
+        rows = [[s.status.label, s.name, s.method, s.ring + (f", {s.points} points" if s.points else ""),
+                 f"{s.seconds:.3f} s", s.detail] for s in self.steps]
+        lines += ["", markdown_table(["status", "step", "method", "ring", "time", "detail"], rows)]
+        lines += [f"- paper correction: {c}" for c in self.corrections] + [f"- note: {n}" for n in self.notes]
+        if self.error:
+            lines.append(f"- stopped: {self.error}")
+        return "\n".join(lines)
 
     def render(self) -> str:
         """A readable certificate for the terminal."""

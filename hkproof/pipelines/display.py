@@ -1,0 +1,60 @@
+"""How the reports of discover and measure show in Jupyter (Markdown with LaTeX) and convert to sympy.
+
+The report classes live with their pipelines; IPython learns these renderers through its formatters (`register`),
+the way it learns the display of any class it does not own.
+"""
+from __future__ import annotations
+
+from typing import Any
+
+import sympy
+
+from hkproof.algebra.printing import latex, markdown_table, poly_to_sympy
+from hkproof.pipelines.darboux import DarbouxSearch
+from hkproof.pipelines.discover.report import DiscoveryReport
+
+__all__ = ["darboux_markdown", "discovery_markdown", "register", "report_to_sympy"]
+
+
+def discovery_markdown(report: DiscoveryReport) -> str:
+    """The integrals (LaTeX, status, kind), the kernels and what the search covered."""
+    fixed = f" at {', '.join(f'{k} = {v}' for k, v in report.fixed.items())}" if report.fixed else ""
+    lines = [f"**discover {report.system}**{fixed}: HK-bases among monomials of degree <= {report.degree}", ""]
+    rows = [[i.name, f"${latex(sympy.factor(i.frac.to_sympy()))}$" if i.frac is not None else "not reconstructed",
+             i.status.label, "yes" if i.independent else "", i.kind, f"{i.seconds:.2f} s"] for i in report.integrals]
+    lines.append(markdown_table(["integral", "formula", "status", "independent", "found as", "time"], rows)
+                 if rows else "no integral found")
+    lines += ["", *(f"- degree {k['degree']}: {k['monomials']} monomials, kernel dimension {k['dimension']}"
+                    for k in report.kernels)]
+    lines.append(f"- {report.independent} functionally independent verified integrals in dimension "
+                 f"{len(report.variables)}")
+    lines.append(("- complete: " if report.complete else "- budget ran out: ") + "; ".join(report.covered))
+    if report.stages:
+        lines.append("- time: " + ", ".join(f"{k} {v:.2f} s" for k, v in report.stages.items()))
+    return "\n".join(lines)
+
+
+def darboux_markdown(search: DarbouxSearch) -> str:
+    """Darboux polynomials with their cofactors, invariant measures and integrals, each with its status."""
+    payload = search.to_dict()
+    polys = [[f"${latex(sympy.factor(poly_to_sympy(d.poly)))}$", d.cofactor.text(search.atoms), p["status"]]
+             for d, p in zip(search.darboux, payload["darboux"], strict=True)]
+    lines = [f"**measure {search.system}**: Darboux polynomials P o f = K P of degree <= {search.degree}", "",
+             markdown_table(["P", "cofactor K", "status"], polys) if polys else "no Darboux polynomial found", ""]
+    lines += [f"- density {d['expr']}: {d['status']}" for d in payload["densities"]]
+    lines += [f"- integral {d['expr']}: {d['status']}" for d in payload["integrals"]]
+    return "\n".join(lines)
+
+
+def report_to_sympy(report: DiscoveryReport | DarbouxSearch) -> dict[str, Any]:
+    """The reconstructed integrals of discover ({name: expression}), or measure's Darboux polynomials."""
+    if isinstance(report, DiscoveryReport):
+        return {i.name: i.frac.to_sympy() for i in report.integrals if i.frac is not None}
+    return {"darboux": [poly_to_sympy(d.poly) for d in report.darboux]}
+
+
+def register(shell: Any) -> None:
+    """Teach an IPython shell to show discover and measure reports as Markdown."""
+    markdown = shell.display_formatter.formatters["text/markdown"]
+    markdown.for_type(DiscoveryReport, discovery_markdown)
+    markdown.for_type(DarbouxSearch, darboux_markdown)
