@@ -50,6 +50,8 @@ def test_prove_gives_each_claim_its_budget(capsys):
     code = main(["prove", "flow-theta-all", "--jobs", "1", "--seconds", "1", "--json"])
     cert = next(r for r in json.loads(capsys.readouterr().out) if r["id"] == "flow-theta-all")
     assert code == 4 and cert["status"] == "unknown" and "unknown" in cert["error"]     # a cited claim ran out
+    from hkproof.orchestration.registry import cached
+    assert all(cached(cid) is None for cid in ("flow-theta-all", "flow-second-theta"))  # not this run's answer
 
 
 @pytest.mark.parametrize("value", ["0", "-5", "nan", "inf", "1e999", "৪"])

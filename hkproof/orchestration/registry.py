@@ -48,8 +48,18 @@ class Claim:
         """The certificate of this claim: the run's cached one when unperturbed (proven at most once per run);
         with `overrides` (replacing claimed formulas: a perturbed claim must be refuted) proven afresh, never cached.
         With `seconds`, the proof runs within that budget; when it runs out, the certificate is `unknown` and says so."""
-        with Budget(seconds, raise_with="a larger --seconds (per claim)").active():
+        if seconds is None:
             return self.certify(overrides) if overrides else proven(self.id)
+        before = set(_CACHE)
+        with Budget(seconds, raise_with="a larger --seconds (per claim)").active() as budget:
+            cert = self.certify(overrides) if overrides else proven(self.id)
+        if budget.expired:      # what ran out is not this run's answer for later citations: forget it
+            for cid in set(_CACHE) - before:
+                if _CACHE[cid].status is Status.UNKNOWN:
+                    del _CACHE[cid]
+            if cert.status is Status.UNKNOWN:
+                cert.notes.append(RAN_OUT)
+        return cert
 
     def certify(self, overrides: Mapping[str, str] | None = None) -> Certificate:
         """Run the prover now. Total: any exception of the prover (a bug included, KeyboardInterrupt excepted)
@@ -71,6 +81,7 @@ class Claim:
         return cert
 
 
+RAN_OUT = "stopped by the per-claim time budget (--seconds): unknown, not refuted"
 REGISTRY: dict[str, Claim] = {}
 _CACHE: dict[str, Certificate] = {}  # the run's certificates of unperturbed claims, by id
 _PROVING: ContextVar[Certificate | None] = ContextVar("hkproof_proving", default=None)
@@ -130,9 +141,11 @@ def cached(claim_id: str) -> Certificate | None:
 
 
 def remember(certs: Iterable[Certificate]) -> None:
-    """Put certificates of unperturbed claims proven elsewhere (a worker, the scheduler) into the run's cache."""
+    """Put certificates of unperturbed claims proven elsewhere (a worker, the scheduler) into the run's cache (not
+    those a per-claim budget stopped)."""
     for cert in certs:
-        _CACHE[cert.claim_id] = cert
+        if RAN_OUT not in cert.notes:
+            _CACHE[cert.claim_id] = cert
 
 
 def proven(claim_id: str) -> Certificate:

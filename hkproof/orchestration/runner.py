@@ -6,12 +6,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
-from hkproof.errors import BudgetExhausted
 from hkproof.exit_codes import ExitCode
 from hkproof.orchestration.execution import make_executor, run_graph
 from hkproof.orchestration.graph import in_dependency_order
 from hkproof.orchestration.interrupts import interrupt_label, interrupts_deferred, interrupts_ignored
-from hkproof.orchestration.registry import REGISTRY, Claim, cached
+from hkproof.orchestration.registry import RAN_OUT, REGISTRY, Claim, cached
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 
@@ -49,7 +48,7 @@ class Run:
         failed = [cert for c, cert in self.finished if not c.succeeded(cert)]
         if not failed:
             return ExitCode.VERIFIED
-        if all(cert.status is not Status.REFUTED and _ran_out(cert) for cert in failed):
+        if all(cert.status is not Status.REFUTED and RAN_OUT in cert.notes for cert in failed):
             return ExitCode.LIMIT      # nothing refuted: the per-claim budget stopped a proof (or one it cites)
         return ExitCode.REFUTED
 
@@ -79,14 +78,6 @@ class Run:
                 "signal": self.interrupted_by or None, "claims": len(self.claims),
                 "finished": len(self.certs), "exit_code": int(self.exit_code),
                 "failed": [c.id for c, cert in self.finished if not c.succeeded(cert)]}
-
-
-def _ran_out(cert: Certificate) -> bool:
-    """The proof stopped on its budget, or on a cited claim that did (the run's cache holds the cited ones)."""
-    if cert.error.startswith(f"{BudgetExhausted.__name__}:"):
-        return True
-    return any(cited is not None and cited.status is not Status.VERIFIED and _ran_out(cited)
-               for cited in map(cached, cert.cites))
 
 
 def certificate_payload(cert: Certificate) -> dict:
