@@ -48,8 +48,9 @@ def prove_integrals(cert: Certificate, claimed: Mapping[str, str], entry: Entry)
     fixed = dict(entry.params)
     field = get_system(entry.system).specialize(fixed) if fixed else get_system(entry.system)
     kmap = kahan_map(field)
-    with cert.step("integrals h o f = h", f"hkproof discover at degree {entry.degree}, then exact substitution "
-                   "h(N/Delta) - h = 0 (hkproof.hk.integrals)", kmap.ring, fixed or None) as s:
+    with cert.step("integrals h o f = h", f"hkproof discover at degree {entry.degree}; each integral proven by exact "
+                   "substitution h(N/Delta) - h = 0 (hkproof.hk.integrals) or, as a kernel coordinate of a whole "
+                   "HK-basis, by Prop. \"prop: even\" (hkproof.hk.reduced)", kmap.ring, fixed or None) as s:
         report = run(entry)
         cert.notes.append(f"discover at degree {entry.degree}, seconds per stage: "
                           + ", ".join(f"{k} {v:.2f}" for k, v in report.stages.items()) + "; "
