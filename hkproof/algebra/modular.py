@@ -15,10 +15,11 @@ from typing import Sequence
 
 import flint
 
+from hkproof.algebra.monomials import Exponents, exponents_upto, value_mod_p
 from hkproof.errors import UnluckyPrimeError
 
-__all__ = ["free_kernel_mod_p", "kernel_mod_p", "random_prime", "rank_mod_p", "residue", "residue_or_none",
-           "solve_mod_p"]
+__all__ = ["free_kernel_mod_p", "kernel_mod_p", "polynomial_mod_p", "random_prime", "rank_mod_p", "rational_fit_mod_p",
+           "residue", "residue_or_none", "solve_mod_p"]
 
 
 def random_prime(rng: random.Random, bits: int = 62) -> int:
@@ -89,3 +90,37 @@ def solve_mod_p(matrix: Sequence[Sequence[int]], rhs: Sequence[int], p: int) -> 
     except ZeroDivisionError:
         return None
     return [int(sol[i, 0]) for i in range(len(rhs))]
+
+
+SparseMod = dict[Exponents, int]      # a polynomial mod p: exponents -> coefficient
+
+
+def polynomial_mod_p(part: SparseMod, x: Sequence[int], p: int) -> int:
+    """The value of a sparse polynomial mod p at x."""
+    return sum(c * value_mod_p(m, x, p) for m, c in part.items()) % p
+
+
+def rational_fit_mod_p(values: Sequence[int], points: Sequence[Sequence[int]], degrees: tuple[int, int], p: int
+                       ) -> tuple[SparseMod, SparseMod] | None:
+    """N, D of total degrees <= `degrees` with values * D = N at every point mod p (the dense ansatz, D normalized by
+    its first non-zero monomial), or None unless the solution is unique up to scale.
+
+    >>> rational_fit_mod_p([(2 * x + 1) * pow(x + 3, -1, 101) % 101 for x in range(1, 6)], [[x] for x in range(1, 6)],
+    ...                    (1, 1), 101)
+    ({(1,): 2, (0,): 1}, {(1,): 1, (0,): 3})
+    """
+    n = len(points[0]) if points else 0
+    n_monos, d_monos = exponents_upto(n, degrees[0]), exponents_upto(n, degrees[1])
+    rows = [[value_mod_p(m, x, p) for m in n_monos] + [(p - y) * value_mod_p(m, x, p) % p for m in d_monos]
+            for y, x in zip(values, points, strict=True)]
+    solutions = free_kernel_mod_p(rows, p, free_value=1)
+    if len(solutions) != 1:
+        return None
+    vec = solutions[0][1]
+    num, den = vec[:len(n_monos)], vec[len(n_monos):]
+    lead = next((c for c in den if c), 0)
+    if not lead:
+        return None
+    inv = pow(lead, -1, p)
+    return ({m: c * inv % p for m, c in zip(n_monos, num, strict=True) if c},
+            {m: c * inv % p for m, c in zip(d_monos, den, strict=True) if c})

@@ -22,8 +22,8 @@ import random
 from collections.abc import Callable, Sequence
 
 from hkproof import budget
-from hkproof.algebra.modular import free_kernel_mod_p, random_prime
-from hkproof.algebra.monomials import Exponents, exponents_upto, value_mod_p
+from hkproof.algebra.modular import polynomial_mod_p, random_prime, rational_fit_mod_p
+from hkproof.algebra.monomials import Exponents, exponents_upto
 from hkproof.algebra.rational_lifting import CoefficientLifter
 from hkproof.algebra.univariate_rational import ThieleInterpolator
 from hkproof.errors import HKProofError, ResourceLimitError
@@ -71,37 +71,12 @@ def _line_degrees(box: VectorBox, p: int, n: int, count: int, rng: random.Random
     return out
 
 
-def _solve(values: Sequence[int], points: Sequence[Sequence[int]], degrees: tuple[int, int],
-           p: int) -> tuple[dict[Exponents, int], dict[Exponents, int]] | None:
-    """The dense ansatz g Q - P = 0 mod p, Q normalized by its first non-zero monomial; None unless the solution is
-    unique."""
-    n = len(points[0])
-    pm, qm = exponents_upto(n, degrees[0]), exponents_upto(n, degrees[1])
-    rows = [[(p - value_mod_p(m, x, p)) % p for m in pm] + [g * value_mod_p(m, x, p) % p for m in qm]
-            for g, x in zip(values, points, strict=True)]
-    kernel = free_kernel_mod_p(rows, p, free_value=1)
-    if len(kernel) != 1:
-        return None
-    vec = kernel[0][1]
-    num, den = vec[:len(pm)], vec[len(pm):]
-    lead = next((c for c in den if c), 0)
-    if not lead:
-        return None
-    inv = pow(lead, -1, p)
-    return ({m: c * inv % p for m, c in zip(pm, num, strict=True) if c},
-            {m: c * inv % p for m, c in zip(qm, den, strict=True) if c})
-
-
 def _integral(num: dict, den: dict) -> Fraction:
     """Rational coefficients made integer and primitive (a common factor for numerator and denominator)."""
     scale = math.lcm(*(int(c.q) for c in (*num.values(), *den.values())))
     ints = [{m: int(c.p) * (scale // int(c.q)) for m, c in part.items()} for part in (num, den)]
     g = math.gcd(*(v for part in ints for v in part.values())) or 1
     return ({m: v // g for m, v in ints[0].items()}, {m: v // g for m, v in ints[1].items()})
-
-
-def _value(part: dict[Exponents, int], x: Sequence[int], p: int) -> int:
-    return sum(c * value_mod_p(m, x, p) for m, c in part.items()) % p
 
 
 def reconstruct_vector(box: VectorBox, n: int, count: int, *, rng: random.Random, max_degree: int = 16,
@@ -125,7 +100,7 @@ def reconstruct_vector(box: VectorBox, n: int, count: int, *, rng: random.Random
             if v is not None:
                 points.append(x)
                 values.append(v)
-        solved = [_solve([v[j] for v in values], points, degrees[j], p) for j in range(count)]
+        solved = [rational_fit_mod_p([v[j] for v in values], points, degrees[j], p) for j in range(count)]
         if any(s is None for s in solved):
             continue                     # an unlucky prime or points: another prime
         shape = [(tuple(sorted(s[0])), tuple(sorted(s[1]))) for s in solved if s is not None]
@@ -161,7 +136,7 @@ def _check(box: VectorBox, fractions: list[Fraction], n: int, rng: random.Random
         if values is None:
             continue
         for (num, den), v in zip(fractions, values, strict=True):
-            d = _value(den, x, p)
-            if d and (v * d - _value(num, x, p)) % p:
+            d = polynomial_mod_p(den, x, p)
+            if d and (v * d - polynomial_mod_p(num, x, p)) % p:
                 raise HKProofError("a reconstructed function failed the check at a fresh point mod a fresh prime")
         checked += 1

@@ -25,7 +25,7 @@ import flint
 
 from hkproof import budget
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.modular import free_kernel_mod_p, kernel_mod_p, rank_mod_p
+from hkproof.algebra.modular import kernel_mod_p, polynomial_mod_p, rank_mod_p, rational_fit_mod_p
 from hkproof.algebra.monomials import Exponents, exponents_upto, value_mod_p
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, UnluckyPrimeError
@@ -174,27 +174,6 @@ def _choose(rows01: list[list[int]], space: list[list[int]], p: int, width: int)
     return chosen
 
 
-def _fit(values: Sequence[int], knowns: Sequence[Sequence[int]], degrees: tuple[int, int],
-         p: int) -> tuple[dict[Exponents, int], dict[Exponents, int]] | None:
-    """N, D with values * D(K) = N(K) at every sample (D's first monomial normalized to 1), if the ansatz of these
-    degrees has a one-dimensional solution space."""
-    nk = len(knowns[0]) if knowns else 0
-    n_monos, d_monos = exponents_upto(nk, degrees[0]), exponents_upto(nk, degrees[1])
-    rows = [[value_mod_p(m, k, p) for m in n_monos] + [(p - y) * value_mod_p(m, k, p) % p for m in d_monos]
-            for y, k in zip(values, knowns, strict=True)]
-    solutions = free_kernel_mod_p(rows, p, free_value=1)
-    if len(solutions) != 1:
-        return None
-    vec = solutions[0][1]
-    num, den = vec[:len(n_monos)], vec[len(n_monos):]
-    lead = next((c for c in den if c), 0)
-    if not lead:
-        return None
-    inv = pow(lead, -1, p)
-    return ({m: c * inv % p for m, c in zip(n_monos, num, strict=True) if c},
-            {m: c * inv % p for m, c in zip(d_monos, den, strict=True) if c})
-
-
 @dataclass
 class _Point:
     """One sample: the coordinates c, their gradients, the proven integrals and their gradients (mod p)."""
@@ -254,7 +233,7 @@ def _express(samples: _Samples, rows: list[list[int]], names: list[str], max_deg
                         key=lambda t: t[0])
         for _, subset, degrees in trials:
             ks = [[v[j] for j in subset] for v in values]
-            fit = _fit(ys[:-extra], ks[:-extra], degrees, p)
+            fit = rational_fit_mod_p(ys[:-extra], ks[:-extra], degrees, p)
             if fit is not None and _holds(fit, ys[-extra:], ks[-extra:], p):
                 found = ModularRelation(row, _pivot(row), [knowns[j] for j in subset], degrees, *fit)
                 break
@@ -267,12 +246,8 @@ def _express(samples: _Samples, rows: list[list[int]], names: list[str], max_deg
 def _holds(fit: tuple[dict[Exponents, int], dict[Exponents, int]], ys: Sequence[int], ks: Sequence[Sequence[int]],
            p: int) -> bool:
     num, den = fit
-    for y, k in zip(ys, ks, strict=True):
-        n = sum(c * value_mod_p(m, k, p) for m, c in num.items()) % p
-        d = sum(c * value_mod_p(m, k, p) for m, c in den.items()) % p
-        if (y * d - n) % p:
-            return False
-    return True
+    return all((y * polynomial_mod_p(den, k, p) - polynomial_mod_p(num, k, p)) % p == 0
+               for y, k in zip(ys, ks, strict=True))
 
 
 def plan_mod_p(kmap: KahanMap, basis: Sequence[Exponents], known: Mapping[str, Frac], p: int,
@@ -332,7 +307,7 @@ def evaluate_plan(kmap: KahanMap, basis: Sequence[Exponents], known: Mapping[str
             columns[f"_l{j}"] = [sum(a * b for a, b in zip(prev, c, strict=True)) % p for c, _ in data]
         ks = [[columns[n][t] for n in rel.knowns] for t in range(len(data))]
         ys = [sum(a * b for a, b in zip(row, c, strict=True)) % p for c, _ in data]
-        fit = _fit(ys[:-extra], ks[:-extra], rel.degrees, p)
+        fit = rational_fit_mod_p(ys[:-extra], ks[:-extra], rel.degrees, p)
         if fit is None or not _holds(fit, ys[-extra:], ks[-extra:], p):
             return None
         found = ModularRelation(row, rel.pivot, rel.knowns, rel.degrees, *fit)
