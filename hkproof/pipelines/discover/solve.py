@@ -22,6 +22,7 @@ from hkproof.algebra.linalg import lcm
 from hkproof.algebra.modular import random_prime
 from hkproof.algebra.monomials import Exponents, text
 from hkproof.dynamics.field import EPS
+from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import BudgetExhausted, HKProofError
 from hkproof.hk.independence import sample_point
 from hkproof.hk.reduced import Relation, verify_by_evenness
@@ -34,7 +35,7 @@ from hkproof.pipelines.discover.symbolic import PRIME_BITS, SymbolicRelation, co
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 
-__all__ = ["FIRST_ATTEMPT", "BasisProof", "Postponed", "prove_basis"]
+__all__ = ["FIRST_ATTEMPT", "BasisProof", "Postponed", "prove_basis", "verify_candidate"]
 
 FIRST_ATTEMPT = 20.0     # seconds of sparse reconstruction a normalization of a basis gets first (then 4x, 16x, ...)
 
@@ -107,17 +108,24 @@ def prove_basis(ctx: SearchContext, basis: Sequence[Exponents], known: Mapping[s
                        "and its coordinates, normalized by the last one (-1), are integrals of the Kahan map.",
                        fixed={k: str(v) for k, v in ctx.fixed.items()})
     _cite(cert, kmap.ring, relations, even)
-    fracs = [Frac.parse(kmap.ring, t) for t in texts]
-    rows = [Relation(r.combination, r.rhs, source="a rational function of proven integrals (step 1)",
-                     formula=r.formula, uses=r.knowns) for r in relations]
     try:
-        verify_by_evenness(cert, kmap, fracs[:-1], fracs[-1], _names(texts), candidate,
-                           sample_point(kmap.ring.names, 2), (0, 1), rows, check=check_solution_by_rows)
+        verify_candidate(cert, kmap, texts, relations, candidate)
     except ProofStopped as exc:
         cert.error = str(exc)
     except HKProofError as exc:
         cert.error = f"{type(exc).__name__}: {exc}"
     return BasisProof(texts, list(basis), candidate, cert, relations, time.perf_counter() - start)
+
+
+def verify_candidate(cert: Certificate, kmap: KahanMap, basis: Sequence[str], relations: Sequence[SymbolicRelation],
+                     candidate: Sequence[Frac]) -> None:
+    """Step 4: Prop. "prop: even" for candidate coordinates of `basis` (the last one normalized to -1) with the rows
+    i = 0, 1 and `relations`, recorded in `cert` (ProofStopped when a step fails)."""
+    fracs = [Frac.parse(kmap.ring, t) for t in basis]
+    rows = [Relation(r.combination, r.rhs, source="a rational function of proven integrals (step 1)",
+                     formula=r.formula, uses=r.knowns) for r in relations]
+    verify_by_evenness(cert, kmap, fracs[:-1], fracs[-1], _names(basis), candidate, sample_point(kmap.ring.names, 2),
+                       (0, 1), rows, check=check_solution_by_rows)
 
 
 def _race(ctx: SearchContext, complete: list[tuple[list[Exponents], ModularPlan]], rng: random.Random
