@@ -71,6 +71,18 @@ _register(QuadraticField(
      "(a2 - a4)*((a1 + a2 + a4)*m12*m14 - (a2 + a3 + a4)*m23*m34)",
      "(a3 - a4)*((a1 + a3 + a4)*m13*m14 + (a2 + a3 + a4)*m23*m24)"),
     "Commuting Manakov flow on so(4): M' = [M, Omega], Omega_ij = (a_i^2 + a_i a_j + a_j^2) M_ij"))
+# so(4) = so(3) + so(3): the same Manakov flow in the self-dual / anti-self-dual coordinates u, v (a linear chart,
+# checked by hkproof.hk.conjugacy; only b1, b2, b3 of the a_i enter)
+SO4_SPLIT = {"u1": "m23 + m14", "u2": "m24 - m13", "u3": "m12 + m34",
+             "v1": "m23 - m14", "v2": "-m13 - m24", "v3": "m12 - m34",
+             "b1": "(a1 + a2 - a3 - a4)/2", "b2": "(a1 - a2 + a3 - a4)/2", "b3": "(a1 - a2 - a3 + a4)/2"}
+_register(QuadraticField(
+    "so4-euler-top-split", ("u1", "u2", "u3", "v1", "v2", "v3"), ("b1", "b2", "b3"),
+    ("-b1*u2*v3 + b2*u3*v2", "b1*u1*v3 + b3*u3*v1", "-b2*u1*v2 - b3*u2*v1",
+     "b2*u2*v3 - b1*u3*v2", "b3*u1*v3 + b1*u3*v1", "-b3*u1*v2 - b2*u2*v1"),
+    "Euler top on so(4), Manakov case, in the coordinates of so(4) = so(3) + so(3): u = (m23 + m14, m24 - m13, "
+    "m12 + m34), v = (m23 - m14, -m13 - m24, m12 - m34), b1 = (a1 + a2 - a3 - a4)/2, b2 = (a1 - a2 + a3 - a4)/2, "
+    "b3 = (a1 - a2 - a3 + a4)/2"))
 
 
 def _volterra(n: int) -> QuadraticField:
