@@ -253,7 +253,7 @@ def test_a_perturbed_coefficient_in_a_10000_term_numerator_is_refuted(clebsch_re
     assert _refuted(f, proof, candidate)
 
 
-@pytest.mark.parametrize("system", ["euler-top", "volterra-3", "volterra-4", "gaudin-2",
+@pytest.mark.parametrize("system", ["euler-top", "volterra-3", "volterra-4", "gaudin-2", "zhukovsky-volterra-1", "lagrange-top",
                                     pytest.param("kirchhoff", marks=pytest.mark.slow)])
 def test_integrals_discover_proves_are_constant_along_sympy_orbits(system):
     """Independent route for every atlas system discover completes: the proven integrals, evaluated term by term,

@@ -113,6 +113,31 @@ _register(QuadraticField(
     "H = (a (m1^2 + m2^2) + a3 m3^2 + b (p1^2 + p2^2) + b3 p3^2)/2"))
 
 
+
+
+def _gyrostat(name: str, beta: tuple[str, str, str], what: str) -> QuadraticField:
+    """x' = x X (A x + beta): the quadratic part of the Euler top plus the cross product with the moment beta (a zero
+    entry of beta is left out)."""
+    x = ("x1", "x2", "x3")
+    rhs = []
+    for i in range(3):
+        j, k = (i + 1) % 3, (i + 2) % 3
+        terms = [f"(a{j + 1} - a{k + 1})*{x[j]}*{x[k]}"]
+        terms += [f"{sign}{beta[m]}*{x[n]}" for sign, m, n in ((" + ", k, j), (" - ", j, k)) if beta[m] != "0"]
+        rhs.append("".join(terms))
+    return QuadraticField(name, x, ("a1", "a2", "a3") + tuple(b for b in beta if b != "0"), tuple(rhs),
+                          f"Zhukovsky-Volterra gyrostat, {what}: x' = x X (A x + beta), A = diag(a1, a2, a3)")
+
+
+_register(QuadraticField(
+    "lagrange-top", CLEBSCH_VARS, ("a",),
+    ("(a - 1)*m2*m3 + p2", "(1 - a)*m3*m1 - p1", "0", "a*p2*m3 - p3*m2", "p3*m1 - a*p1*m3", "p1*m2 - p2*m1"),
+    "Lagrange top (Kimura-Hirota): m' = m x dH/dm + p x dH/dp, p' = p x dH/dm, "
+    "H = (m1^2 + m2^2 + a m3^2)/2 + p3"))
+_register(_gyrostat("zhukovsky-volterra", ("b1", "b2", "b3"), "beta = (b1, b2, b3)"))
+_register(_gyrostat("zhukovsky-volterra-1", ("b1", "0", "0"), "one gyrostatic moment, beta = (b1, 0, 0)"))
+
+
 def get_system(name_or_path: str) -> QuadraticField:
     """A catalogue system by name, or a user's system from a TOML file."""
     if name_or_path in SYSTEMS:
