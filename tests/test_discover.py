@@ -267,3 +267,24 @@ def test_integrals_discover_proves_are_constant_along_sympy_orbits(system):
     from types import SimpleNamespace
     eps = Frac.parse(proven[-1].frac.ring, "eps**2*" + report.variables[0])
     assert constant_along_sympy_orbit(get_system(system), [SimpleNamespace(name="bad", frac=proven[-1].frac + eps)])
+
+
+def test_probes_run_on_a_process_pool_with_the_same_result():
+    """--jobs: the batches of probes of the sparse reconstruction run in worker processes (the black box travels as
+    data: the field as text, its Kahan map rebuilt there); the integrals are the same as in one process."""
+    import pickle
+    from concurrent.futures import ProcessPoolExecutor
+
+    from hkproof.dynamics.catalogue import get_system
+    field = get_system("gaudin-2")
+    assert pickle.loads(pickle.dumps(field)) == field
+    calls: list[int] = []
+    with ProcessPoolExecutor(2) as pool:
+        def mapper(fn, jobs):
+            calls.append(len(jobs))
+            return pool.map(fn, jobs)
+        pooled = discover("gaudin-2", 2, budget=Budget(300), mapper=mapper)
+    alone = discover("gaudin-2", 2, budget=Budget(300))
+    assert calls, "no batch of probes went to the pool"
+    assert [str(i.frac) for i in pooled.integrals] == [str(i.frac) for i in alone.integrals]
+    assert pooled.independent == alone.independent == 4

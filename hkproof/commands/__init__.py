@@ -186,10 +186,13 @@ def scheduler_address(text: str) -> str:
     return address
 
 
-def add_run_options(parser: argparse.ArgumentParser) -> None:
-    """--jobs, --executor, --scheduler: where the claims (or a command's independent steps) run."""
-    parser.add_argument("--jobs", type=positive_int, default=os.cpu_count() or 1, metavar="N",
-                        help="run up to N independent tasks at once (default: the machine's cores; 1: a plain loop "
+def add_run_options(parser: argparse.ArgumentParser, jobs: int | None = None) -> None:
+    """--jobs (default `jobs`, or the machine's cores), --executor, --scheduler: where the claims (or a command's
+    independent steps) run."""
+    default = jobs or os.cpu_count() or 1
+    parser.add_argument("--jobs", type=positive_int, default=default, metavar="N",
+                        help="run up to N independent tasks at once (default: "
+                             + ("the machine's cores" if jobs is None else str(jobs)) + "; 1: a plain loop "
                              "in this process)")
     parser.add_argument("--executor", choices=EXECUTORS, default="process",
                         help="process: a pool of local processes; dask: Dask distributed (pip install "

@@ -4,12 +4,13 @@ from __future__ import annotations
 import argparse
 
 from hkproof.budget import current
-from hkproof.commands import (Result, add_budget_option, add_command, add_progress_option, add_system_argument,
-                              at_least, fixed_values, integer, progress_bar)
+from hkproof.commands import (Result, add_budget_option, add_command, add_progress_option, add_run_options,
+                              add_system_argument, at_least, fixed_values, integer, progress_bar)
 from hkproof.commands._certificates import (add_certificate_option, certificate_target, discover_document,
                                             write_certificate)
 from hkproof.dynamics.catalogue import get_system
 from hkproof.experiments.progress import message_bar
+from hkproof.orchestration.execution import map_executor
 from hkproof.pipelines.discover import discover
 from hkproof.pipelines.discover.run import MAX_SEARCH_DEGREE
 
@@ -29,15 +30,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--latex", action="store_true", help="print the integrals found as LaTeX")
     add_progress_option(p)
     add_certificate_option(p)
+    add_run_options(p, jobs=1)
 
 
 def run_discover(args: argparse.Namespace) -> Result:
     target = certificate_target(args)
     field = get_system(args.system)
     params = fixed_values(argparse.Namespace(param=args.param, eps=None))    # eps stays symbolic
-    with progress_bar(args, "discover", "events") as shown:
+    with progress_bar(args, "discover", "events") as shown, \
+            map_executor(args.executor, args.jobs, args.scheduler, args.jobs) as pool:
         report = discover(field, args.degree, params=params, seed=args.seed, progress=message_bar(shown),
-                          budget=current())
+                          budget=current(), mapper=None if pool is None else pool.map)
     payload = report.to_dict()
     text = report.latex() if args.latex else report.text()
     if target is not None:

@@ -46,6 +46,11 @@ class QuadraticField:
     step: str = "eps"
     rhs: tuple[Frac, ...] = field(init=False, repr=False, compare=False)
 
+    def __reduce__(self) -> tuple:
+        """Pickled as its data (the right-hand sides as text, read again exactly): for worker processes."""
+        return (QuadraticField, (self.name, self.variables, self.parameters, self.rhs_text, self.description,
+                                 self.step))
+
     def __post_init__(self) -> None:
         variables, parameters = tuple(self.variables), tuple(self.parameters)
         object.__setattr__(self, "variables", variables)

@@ -14,9 +14,13 @@ import numpy as np
 
 from hkproof.algebra.monomials import Exponents
 from hkproof.dynamics.batch_map import BatchKahanMap, mulmod, power_table, solve_projective
+from hkproof.dynamics.catalogue import kahan_map
+from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 
 __all__ = ["KernelBlackBox"]
+
+_WORKER_MAPS: dict[tuple[QuadraticField, int], BatchKahanMap] = {}    # a worker process's batch maps, by prime
 
 
 class KernelBlackBox:
@@ -36,8 +40,19 @@ class KernelBlackBox:
 
     def _map(self, p: int) -> BatchKahanMap:
         if p not in self._maps:
-            self._maps = {p: BatchKahanMap(self.kmap, p)}
+            key = (self.kmap.field, p)
+            if key not in _WORKER_MAPS:
+                _WORKER_MAPS.clear()
+                _WORKER_MAPS[key] = BatchKahanMap(self.kmap, p)
+            self._maps = {p: _WORKER_MAPS[key]}
         return self._maps[p]
+
+    def __getstate__(self) -> dict:
+        """Sent to a worker as data: the field, not its Kahan map (rebuilt there once, hkproof.dynamics.catalogue)."""
+        return {**self.__dict__, "kmap": self.kmap.field, "_maps": {}}
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state, kmap=kahan_map(state["kmap"]))
 
     def vectors(self, p: int, points: Sequence[Sequence[int]]) -> tuple[list[np.ndarray], np.ndarray]:
         """The kernel vectors projectively: c = (N_1, ..., N_(l-1), -D) up to a factor, and a mask of the points

@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import flint
 
+from hkproof.algebra.functional_reconstruction import Mapper
 from hkproof.budget import Budget
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.dynamics.field import EPS
@@ -32,16 +33,17 @@ class SearchContext:
     max_degree: int = 16
     max_unknowns: int = 2500
     caches: dict = field(default_factory=dict)
+    mapper: Mapper | None = None        # where batches of probes run (a process pool, Dask); None: in this process
 
     @classmethod
     def for_maps(cls, kmap: KahanMap, full_map: KahanMap | None = None, *, fixed: dict[str, flint.fmpq] | None = None,
                  seed: int = 0, budget: Budget | None = None, stages: Stages | None = None, max_degree: int = 16,
-                 max_unknowns: int = 2500) -> "SearchContext":
+                 max_unknowns: int = 2500, mapper: Mapper | None = None) -> "SearchContext":
         """A search of `kmap` (the weights from its scaling symmetry; eps and the parameters they leave free)."""
         weights = scaling_weights(kmap)
         free = [m for m in (EPS,) + tuple(kmap.field.parameters) if m not in weights.normalized]
         return cls(kmap, full_map or kmap, weights, free, dict(fixed or {}), random.Random(seed),
-                   budget or Budget(None), stages or Stages("discover"), max_degree, max_unknowns)
+                   budget or Budget(None), stages or Stages("discover"), max_degree, max_unknowns, mapper=mapper)
 
     @property
     def inner(self) -> list[str]:

@@ -14,6 +14,7 @@ from typing import Mapping
 
 import flint
 
+from hkproof.algebra.functional_reconstruction import Mapper
 from hkproof.algebra.sampling import random_point
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.modular import rank_mod_p
@@ -42,9 +43,10 @@ MAX_SEARCH_DEGREE = 6
 
 def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[str, Rational] | None = None,
              budget: Budget | None = None, seed: int = 0, progress: Progress | None = None, max_degree: int = 16,
-             max_unknowns: int = 2500) -> DiscoveryReport:
+             max_unknowns: int = 2500, mapper: Mapper | None = None) -> DiscoveryReport:
     """Integrals of the Kahan map of `system` whose HK-bases are monomials of degree <= `degree`, certified; when the
-    budget runs out, the report says what was covered ("complete": false)."""
+    budget runs out, the report says what was covered ("complete": false). `mapper` runs the batches of probes of
+    the sparse reconstruction (e.g. on a process pool); the result does not depend on it."""
     if not 1 <= degree <= MAX_SEARCH_DEGREE:
         raise ParseError(f"the degree of the basis monomials must be between 1 and {MAX_SEARCH_DEGREE}, got {degree}")
     base = get_system(system) if isinstance(system, str) else system
@@ -62,7 +64,7 @@ def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[s
     field, conserved = without_conserved(original)
     kmap = kahan_map(field)
     ctx = SearchContext.for_maps(kmap, full_map, fixed=fixed, seed=seed, budget=budget, stages=stages,
-                                 max_degree=max_degree, max_unknowns=max_unknowns)
+                                 max_degree=max_degree, max_unknowns=max_unknowns, mapper=mapper)
     with budget.active():
         _run(ctx, report, conserved)
     return report

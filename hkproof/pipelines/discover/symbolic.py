@@ -110,7 +110,7 @@ def coordinates(ctx: SearchContext, basis: Sequence[Exponents], rng: random.Rand
     for k in range(len(basis) - 1):
         box = KernelBlackBox(ctx.kmap, basis, k, len(basis) - 1, inputs, fixed)      # c_k / c_l = -c_k
         rec = reconstruct_rational(box, len(inputs), rng=rng, budget=budget or ctx.budget, primes=_primes(rng),
-                                   mapper=mapper, progress=progress, batch_size=BATCH)
+                                   mapper=mapper or ctx.mapper, progress=progress, batch_size=BATCH)
         out.append(-_restored(ctx, rec, inputs, weights[k]))
     return out
 
