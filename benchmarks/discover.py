@@ -109,8 +109,8 @@ def screening_ratio(system, degree: int, repeats: int = 3, limit: float = 60.0) 
     return modular, in_child(_exact_profiles, (system, degree, values, [pr.point for pr in probes]), limit)
 
 
-def markdown(rows: list[dict], ratios: list[tuple[str, float, float]], routes: list[tuple[str, str, float, int]]
-             ) -> str:
+def markdown(rows: list[dict], ratios: list[tuple[str, float, float]], routes: list[tuple[str, str, float, int]],
+             jobs: list[tuple[str, float, float]]) -> str:
     out = ["# Performance of `hkproof discover`", "",
            "Measured by `benchmarks/discover.py` in one run on the shared 2-core machine (timings are noisy; the "
            "ratios in the later tables are measured side by side). Goals of issue 22: first Clebsch flow with four "
@@ -132,6 +132,9 @@ def markdown(rows: list[dict], ratios: list[tuple[str, float, float]], routes: l
     base = {system: seconds for system, route, seconds, _ in routes if route == ROUTES[0][0]}
     for system, route, seconds, independent in routes:
         out.append(f"| {system} | {route} | {seconds:.2f} | {independent} | {seconds / base[system]:.2f} |")
+    out += ["", "## Probes on a process pool (`--jobs 2`, the same search, one run)", "",
+            "| system | one process (s) | 2 worker processes (s) | pool / one |", "|---|---|---|---|"]
+    out += [f"| {system} | {alone:.2f} | {pooled:.2f} | {pooled / alone:.2f} |" for system, alone, pooled in jobs]
     out += ["", "## Screening the union basis: mod p against exact", "",
             "| system | degree | mod p (s per point) | exact over Q (s per point) | exact / mod p |",
             "|---|---|---|---|---|"]
@@ -163,6 +166,23 @@ def markdown(rows: list[dict], ratios: list[tuple[str, float, float]], routes: l
     return "\n".join(out) + "\n"
 
 
+def compare_jobs(systems: list[str], workers: int = 2) -> list[tuple[str, float, float]]:
+    """The same search with the probes in this process and on a pool of `workers` processes (--jobs)."""
+    from concurrent.futures import ProcessPoolExecutor
+    out = []
+    for system in systems:
+        start = time.perf_counter()
+        discover(system, 2, budget=Budget(600))
+        alone = time.perf_counter() - start
+        with ProcessPoolExecutor(workers) as pool:
+            start = time.perf_counter()
+            discover(system, 2, budget=Budget(600), mapper=pool.map)
+            pooled = time.perf_counter() - start
+        out.append((system, alone, pooled))
+        print(f"{system}: {alone:.2f} s alone, {pooled:.2f} s with {workers} workers", flush=True)
+    return out
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--quick", action="store_true", help="a 30 s budget for Clebsch (a smoke run)")
@@ -171,10 +191,11 @@ def main() -> None:
     args = parser.parse_args()
     rows = run_cases(args.quick)
     routes = compare_routes(["gaudin-2", "kirchhoff", "clebsch"])
+    jobs = compare_jobs(["gaudin-2", "clebsch"])
     ratios = [(label, degree, *screening_ratio(system, degree))
               for label, system, degree in (("euler-top", "euler-top", 2), ("volterra-3", "volterra-3", 3),
                                             ("generic planar field", PLANAR, 4), ("clebsch", "clebsch", 2))]
-    Path(args.out).write_text(markdown(rows, ratios, routes))
+    Path(args.out).write_text(markdown(rows, ratios, routes, jobs))
     print(f"wrote {args.out}")
 
 
