@@ -17,10 +17,11 @@ from hkproof.budget import Budget
 from hkproof.hk.conjugacy import LinearChart, conjugacy_mismatches, pull_back
 from hkproof.hk.discover import jacobian_points
 from hkproof.hk.independence import max_jacobian_rank
-from hkproof.orchestration.registry import claim
+from hkproof.orchestration.registry import claim, require_proven
 from hkproof.pipelines.discover import DiscoveryReport, discover
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
+from hkproof.theorems._clebsch import recall
 
 __all__ = ["Entry", "GROUP", "prove_integrals", "prove_kernels", "run"]
 
@@ -164,7 +165,7 @@ _register(_SPLIT, "Euler top on so(4), Manakov case, in the chart so(3) + so(3)"
        "The Kahan map of so4-euler-top is conjugate to that of so4-euler-top-split by the linear chart u, v of "
        "so(4) = so(3) + so(3) (g o T = T o f exactly, a1..a4 symbolic), so the integrals proven for the split map, "
        "pulled back, are integrals of the so(4) Kahan map: 3 functionally independent ones",
-       claimed={"independent": "3"}, slow=True)
+       claimed={"independent": "3"}, slow=True, uses=["atlas-so4-euler-top-split-integrals"])
 def _so4_chart(cert: Certificate, claimed: Mapping[str, str]) -> None:
     source = kahan_map("so4-euler-top")
     chart = LinearChart(source, kahan_map(_SPLIT.system), SO4_SPLIT)
@@ -175,13 +176,12 @@ def _so4_chart(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.note("chart: " + ", ".join(f"{k} = {v}" for k, v in SO4_SPLIT.items()))
     with cert.step("integrals pulled back", "the integrals of atlas-so4-euler-top-split-integrals, each h o T (one "
                    "compose): h(g(T x)) = h(T f(x)) and h o g = h", source.ring) as s:
-        report = run(_SPLIT)
-        proven = [i for i in report.integrals if i.frac is not None and i.independent
-                  and i.status >= Status.VERIFIED]
-        pulled = pull_back(chart, [i.frac for i in proven if i.frac is not None])
-        for i, h in zip(proven, pulled, strict=True):
-            cert.formula(f"{i.name}_m", h)
-            s.note(f"{i.name} o T: {len(h.num)} + {len(h.den)} terms")
+        split = require_proven(cert, "atlas-so4-euler-top-split-integrals")
+        names = list(split.formulas)
+        pulled = pull_back(chart, [recall(split, n, chart.target.ring) for n in names])
+        for n, h in zip(names, pulled, strict=True):
+            cert.formula(f"{n}_m", h)
+            s.note(f"{n} o T: {len(h.num)} + {len(h.den)} terms")
     with cert.step("functional independence", "exact Jacobian rank at a rational point", source.ring) as s:
         rank = max_jacobian_rank(pulled, source.variables, jacobian_points(source.ring.names))
         s.require(str(rank) == claimed["independent"].strip(),
