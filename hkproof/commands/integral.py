@@ -4,6 +4,7 @@ from __future__ import annotations
 import argparse
 
 from hkproof.algebra.fraction import Frac
+from hkproof.algebra.groebner import MembershipCertificate
 from hkproof.commands import (Result, add_budget_option, add_command, add_param_option, add_system_argument,
                               answer_code, integer, specialized_map)
 from hkproof.commands._certificates import add_certificate_option, certificate_target, write_certificate
@@ -11,7 +12,7 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.experiments.refute import modular_witness
 from hkproof.hk.integrals import check_integral
 from hkproof.hk.recipe_g import recipe_g
-from hkproof.proof.export import document, field_data, substitution_step
+from hkproof.proof.export import document, recipe_g_step, substitution_step
 from hkproof.proof.status import Status
 
 __all__ = ["register", "run_integral"]
@@ -51,9 +52,9 @@ def run_integral(args: argparse.Namespace) -> Result:
         return Result(payload, f"refuted: {args.expr} is not an integral of the Kahan map of {f.field.name}: "
                       f"{witness.text()}", answer_code(False))
     if args.method == "groebner":
-        result = _run_recipe_g(f, h, args.expr, status, payload)
-        step = {"kind": "recipe-g", "field": field_data(f.field), "function": str(h),
-                "multiplier": payload.get("multiplier"), "integrals": [{"name": "h", "formula": str(h), "from": "h"}]}
+        result, membership = _run_recipe_g(f, h, args.expr, status, payload)
+        step = None if membership is None else recipe_g_step(
+            f.field, "h", h, membership.generators, membership.cofactors, membership.multiplier ** membership.power)
     else:
         verdict = check_integral(f, h)
         ok = verdict.status is Status.VERIFIED
@@ -67,13 +68,14 @@ def run_integral(args: argparse.Namespace) -> Result:
         result.text += f"\nno certificate written to {target}: the claim is not verified"
     elif result.exit_code == 0:
         doc = document(f"an integral of the Kahan map of {f.field.name}", f"h = {h} is an integral of the Kahan map "
-                       f"of {f.field.name}", [step], {k: str(v) for k, v in fixed.items()})
+                       f"of {f.field.name}", [step] if step else [], {k: str(v) for k, v in fixed.items()})
         result.text += write_certificate(target, doc, payload)
     return result
 
 
-def _run_recipe_g(f: KahanMap, h: Frac, expr: str, status: Status, payload: dict) -> Result:
-    """The --method groebner branch: recipe (G) with a cofactor certificate."""
+def _run_recipe_g(f: KahanMap, h: Frac, expr: str, status: Status,
+                  payload: dict) -> tuple[Result, MembershipCertificate | None]:
+    """The --method groebner branch: recipe (G) with a cofactor certificate (the identity, when verified)."""
     res = recipe_g(f, h)
     ring = f"Z[{', '.join(f.field.tilde_ring.names)}]"
     ok = res.status is Status.VERIFIED
@@ -83,4 +85,4 @@ def _run_recipe_g(f: KahanMap, h: Frac, expr: str, status: Status, payload: dict
     text = (f"{label}: {expr} is {'an' if ok else 'not an'} integral of the Kahan map of "
             f"{f.field.name} (recipe (G) in {ring}; certificate det M^{res.power} * delta = sum lambda_i E_i, "
             f"{res.cofactor_terms} cofactor terms)")
-    return Result(payload, text, answer_code(ok))
+    return Result(payload, text, answer_code(ok)), res.certificate
