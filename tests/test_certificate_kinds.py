@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import copy
 import json
+import shutil
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -18,6 +20,7 @@ from hkproof.hk.modified_hamiltonian import parse_matrix, verify
 from hkproof.hk.recipe_g import recipe_g
 from hkproof.pipelines.darboux import search_darboux
 from hkproof.proof.export import document, recipe_g_step
+from hkproof.proof.singular import singular_script
 
 C1 = "(a3*x2**2 - a2*x3**2)/(a1*x2**2 - a2*x1**2)"
 CUBIC = str(Path(__file__).resolve().parents[1] / "docs" / "examples" / "cubic-oscillator.toml")
@@ -170,3 +173,17 @@ def test_version_2_documents_follow_the_schema(lotka, euler, groebner):
         jsonschema.validate(doc, schema)
     with pytest.raises(jsonschema.ValidationError):
         jsonschema.validate(mutated(groebner, lambda d: d["steps"][0].pop("cofactors")), schema)
+
+
+@pytest.mark.skipif(shutil.which("Singular") is None, reason="Singular is not installed")
+def test_singular_rechecks_darboux_steps(lotka, euler, tmp_path):
+    """The exported Singular script re-checks P o f = K P (and K = det Df for the density) of measure lotka-volterra
+    and euler-top; with a changed cofactor it says refuted."""
+    bad = mutated(lotka, _first("cofactor", lambda k: f"({k})*(1 + eps)"))
+    for doc, expected in ((lotka, ["verified: step 3"]), (euler, ["verified: step 1"]), (bad, ["refuted: step 1"])):
+        script = tmp_path / "check.sing"
+        script.write_text(singular_script(doc))
+        out = subprocess.run(["Singular", "-q", str(script)], capture_output=True, text=True, timeout=300,
+                             stdin=subprocess.DEVNULL)
+        assert all(e in out.stdout for e in expected) and "?" not in out.stdout + out.stderr, out.stdout + out.stderr
+        assert "K = det Df" in out.stdout or doc is not lotka

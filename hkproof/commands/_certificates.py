@@ -6,6 +6,7 @@ import json
 from pathlib import Path
 from typing import Sequence
 
+from hkproof.algebra.formula import tokens
 from hkproof.algebra.fraction import Frac
 from hkproof.commands.report import writable_target, write_atomically
 from hkproof.dynamics.kahan import KahanMap
@@ -44,16 +45,38 @@ def write_certificate(target: Path | None, doc: dict | None, payload: dict) -> s
 
 
 def theorem_document(certs: Sequence[Certificate]) -> dict:
-    """The recorded steps of the verified theorems' certificates, in the order they ran; a theorem whose relations
-    use integrals proven by another claim (not written in this file's integrals) is listed under "not exported"."""
+    """The recorded steps of the verified theorems' certificates, in the order they ran. A relation whose coefficients
+    or right-hand side are integrals proven by another claim (written in the phase variables) gets each of them
+    proven in the same file by a substitution step before it, and names it."""
     done = [c for c in certs if c.status >= Status.VERIFIED_SPECIALIZED and c.checks]
-    kept = [c for c in done if not any("cites" in s for s in c.checks)]
-    doc = document(f"theorems {', '.join(c.claim_id for c in kept)}", " ".join(c.statement for c in kept), [],
-                   certificates=kept)
-    doc["claim"]["not exported"] = {c.claim_id: "a relation uses integrals proven by "
-                                    f"{', '.join(sorted({x for s in c.checks for x in s.get('cites', [])}))}"
-                                    for c in done if all(c is not k for k in kept)}
-    return doc
+    steps: list[dict] = []
+    cited: dict[tuple[str, str], str] = {}          # (field, formula) -> the name of its substitution step
+    for c in done:
+        for step in c.checks:
+            steps += _with_cited_integrals(step, c.claim_id, cited) if "cites" in step else [step]
+    return document(f"theorems {', '.join(c.claim_id for c in done)}", " ".join(c.statement for c in done), steps)
+
+
+def _with_cited_integrals(step: dict, claim_id: str, cited: dict[tuple[str, str], str]) -> list[dict]:
+    """The substitution steps proving the relation data of `step` that depends on the phase variables, then the
+    step with that data replaced by their names (listed in the relation's `uses`)."""
+    phase, before = set(step["field"]["variables"]), []
+
+    def named(text: str, uses: list[str]) -> str:
+        if not phase & {t.text for t in tokens(text) if t.kind == "name"}:
+            return text
+        key = (step["field"]["name"], text)
+        if key not in cited:
+            cited[key] = f"{claim_id.replace('-', '_')}_i{len(cited) + 1}"
+            before.append(substitution_step(step["field"], cited[key], text))
+        uses.append(cited[key])
+        return cited[key]
+    relations = []
+    for rel in step["relations"]:
+        uses = list(rel["uses"])
+        relations.append({"coefficients": [named(c, uses) for c in rel["coefficients"]], "rhs": named(rel["rhs"], uses),
+                          "uses": list(dict.fromkeys(uses))})
+    return [*before, {**step, "relations": relations}]
 
 
 def discover_document(report: DiscoveryReport) -> dict:

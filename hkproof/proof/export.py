@@ -30,10 +30,11 @@ def field_data(field: QuadraticField) -> dict:
             "rhs": [str(f) for f in field.rhs]}
 
 
-def substitution_step(field: QuadraticField, name: str, h: Frac) -> dict:
-    """The step "h o f - h = 0" (sec. 3, an integral) of the Kahan map of `field`."""
-    ring = ", ".join(field.ring.names)
-    return {"kind": "substitution", "field": field_data(field), "function": str(h),
+def substitution_step(field: QuadraticField | dict, name: str, h: Frac | str) -> dict:
+    """The step "h o f - h = 0" (sec. 3, an integral) of the Kahan map of `field` (or of its `field_data`)."""
+    data = field_data(field) if isinstance(field, QuadraticField) else field
+    ring = ", ".join([*data["variables"], "eps", *data["parameters"]])
+    return {"kind": "substitution", "field": data, "function": str(h),
             "identity": f"{name}(f(x)) - {name}(x) = 0 in Q({ring}), f the Kahan map (x~ - x = 2 eps F(x, x~))",
             "integrals": [{"name": name, "formula": str(h), "from": name}]}
 
