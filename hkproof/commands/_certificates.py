@@ -2,10 +2,10 @@
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 from typing import Sequence
 
+from hkproof.algebra.printing import to_json
 from hkproof.algebra.formula import tokens
 from hkproof.algebra.fraction import Frac
 from hkproof.commands.report import writable_target, write_atomically
@@ -39,7 +39,7 @@ def write_certificate(target: Path | None, doc: dict | None, payload: dict) -> s
     if doc is None or not doc["steps"]:
         raise OutputError(f"no certificate written to {target}: nothing was verified by a step a certificate can "
                           "record (an exact substitution, Prop. \"prop: even\", a Darboux polynomial or recipe (G))")
-    write_atomically(target, json.dumps(doc, indent=1) + "\n")
+    write_atomically(target, to_json(doc, indent=1) + "\n")
     payload["certificate"] = str(target)
     return f"\ncertificate: {target} ({len(doc['steps'])} step(s); check it with `hkproof check {target}`)"
 
