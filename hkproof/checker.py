@@ -3,11 +3,14 @@
 It trusts python-flint (polynomial arithmetic, gcd, determinants over Q), hkproof's formula parser
 (hkproof.algebra.formula) and the fraction type it returns (hkproof.algebra.fraction.Frac: lowest terms by a gcd,
 parity in eps by eps -> -eps), and Prop. "prop: even" of the paper as a theorem. It imports nothing else of hkproof:
-it rebuilds the Kahan map from the field's right-hand sides by its own Cramer's rule, and every identity it reports
-as verified is an exact polynomial identity it computed. What it cannot check, it refuses (malformed, exit 2).
+it rebuilds the Kahan map (and its equations, and det Df) from the field's right-hand sides by its own Cramer's rule,
+and every identity it reports as verified is an exact polynomial identity it computed. Step kinds: substitution
+(h o f = h), prop-even (Prop. "prop: even"), darboux (P o f = K P; integrals and invariant densities from Darboux
+polynomials) and recipe-g (D delta = sum lambda_i E_i). What it cannot check, it refuses (malformed, exit 2).
 
-    verified   every step's identities hold exactly, and every claimed integral is concluded by a step
-    refuted    a stated identity is false (h o f != h, a row not satisfied, a component not even, det = 0 at the point)
+    verified   every step's identities hold exactly, and every claimed integral and density is concluded by a step
+    refuted    a stated identity is false (h o f != h, a row not satisfied, a component not even, det = 0 at the point,
+               P o f != K P, K != det Df for a density, D delta != sum lambda_i E_i)
     malformed  not a certificate this checker can read (format, version, convention, entries, step kind, scope)
 """
 from __future__ import annotations
@@ -27,7 +30,7 @@ from hkproof.errors import CertificateError, HKProofError
 
 __all__ = ["check_document", "check_file", "CheckReport", "KahanData", "MAX_BYTES"]
 
-FORMAT, VERSION, CONVENTION = "hkproof-certificate", 1, "eps = h/2"
+FORMAT, VERSIONS, CONVENTION = "hkproof-certificate", (1, 2), "eps = h/2"      # version 2 adds darboux, recipe-g
 EPS = "eps"
 MAX_BYTES = 200_000_000
 Poly = flint.fmpz_mpoly
@@ -106,13 +109,14 @@ def _strings(obj: Any, key: str, where: str) -> list[str]:
 def _check(doc: Any, report: CheckReport) -> None:
     if _get(doc, "format", str, "certificate") != FORMAT:
         raise CertificateError(f"the format is {doc['format']!r}, not {FORMAT!r}")
-    if _get(doc, "version", int, "certificate") != VERSION:
-        raise CertificateError(f"version {doc['version']} is not the version {VERSION} this checker reads")
+    if _get(doc, "version", int, "certificate") not in VERSIONS:
+        raise CertificateError(f"version {doc['version']} is not a version this checker reads {VERSIONS}")
     if _get(doc, "convention", str, "certificate") != CONVENTION:
         raise CertificateError(f"the step convention {doc['convention']!r} is not {CONVENTION!r}: this checker "
                                "rebuilds the Kahan map as x~ - x = 2 eps F(x, x~) only")
     fields = {k: KahanData(k, v) for k, v in _get(doc, "fields", dict, "certificate").items()}
     proven: dict[str, tuple[str, Frac]] = {}            # integral name -> (field key, value)
+    densities: set[str] = set()
     steps = _get(doc, "steps", list, "certificate")
     if not steps:
         raise CertificateError("the certificate has no steps")
@@ -125,22 +129,30 @@ def _check(doc: Any, report: CheckReport) -> None:
         if kind not in _STEPS:
             raise CertificateError(f"{where}: cannot check this step kind {kind!r} (this checker knows "
                                    f"{', '.join(sorted(_STEPS))})")
-        local = _STEPS[kind](fields[key], step, {n: v for n, (f, v) in proven.items() if f == key}, where)
+        if "densities" in step and kind != "darboux":
+            raise CertificateError(f"{where}: only a darboux step concludes densities")
+        f = fields[key]
+        local = _STEPS[kind](f, step, {n: v for n, (g, v) in proven.items() if g == key}, where)
         for entry in _get(step, "integrals", list, where):
-            name, value = _conclude(fields[key], entry, local, proven, where)
+            name, value = _conclude(f, entry, local, {**proven, **dict.fromkeys(densities)}, where)
             proven[name] = (key, value)
-        report.lines.append(f"{where} ({kind}, field {key}): verified; integrals "
-                            f"{', '.join(_get(e, 'name', str, where) for e in step['integrals']) or 'none'}")
-    claimed = _strings(_get(doc, "claim", dict, "certificate"), "integrals", "claim")
-    missing = [n for n in claimed if n not in proven]
+        for entry in step.get("densities", []):
+            name, _ = _conclude(f, entry, local, {**proven, **dict.fromkeys(densities)}, where)
+            densities.add(name)
+        concluded = [_get(e, "name", str, where) for e in [*step["integrals"], *step.get("densities", [])]]
+        checked = f"Darboux polynomials {', '.join(local)}; " if kind == "darboux" else ""
+        report.lines.append(f"{where} ({kind}, field {key}): verified; {checked}concludes {', '.join(concluded) or '-'}")
+    claim = _get(doc, "claim", dict, "certificate")
+    missing = [n for n in _strings(claim, "integrals", "claim") if n not in proven]
+    missing += [n for n in (_strings(claim, "densities", "claim") if "densities" in claim else []) if n not in densities]
     if missing:
-        raise CertificateError(f"the claim names integrals no step concludes: {', '.join(missing)}")
+        raise CertificateError(f"the claim names integrals or densities no step concludes: {', '.join(missing)}")
 
 
 def _conclude(f: KahanData, entry: Any, local: Mapping[str, Frac], proven: Mapping[str, object],
               where: str) -> tuple[str, Frac]:
-    """An integral concluded by a step: `from`, a formula in the step's proven quantities (and eps, parameters),
-    must equal `formula` exactly."""
+    """An integral (or density) concluded by a step: `from`, a formula in the step's proven quantities (and eps,
+    parameters), must equal `formula` exactly."""
     name = check_name(_get(entry, "name", str, where), "integral name")
     if name in proven or name in f.ring.names:
         raise CertificateError(f"{where}: the integral name {name!r} is already taken")
@@ -163,23 +175,21 @@ class KahanData:
         if len(set(names)) != len(names) or not self.variables:
             raise CertificateError(f"{where}: the variables, eps and the parameters must be distinct names")
         self.ring = Ring(names)
-        rhs = [self.parse(t, where) for t in _strings(data, "rhs", where)]
+        self._rhs = rhs = [self.parse(t, where) for t in _strings(data, "rhs", where)]
+        self._jacobian: Frac | None = None
         if len(rhs) != len(self.variables):
             raise CertificateError(f"{where}: {len(self.variables)} variables but {len(rhs)} right-hand sides")
         for v, g in zip(self.variables, rhs, strict=True):
             if EPS in g.variables() or g.den_variables_in(self.variables) or g.degrees_in(self.variables)[0] > 2:
                 raise CertificateError(f"{where}: {v}' = {g} is not a quadratic polynomial in the phase variables "
                                        "free of eps")
-        self.nums, self.delta = self._kahan(rhs)
+        self.nums, self.delta = self._kahan()
         if self.delta.is_zero():
             raise CertificateError(f"{where}: the Kahan system is singular (det M = 0)")
 
     def parse(self, text: str, where: str) -> Frac:
         """A formula over the field's names, read exactly."""
-        try:
-            return parse_formula(self.ring, text)
-        except HKProofError as exc:
-            raise CertificateError(f"{where}: {exc}") from None
+        return _read(self.ring, text, where)
 
     def parse_in(self, text: str, known: Mapping[str, Frac], where: str) -> Frac:
         """A formula in the names `known`, eps and the parameters only (no phase variable directly)."""
@@ -188,31 +198,42 @@ class KahanData:
             if tok.kind == "name" and tok.text not in allowed:
                 raise CertificateError(f"{where}: {tok.text!r} in {text[:80]!r} is neither an integral proven "
                                        "before nor eps nor a parameter")
-        try:
-            return parse_formula(self.ring, text, known)
-        except HKProofError as exc:
-            raise CertificateError(f"{where}: {exc}") from None
+        return _read(self.ring, text, where, known)
 
-    def _kahan(self, rhs: Sequence[Frac]) -> tuple[list[Poly], Poly]:
-        """(N_1..N_n, Delta) with f = N/Delta: for F_i = g_i/d_i, E_i = d_i (y_i - x_i) - eps (4 g_i((x+y)/2) - g_i(x)
-        - g_i(y)) = 0 is linear in y = x~; solved by Cramer's rule (fraction-free determinants)."""
-        n, big = len(self.variables), Ring([*self.ring.names, *(f"{v}_y" for v in self.variables)])
-        xs = [big.gen(v) for v in self.variables]
-        ys = [big.gen(f"{v}_y") for v in self.variables]
+    def equations(self, tilde: Sequence[str]) -> tuple[Ring, list[Poly]]:
+        """The Kahan equations E_i = d_i (y_i - x_i) - eps (4 g_i((x+y)/2) - g_i(x) - g_i(y)) for F_i = g_i/d_i, in
+        Z[x, eps, params, y] with y named `tilde` (eq. "Kahan gen", eps = h/2)."""
+        n, big = len(self.variables), Ring([*self.ring.names, *tilde])
+        xs, ys = [big.gen(v) for v in self.variables], [big.gen(v) for v in tilde]
         z = flint.fmpz_mpoly_ctx.get((*self.ring.names, "_z"), "degrevlex")
-        rows, rhs_b = [], []
-        for i, g in enumerate(rhs):
+        out = []
+        for i, g in enumerate(self._rhs):
             num, den = (p.compose(*big.gens()[:len(self.ring.names)], ctx=big.ctx) for p in (g.num, g.den))
             hom = _homogenize(g.num, [self.ring.index(v) for v in self.variables], 2, z)
             mid = hom.compose(*[xs[k] + ys[k] if k < n else big.gens()[k] for k in range(len(self.ring.names))],
                               big.constant(2), ctx=big.ctx)
             at_y = big.substitute(num, dict(zip(self.variables, ys, strict=True)))
-            e = den * (ys[i] - xs[i]) - big.gen(EPS) * (mid - num - at_y)
-            rows.append([self._down(big, e.derivative(big.index(f"{v}_y"))) for v in self.variables])
-            rhs_b.append(-self._down(big, e))
+            out.append(den * (ys[i] - xs[i]) - big.gen(EPS) * (mid - num - at_y))
+        return big, out
+
+    def _kahan(self) -> tuple[list[Poly], Poly]:
+        """(N_1..N_n, Delta) with f = N/Delta: the equations are linear in y = x~; Cramer's rule (fraction-free
+        determinants)."""
+        n = len(self.variables)
+        big, equations = self.equations([f"{v}_y" for v in self.variables])
+        rows = [[self._down(big, e.derivative(big.index(f"{v}_y"))) for v in self.variables] for e in equations]
+        rhs_b = [-self._down(big, e) for e in equations]
         delta = _det(rows)
         nums = [_det([[rhs_b[r] if c == j else rows[r][c] for c in range(n)] for r in range(n)]) for j in range(n)]
         return nums, delta
+
+    def jacobian(self) -> Frac:
+        """det Df = det(Delta dN_i/dx_j - N_i dDelta/dx_j) / Delta^(2n), from the map itself (computed once)."""
+        if self._jacobian is None:
+            idx = [self.ring.index(v) for v in self.variables]
+            rows = [[self.delta * p.derivative(k) - p * self.delta.derivative(k) for k in idx] for p in self.nums]
+            self._jacobian = Frac(self.ring, _det(rows), self.delta ** (2 * len(idx)))
+        return self._jacobian
 
     def _down(self, big: Ring, p: Poly) -> Poly:
         """p with y = 0, in the field's ring."""
@@ -244,6 +265,14 @@ class KahanData:
         for k, image in zip(idx, nums, strict=True):
             args[k] = image
         return _homogenize(p, idx, d, z).compose(*args, delta, ctx=self.ring.ctx), d
+
+
+def _read(ring: Ring, text: str, where: str, known: Mapping[str, Frac] | None = None) -> Frac:
+    """A formula over `ring` (names in `known` stand for their values), read exactly; a CertificateError otherwise."""
+    try:
+        return parse_formula(ring, text, known)
+    except HKProofError as exc:
+        raise CertificateError(f"{where}: {exc}") from None
 
 
 def _homogenize(p: Poly, idx: list[int], d: int, ctx: flint.fmpz_mpoly_ctx) -> Poly:
@@ -339,4 +368,74 @@ def _at(q: Frac, point: Mapping[str, flint.fmpq]) -> flint.fmpq:
                                "point") from None
 
 
-_STEPS = {"substitution": _substitution, "prop-even": _prop_even}
+def _darboux(f: KahanData, step: Any, known: Mapping[str, Frac], where: str) -> dict[str, Frac]:
+    """Darboux polynomials P_j o f = K P_j with one stated cofactor K (Celledoni et al. 2019), exactly. A conclusion
+    g(P) homogeneous of degree 0 in the P_j (checked with the P_j free: g(t p) = g(p)) is an integral, any g when
+    K = 1; one of degree -1 with K = det Df (computed from the map) is a density: rho(f(x)) det Df(x) = rho(x)."""
+    polys = [f.parse(t, where) for t in _strings(step, "polynomials", where)]
+    names = [check_name(n, "Darboux polynomial name") for n in _strings(step, "names", where)]
+    if not names or len(names) != len(polys) or len(set(names)) != len(names) or set(names) & {*f.ring.names, *known}:
+        raise CertificateError(f"{where}: {len(polys)} Darboux polynomials need as many new distinct names")
+    cofactor = f.parse(_get(step, "cofactor", str, where), where)
+    for n, p in zip(names, polys, strict=True):
+        if p.is_zero() or f.pull(p, 1) != cofactor * p:
+            raise _Refutation(f"{where}: {n}(f(x)) = K(x) {n}(x) fails for {n} = {str(p)[:200]}")
+    local = dict(zip(names, polys, strict=True))
+    scaled = Ring([*f.ring.names, *names, "_t"])
+    t = Frac(scaled, scaled.gen("_t"))
+    for degree, entries in ((0, _get(step, "integrals", list, where)), (-1, step.get("densities", []))):
+        if degree == -1 and entries and cofactor != f.jacobian():
+            raise _Refutation(f"{where}: the cofactor is not det Df = {str(f.jacobian())[:200]}: no density")
+        for entry in entries if (degree, cofactor) != (0, Frac(f.ring, 1)) else []:
+            text = _get(entry, "from", str, where)
+            f.parse_in(text, {**known, **local}, where)             # only proven names, eps and parameters
+            g = _read(scaled, text, where, {n: v.to_ring(scaled) for n, v in known.items()})
+            if g.substitute({n: scaled.gen(n) * scaled.gen("_t") for n in names}) * t ** -degree != g:
+                raise CertificateError(f"{where}: {text[:80]!r} is not homogeneous of degree {degree} in {names}")
+    return local
+
+
+def _recipe_g(f: KahanData, step: Any, known: Mapping[str, Frac], where: str) -> dict[str, Frac]:
+    """Recipe (G): D delta = sum_i lambda_i E_i in Q[x, eps, params, x~] with delta = p(x~) q(x) - p(x) q(x~) for
+    h = p/q, E_i the Kahan equations (rebuilt here; the stated generators must be them) and D != 0 free of x~. At
+    x~ = f(x) every E_i vanishes, so delta(x, f(x)) = 0: h o f = h, with q(f(x)) != 0 shown at a rational point."""
+    h = f.parse(_get(step, "function", str, where), where)
+    names = [_get(e, "name", str, where) for e in _get(step, "integrals", list, where)]
+    tilde = [check_name(v, "name of x~") for v in _strings(step, "tilde", where)]
+    if len(names) != 1 or len(tilde) != len(f.variables) or len({*tilde, *f.ring.names}) != len(f.ring.names) + len(
+            tilde):
+        raise CertificateError(f"{where}: a recipe-g step concludes one integral and names one new x~ per variable")
+    big, equations = f.equations(tilde)
+    stated = [_read(big, g, where) for g in _strings(step, "generators", where)]
+    cofactors = [_read(big, c, where) for c in _strings(step, "cofactors", where)]
+    if len(stated) != len(equations) or len(cofactors) != len(equations):
+        raise CertificateError(f"{where}: {len(equations)} generators and cofactors expected")
+    if any(a != Frac(big, e) for a, e in zip(stated, equations, strict=True)):
+        raise _Refutation(f"{where}: the generators are not the Kahan equations x~ - x = 2 eps F(x, x~) of the field")
+    multiplier = f.parse(_get(step, "multiplier", str, where), where)
+    if multiplier.is_zero():
+        raise CertificateError(f"{where}: the multiplier D must not be 0")
+    p, q = (Frac(f.ring, c).to_ring(big) for c in (h.num, h.den))
+    to_y = {v: big.gen(y) for v, y in zip(f.variables, tilde, strict=True)}
+    delta = p.substitute(to_y) * q - p * q.substitute(to_y)
+    if sum((c * Frac(big, e) for c, e in zip(cofactors, equations, strict=True)), Frac(big, 0)) != \
+            multiplier.to_ring(big) * delta:
+        raise _Refutation(f"{where}: D delta != sum lambda_i E_i")
+    if not _nonzero_on_image(f, Frac(f.ring, h.den)):
+        raise CertificateError(f"{where}: q(f(x)) vanishes at every trial point; give h with another denominator")
+    return {names[0]: h}
+
+
+def _nonzero_on_image(f: KahanData, q: Frac) -> bool:
+    """q(f(x)) != 0 at one of a few rational points (which proves q o f is not identically 0)."""
+    for k in range(1, 9):
+        point = {n: flint.fmpq(k + j, 2 * j + 3) for j, n in enumerate(f.ring.names)}
+        delta = Frac(f.ring, f.delta).evaluate(point)
+        if delta != 0:
+            image = {v: Frac(f.ring, n).evaluate(point) / delta for v, n in zip(f.variables, f.nums, strict=True)}
+            if q.evaluate({**point, **image}) != 0:
+                return True
+    return False
+
+
+_STEPS = {"substitution": _substitution, "prop-even": _prop_even, "darboux": _darboux, "recipe-g": _recipe_g}

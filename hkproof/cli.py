@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import json
 import os
 import pkgutil
 import signal
@@ -15,6 +14,7 @@ import sys
 import traceback
 from typing import NoReturn, Sequence
 
+from hkproof.algebra.printing import to_json
 from hkproof.commands import command_budget
 from hkproof.errors import HKProofError, ResourceLimitError, UsageError
 from hkproof.exit_codes import ExitCode, exit_code_for
@@ -80,7 +80,7 @@ def _report(as_json: bool, payload: dict) -> None:
     """One JSON object on stdout under --json, else (or when stdout cannot take it) one line on stderr."""
     if as_json:
         try:
-            emit(json.dumps(payload))
+            emit(to_json(payload))
             return
         except HKProofError:
             pass
@@ -107,7 +107,7 @@ def _run(argv: list[str]) -> int:
     with command_budget(args).active():
         result = args.run(args)
     if args.json:
-        emit(json.dumps(result.payload, indent=2))
+        emit(to_json(result.payload, indent=2))
     elif result.text:
         emit(result.text)
     return result.exit_code

@@ -193,7 +193,7 @@ def test_integral_at_special_parameters(capsys):
     code, payload = run_json(capsys, "integral", "euler-top", "x1**2 - x2**2", "--param", "a1=1", "--param", "a2=1")
     assert code == 1
     code, payload = run_json(capsys, "integral", "euler-top", C1, "--param", "a1=2")
-    assert code == 0 and payload["verdict"] == "verified(specialized)" and payload["fixed"] == {"a1": "2"}
+    assert code == 0 and payload["verdict"] == "verified(specialized: a1=2)" and payload["fixed"] == {"a1": "2"}
 
 
 def test_constant_integral_is_noted(capsys):

@@ -12,12 +12,13 @@ varepsilon), and Markdown tables for the `_repr_markdown_` of result objects.
 """
 from __future__ import annotations
 
+import json
 from typing import Any, Sequence
 
 import flint
 import sympy
 
-__all__ = ["latex", "markdown_table", "math", "poly_to_sympy", "sympy_rational"]
+__all__ = ["latex", "markdown_table", "math", "poly_to_sympy", "sympy_rational", "to_json"]
 
 _NAMES = {sympy.Symbol("eps"): r"\varepsilon"}
 
@@ -52,3 +53,18 @@ def markdown_table(header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
     lines = ["| " + " | ".join(map(cell, header)) + " |", "| " + " | ".join("---" for _ in header) + " |"]
     lines += ["| " + " | ".join(map(cell, row)) + " |" for row in rows]
     return "\n".join(lines)
+
+
+def to_json(payload: Any, indent: int | None = None) -> str:
+    """The one JSON encoder of results (commands, certificates, JSON lines): exact values (FLINT numbers and
+    polynomials, fractions) as their exact text, enums by their label or value.
+
+    >>> to_json({"c": flint.fmpq(3, 7)})
+    '{"c": "3/7"}'
+    """
+    def exact(value: Any) -> Any:
+        label = getattr(value, "label", None)
+        if isinstance(label, str):
+            return label
+        return str(value)
+    return json.dumps(payload, indent=indent, default=exact)

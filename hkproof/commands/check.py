@@ -23,7 +23,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("file", help="a certificate file (JSON, docs/certificates.md)")
     p.add_argument("--export", nargs=2, metavar=("SYSTEM", "OUT"),
                    help="also write a script for a second computer algebra system that re-checks the substitution "
-                        "steps (SYSTEM: singular)")
+                        "and darboux steps (SYSTEM: singular)")
 
 
 def run_check(args: argparse.Namespace) -> Result:

@@ -9,7 +9,6 @@ from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.degrees import MAX_DEGREE
 from hkproof.experiments.degrees import degree_report
-from hkproof.proof.status import Status
 
 __all__ = ["register", "run_degrees"]
 
@@ -51,10 +50,7 @@ def run_degrees(args: argparse.Namespace) -> Result:
     if report.stopped:
         lines.append(f"stopped after {len(res.degrees)} iterates: the next degree could exceed {MAX_DEGREE}")
     lines.append(("the runs agree" if res.agree else "the runs DISAGREE (the largest degree is kept: a special "
-                  "choice only lowers degrees)") + f"; status {status.label}: "
-                 + ("every degree from the symbolic iterates" if status is Status.VERIFIED else
-                    "degrees computed mod p on random lines at random values, not a proof"
-                    + (f" beyond n = {len(exact)}" if exact else "")))
+                  "choice only lowers degrees)") + f"; status {status.label}: {report.status_reason}")
     lines.append(f"({EPS_CONVENTION})")
     return Result(payload, "\n".join(lines))
 

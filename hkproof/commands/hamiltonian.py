@@ -5,10 +5,12 @@ import argparse
 
 from hkproof.algebra.fraction import Frac
 from hkproof.commands import (Result, add_budget_option, add_command, add_param_option, add_system_argument,
-                              answer_code, specialized_map)
+                              specialized_map)
+from hkproof.commands._certificates import (add_certificate_option, certificate_target, hamiltonian_document,
+                                            write_certificate)
 from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.hk.modified_hamiltonian import parse_matrix, verify
-from hkproof.proof.status import Status, specialized_label
+from hkproof.proof.status import Status, exit_code, specialized_label
 
 __all__ = ["FORMULA", "register", "run_hamiltonian"]
 
@@ -27,9 +29,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--poisson", required=True, metavar="J",
                    help="a constant skew matrix, e.g. '[[0, 1], [-1, 0]]' or '0, 1; -1, 0'")
     add_param_option(p)
+    add_certificate_option(p)
 
 
 def run_hamiltonian(args: argparse.Namespace) -> Result:
+    target = certificate_target(args)
     original, f, fixed = specialized_map(args)
     h = Frac.parse(original.ring, args.hamiltonian)
     j = parse_matrix(original, args.poisson)
@@ -47,5 +51,11 @@ def run_hamiltonian(args: argparse.Namespace) -> Result:
              f"[{specialized_label(res.integral, fixed)}] H~ o f = H~ with H~ = {res.h_tilde}",
              f"[{specialized_label(res.measure, fixed)}] the density 1/({res.density_denominator}) is invariant: "
              "rho(f(x)) det Df(x) = rho(x), det Df = det M(f(x), -eps)/det M(x, eps)"]
-    ok = res.integral is Status.VERIFIED and res.measure is Status.VERIFIED
-    return Result(payload, "\n".join(lines), answer_code(ok))
+    status = min(res.integral, res.measure)
+    ok = status is Status.VERIFIED
+    text = "\n".join(lines)
+    if ok and target is not None:
+        text += write_certificate(target, hamiltonian_document(f, res, {k: str(v) for k, v in fixed.items()}), payload)
+    elif target is not None:
+        text += f"\nno certificate written to {target}: the claim is not verified"
+    return Result(payload, text, exit_code(status))

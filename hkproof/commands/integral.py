@@ -2,17 +2,19 @@
 from __future__ import annotations
 
 import argparse
+from typing import Mapping
 
 from hkproof.algebra.fraction import Frac
+from hkproof.algebra.groebner import MembershipCertificate
 from hkproof.commands import (Result, add_budget_option, add_command, add_param_option, add_system_argument,
-                              answer_code, integer, specialized_map)
+                              integer, specialized_map)
 from hkproof.commands._certificates import add_certificate_option, certificate_target, write_certificate
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.experiments.refute import modular_witness
 from hkproof.hk.integrals import check_integral
 from hkproof.hk.recipe_g import recipe_g
-from hkproof.proof.export import document, field_data, substitution_step
-from hkproof.proof.status import Status
+from hkproof.proof.export import document, recipe_g_step, substitution_step
+from hkproof.proof.status import Status, exit_code, specialized_label
 
 __all__ = ["register", "run_integral"]
 
@@ -38,7 +40,6 @@ def run_integral(args: argparse.Namespace) -> Result:
     h = full.field.parse(args.expr)
     if fixed:
         h = h.specialize(fixed, f.ring)
-    status = Status.VERIFIED_SPECIALIZED if fixed else Status.VERIFIED
     payload = {"system": f.field.name, "expr": str(h), "fixed": {k: str(v) for k, v in fixed.items()}}
     notes = []
     if not h.variables() & set(f.variables):
@@ -49,38 +50,39 @@ def run_integral(args: argparse.Namespace) -> Result:
         payload.update({"verdict": Status.REFUTED.label, "method": "evaluation mod p at a random point",
                         "witness": witness.to_dict()})
         return Result(payload, f"refuted: {args.expr} is not an integral of the Kahan map of {f.field.name}: "
-                      f"{witness.text()}", answer_code(False))
+                      f"{witness.text()}", exit_code(Status.REFUTED))
     if args.method == "groebner":
-        result = _run_recipe_g(f, h, args.expr, status, payload)
-        step = {"kind": "recipe-g", "field": field_data(f.field), "function": str(h),
-                "multiplier": payload.get("multiplier"), "integrals": [{"name": "h", "formula": str(h), "from": "h"}]}
+        result, membership = _run_recipe_g(f, h, args.expr, fixed, payload)
+        step = None if membership is None else recipe_g_step(
+            f.field, "h", h, membership.generators, membership.cofactors, membership.multiplier ** membership.power)
     else:
         verdict = check_integral(f, h)
         ok = verdict.status is Status.VERIFIED
-        label = status.label if ok else Status.REFUTED.label
+        label = specialized_label(verdict.status, fixed)
         payload.update({**verdict.to_dict(), "verdict": label})
         text = (f"{label}: {args.expr} is {'an' if ok else 'not an'} integral of the Kahan map of {f.field.name} "
                 f"(exact, in {verdict.ring}, by {verdict.method})" + "".join(f"\nnote: {n}" for n in notes))
-        result = Result(payload, text, answer_code(ok))
+        result = Result(payload, text, exit_code(verdict.status))
         step = substitution_step(f.field, "h", h)
     if result.exit_code != 0 and target is not None:
         result.text += f"\nno certificate written to {target}: the claim is not verified"
     elif result.exit_code == 0:
         doc = document(f"an integral of the Kahan map of {f.field.name}", f"h = {h} is an integral of the Kahan map "
-                       f"of {f.field.name}", [step], {k: str(v) for k, v in fixed.items()})
+                       f"of {f.field.name}", [step] if step else [], {k: str(v) for k, v in fixed.items()})
         result.text += write_certificate(target, doc, payload)
     return result
 
 
-def _run_recipe_g(f: KahanMap, h: Frac, expr: str, status: Status, payload: dict) -> Result:
-    """The --method groebner branch: recipe (G) with a cofactor certificate."""
+def _run_recipe_g(f: KahanMap, h: Frac, expr: str, fixed: Mapping[str, object],
+                  payload: dict) -> tuple[Result, MembershipCertificate | None]:
+    """The --method groebner branch: recipe (G) with a cofactor certificate (the identity, when verified)."""
     res = recipe_g(f, h)
     ring = f"Z[{', '.join(f.field.tilde_ring.names)}]"
     ok = res.status is Status.VERIFIED
-    label = status.label if ok else res.status.label
+    label = specialized_label(res.status, fixed)
     payload.update({"ring": ring, "method": "recipe (G): elimination of x~, cofactors checked by expansion",
                     **res.to_dict(), "verdict": label})
     text = (f"{label}: {expr} is {'an' if ok else 'not an'} integral of the Kahan map of "
             f"{f.field.name} (recipe (G) in {ring}; certificate det M^{res.power} * delta = sum lambda_i E_i, "
             f"{res.cofactor_terms} cofactor terms)")
-    return Result(payload, text, answer_code(ok))
+    return Result(payload, text, exit_code(res.status)), res.certificate

@@ -5,6 +5,8 @@ import argparse
 
 from hkproof.commands import (Result, add_budget_option, add_command, add_param_option, add_progress_option,
                               add_system_argument, at_least, integer, progress_bar, specialized_map)
+from hkproof.commands._certificates import (add_certificate_option, certificate_target, measure_document,
+                                            write_certificate)
 from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.pipelines.darboux import MAX_DARBOUX_DEGREE, search_darboux
 
@@ -23,10 +25,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_param_option(p)
     p.add_argument("--seed", type=integer, default=0, help="seed of the values, prime and points (default 0)")
     add_progress_option(p)
+    add_certificate_option(p)
 
 
 def run_measure(args: argparse.Namespace) -> Result:
+    target = certificate_target(args)
     _, f, fixed = specialized_map(args)
     with progress_bar(args, "measure", "Darboux polynomials") as shown:
         res = search_darboux(f, args.degree, seed=args.seed, fixed=fixed, progress=lambda found: shown.update())
-    return Result(res.to_dict(), res.text())
+    payload = res.to_dict()
+    text = res.text() + (write_certificate(target, measure_document(f, res), payload) if target else "")
+    return Result(payload, text)

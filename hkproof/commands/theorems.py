@@ -2,10 +2,10 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from typing import Callable, Sequence
 
+from hkproof.algebra.printing import to_json
 from hkproof.commands import Result, add_budget_option, add_command, add_run_options, run_options
 from hkproof.commands._certificates import (add_certificate_option, certificate_target, theorem_document,
                                             write_certificate)
@@ -61,7 +61,7 @@ def run_prove(args: argparse.Namespace) -> Result:
 def streaming(args: argparse.Namespace) -> Callable[[Certificate], None]:
     """What to print as each certificate completes: its text, a JSON line, or nothing (--json prints at the end)."""
     if getattr(args, "jsonl", False):
-        return lambda cert: emit(json.dumps(certificate_payload(cert)))
+        return lambda cert: emit(to_json(certificate_payload(cert)))
     if args.json:
         return lambda cert: None
     return lambda cert: emit(cert.render())
@@ -83,7 +83,7 @@ def prove_claims(claims: Sequence[Claim], args: argparse.Namespace,
     run = execute(claims, run_options(args), completed)
     if run.interrupted and args.json:
         print(run.summary().strip(), file=sys.stderr)
-    closing = json.dumps(run.summary_record()) if getattr(args, "jsonl", False) else run.summary()
+    closing = to_json(run.summary_record()) if getattr(args, "jsonl", False) else run.summary()
     return run.payload(), closing, run.exit_code
 
 
@@ -100,7 +100,7 @@ def run_script(groups: Sequence[str], argv: Sequence[str] | None = None) -> int:
     try:
         with interrupts_raised():
             payload, closing, code = prove_claims(select(groups=groups, include_slow=not args.no_slow), args)
-            emit(json.dumps(payload, indent=2) if args.json else closing)
+            emit(to_json(payload, indent=2) if args.json else closing)
     except HKProofError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return exit_code_for(exc)

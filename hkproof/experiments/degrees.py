@@ -36,6 +36,14 @@ class DegreeReport:
         return Status.VERIFIED if exact else Status.EVIDENCE_EXACT
 
     @property
+    def status_reason(self) -> str:
+        """Why the degrees earn their status, for the report."""
+        if self.status is Status.VERIFIED:
+            return "every degree from the symbolic iterates"
+        return ("degrees computed mod p on random lines at random values, not a proof"
+                + (f" beyond n = {len(self.symbolic)}" if self.symbolic else ""))
+
+    @property
     def degrees(self) -> list[int]:
         """deg f^n for n = 1, 2, ... (the symbolic ones where computed)."""
         return self.found.degrees

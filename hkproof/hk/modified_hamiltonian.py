@@ -106,6 +106,7 @@ class ModifiedHamiltonianResult:
     integral: Status
     measure: Status
     jacobian_identity: bool
+    jacobian: Frac          # det Df, the cofactor of det(I - eps F') (a Darboux polynomial)
 
 
 def verify(kmap: KahanMap, h: Frac, j: Sequence[Sequence[Frac]]) -> ModifiedHamiltonianResult:
@@ -119,4 +120,4 @@ def verify(kmap: KahanMap, h: Frac, j: Sequence[Sequence[Frac]]) -> ModifiedHami
     lemma = matrix_identity_holds(kmap)
     ok = kmap.pullback(p) == Frac(kmap.ring, num, den) * p
     measure = (Status.VERIFIED if lemma else Status.UNKNOWN) if ok else Status.REFUTED
-    return ModifiedHamiltonianResult(ht, p, integral, measure, lemma)
+    return ModifiedHamiltonianResult(ht, p, integral, measure, lemma, Frac(kmap.ring, num, den))

@@ -117,6 +117,7 @@ class RecipeGResult:
     cofactor_terms: int
     residual_terms: int
     seconds: dict
+    certificate: MembershipCertificate | None = None      # the checked identity, when verified
 
     def to_dict(self) -> dict:
         return {"verdict": self.status.label, "multiplier": f"det M ^ {self.power}", "cofactor_terms": self.cofactor_terms,
@@ -138,7 +139,8 @@ def recipe_g(kmap: KahanMap, c: Frac) -> RecipeGResult:
     checked = time.perf_counter()
     if not ok:
         raise AssertionError("recipe (G): the cofactor identity failed to expand to Delta^k delta (internal error)")
-    return RecipeGResult(Status.VERIFIED, cert.power, cert.terms, 0, {"cofactors": built - start, "check": checked - built})
+    return RecipeGResult(Status.VERIFIED, cert.power, cert.terms, 0, {"cofactors": built - start, "check": checked - built},
+                         cert)
 
 
 def groebner_membership(kmap: KahanMap, c: Frac, power: int = 0,

@@ -1,9 +1,10 @@
 """Certificates as data (docs/certificates.md): the steps a separate checker can re-check from a JSON file alone.
 
 A prover records each exact identity it checked, with the data needed to check it again, in `Certificate.checks`
-(`substitution_step` for h o f = h, `prop_even_step` for Prop. "prop: even"); `document` gathers the steps of one or
-more certificates, the fields they speak of and the integrals they conclude into one versioned JSON object, which
-`hkproof.checker` re-verifies.
+(`substitution_step` for h o f = h, `prop_even_step` for Prop. "prop: even", `darboux_step` for P o f = K P and the
+integrals and densities it gives, `recipe_g_step` for recipe (G)); `document` gathers the steps of one or more
+certificates, the fields they speak of and the integrals and densities they conclude into one versioned JSON object,
+which `hkproof.checker` re-verifies.
 """
 from __future__ import annotations
 
@@ -14,11 +15,12 @@ from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import QuadraticField
 from hkproof.proof.certificate import Certificate
 
-__all__ = ["CONVENTION", "document", "field_data", "FORMAT", "prop_even_step", "relation_data",
-           "substitution_step", "VERSION"]
+__all__ = ["CONVENTION", "Conclusion", "darboux_step", "document", "field_data", "FORMAT", "prop_even_step",
+           "recipe_g_step", "relation_data", "substitution_step", "VERSION"]
 
 FORMAT = "hkproof-certificate"
-VERSION = 1
+VERSION = 2                   # 2: darboux and recipe-g steps, densities
+Conclusion = tuple[str, Frac, str]      # (name, value, the value written in the step's own names)
 CONVENTION = "eps = h/2"      # x~ - x = 2 eps F(x, x~): hkproof's eps is half the time step h
 
 
@@ -28,10 +30,11 @@ def field_data(field: QuadraticField) -> dict:
             "rhs": [str(f) for f in field.rhs]}
 
 
-def substitution_step(field: QuadraticField, name: str, h: Frac) -> dict:
-    """The step "h o f - h = 0" (sec. 3, an integral) of the Kahan map of `field`."""
-    ring = ", ".join(field.ring.names)
-    return {"kind": "substitution", "field": field_data(field), "function": str(h),
+def substitution_step(field: QuadraticField | dict, name: str, h: Frac | str) -> dict:
+    """The step "h o f - h = 0" (sec. 3, an integral) of the Kahan map of `field` (or of its `field_data`)."""
+    data = field_data(field) if isinstance(field, QuadraticField) else field
+    ring = ", ".join([*data["variables"], "eps", *data["parameters"]])
+    return {"kind": "substitution", "field": data, "function": str(h),
             "identity": f"{name}(f(x)) - {name}(x) = 0 in Q({ring}), f the Kahan map (x~ - x = 2 eps F(x, x~))",
             "integrals": [{"name": name, "formula": str(h), "from": name}]}
 
@@ -54,6 +57,32 @@ def prop_even_step(field: QuadraticField, basis: Sequence[Frac], target: Frac, n
             "integrals": [{"name": n, "formula": str(a), "from": n} for n, a in zip(names, solution, strict=True)]}
 
 
+def darboux_step(field: QuadraticField, names: Sequence[str], polynomials: Sequence[Frac], cofactor: Frac,
+                 integrals: Sequence[Conclusion] = (), densities: Sequence[Conclusion] = ()) -> dict:
+    """The step "P_j o f = K P_j" (Darboux polynomials with one cofactor K, Celledoni et al. 2019): integrals as
+    functions of the P_j homogeneous of degree 0, densities rho with rho(f(x)) det Df(x) = rho(x) as functions of
+    degree -1 when K = det Df."""
+    return {"kind": "darboux", "field": field_data(field), "names": list(names),
+            "polynomials": [str(p) for p in polynomials], "cofactor": str(cofactor),
+            "identity": "P_j(f(x)) = K(x) P_j(x) for each j" + (", K = det Df(x)" if densities else ""),
+            "integrals": [_conclusion(c) for c in integrals], "densities": [_conclusion(c) for c in densities]}
+
+
+def recipe_g_step(field: QuadraticField, name: str, h: Frac, generators: Sequence[object],
+                  cofactors: Sequence[object], multiplier: object) -> dict:
+    """Recipe (G): D delta = sum_i lambda_i E_i with delta = p(x~) q(x) - p(x) q(x~), h = p/q, E_i the Kahan equations
+    in Z[x, x~, eps, params] (x~ named by the field's tilde variables), D free of x~."""
+    return {"kind": "recipe-g", "field": field_data(field), "function": str(h),
+            "tilde": list(field.tilde_variables), "generators": [str(g) for g in generators],
+            "cofactors": [str(c) or "0" for c in cofactors], "multiplier": str(multiplier),
+            "identity": "D * (p(x~) q(x) - p(x) q(x~)) = sum_i lambda_i E_i(x, x~) in Z[x, x~, eps, params]",
+            "integrals": [{"name": name, "formula": str(h), "from": name}]}
+
+
+def _conclusion(c: Conclusion) -> dict:
+    return {"name": c[0], "formula": str(c[1]), "from": c[2]}
+
+
 def document(title: str, statement: str, steps: Sequence[dict], fixed: Mapping[str, str] | None = None,
              certificates: Sequence[Certificate] = ()) -> dict:
     """One certificate file: the fields (each once), the steps in order, and the integrals they conclude (a name
@@ -68,22 +97,22 @@ def document(title: str, statement: str, steps: Sequence[dict], fixed: Mapping[s
         if key is None:
             key = _fresh(data["name"], fields)
             fields[key] = data
-        conclusions = []
-        for entry in step.get("integrals", []):
-            entry = {**entry, "name": _fresh(entry["name"], taken)}
-            taken.add(entry["name"])
-            conclusions.append(entry)
-        out.append({"field": key, **step, "integrals": conclusions})
+        for kind in ("integrals", "densities"):
+            if kind in step or kind == "integrals":
+                step[kind] = [{**e, "name": _fresh(e["name"], taken)} for e in step.get(kind, [])]
+        out.append({"field": key, **step})
     return {"format": FORMAT, "version": VERSION, "convention": CONVENTION,
             "claim": {"title": title, "statement": statement, "fixed": dict(fixed or {}),
-                      "integrals": [e["name"] for s in out for e in s["integrals"]]},
+                      "integrals": [e["name"] for s in out for e in s["integrals"]],
+                      "densities": [e["name"] for s in out for e in s.get("densities", [])]},
             "fields": fields, "steps": out}
 
 
 def _fresh(name: str, taken: Mapping[str, object] | set[str]) -> str:
-    if name not in taken:
-        return name
-    k = 2
-    while f"{name}_{k}" in taken:
-        k += 1
-    return f"{name}_{k}"
+    """`name`, or name_2, name_3, ... if taken; a set `taken` records the name returned."""
+    k, fresh = 2, name
+    while fresh in taken:
+        fresh, k = f"{name}_{k}", k + 1
+    if isinstance(taken, set):
+        taken.add(fresh)
+    return fresh

@@ -1,5 +1,6 @@
-"""A certificate's substitution steps as a Singular script: a second computer algebra system rebuilds the Kahan map
-from the field and re-checks h o f - h = 0 on its own (docs/certificates.md, "A second opinion")."""
+"""A certificate's substitution and darboux steps as a Singular script: a second computer algebra system rebuilds the
+Kahan map from the field and re-checks h o f - h = 0, P o f = K P and, for densities, K = det Df on its own
+(docs/certificates.md, "A second opinion")."""
 from __future__ import annotations
 
 from typing import Mapping
@@ -32,21 +33,24 @@ _PULLBACK = """proc hkPullback(poly p, ideal hkN, poly hkD, int n)
 
 
 def singular_script(doc: Mapping) -> str:
-    """A Singular script that prints 'verified: NAME' (or 'refuted: NAME') for each substitution step of a checked
-    certificate; other step kinds are listed as not exported."""
+    """A Singular script that prints 'verified: step k ...' (or 'refuted: step k ...') for each substitution and
+    darboux step of a checked certificate; other step kinds are listed as not exported."""
     lines = ["// hkproof certificate re-checked in Singular: the Kahan map x~ - x = 2 eps F(x, x~) (eps = h/2) by",
-             "// Cramer's rule, then h(N/Delta) Delta^d compared with h over a common denominator.", _PULLBACK]
+             "// Cramer's rule, then h(N/Delta) Delta^d compared with h over a common denominator.", _PULLBACK,
+             "int i; int j; int hkOk;"]
     for k, step in enumerate(doc["steps"], 1):
-        if step["kind"] != "substitution":
+        if step["kind"] not in _STEPS:
             lines.append(f'"step {k} ({step["kind"]}): not exported";')
             continue
-        lines += _substitution(k, doc["fields"][step["field"]], step)
+        field = doc["fields"][step["field"]]
+        ring, map_lines = _kahan_map(k, field)
+        lines += map_lines + _STEPS[step["kind"]](k, ring, len(field["variables"]), step) + [f"kill hkR{k};"]
     lines.append("quit;")
     return "\n".join(lines) + "\n"
 
 
-def _substitution(k: int, field: Mapping, step: Mapping) -> list[str]:
-    """One ring, the map, and the identity of one step."""
+def _kahan_map(k: int, field: Mapping) -> tuple[Ring, list[str]]:
+    """The ring of step k and the Kahan map N/hkD in it, by Cramer's rule on the equations."""
     xs, params = list(field["variables"]), list(field["parameters"])
     ys = [f"hkY{i + 1}" for i in range(len(xs))]
     ring = get_ring(tuple(xs) + ("eps",) + tuple(params))
@@ -59,7 +63,7 @@ def _substitution(k: int, field: Mapping, step: Mapping) -> list[str]:
            f"map hkToY = hkR{k}, {', '.join(ys)}, {', '.join(ys)}, eps;",
            f"ideal hkF = {', '.join(_text(ring, t) for t in field['rhs'])};",
            "ideal hkFm = hkMid(hkF); ideal hkFy = hkToY(hkF);",
-           f"matrix hkM[{n}][{n}]; ideal hkB; poly hkE; int i; int j;",
+           f"matrix hkM[{n}][{n}]; ideal hkB; poly hkE;",
            f"for (i = 1; i <= {n}; i++) {{",
            f"  hkE = var({n} + i) - var(i) - 2*eps*(2*hkFm[i] - (hkF[i] + hkFy[i])/2);",
            f"  for (j = 1; j <= {n}; j++) {{ hkM[i, j] = diff(hkE, var({n} + j)); }}",
@@ -68,15 +72,45 @@ def _substitution(k: int, field: Mapping, step: Mapping) -> list[str]:
            "poly hkD = det(hkM); ideal hkN; matrix hkC;",
            f"for (j = 1; j <= {n}; j++) {{ hkC = hkM; for (i = 1; i <= {n}; i++) {{ hkC[i, j] = hkB[i]; }}"
            " hkN[j] = det(hkC); }"]
-    h = parse_formula(ring, step["function"])
+    return ring, out
+
+
+def _pulled(ring: Ring, text: str, n: int) -> list[str]:
+    """h = hkP/hkQ and the lists hkA = (hkP(N/D) D^a, a), hkBq = (hkQ(N/D) D^b, b) (declared by the step)."""
+    h = parse_formula(ring, text)
+    return [f"hkP = {_poly(h.num)}; hkQ = {_poly(h.den)};",
+            f"hkA = hkPullback(hkP, hkN, hkD, {n}); hkBq = hkPullback(hkQ, hkN, hkD, {n});"]
+
+
+def _substitution(k: int, ring: Ring, n: int, step: Mapping) -> list[str]:
+    """h(N/D) D^a D^b Q = P Q(N/D) D^b D^a: h o f = h."""
     name = step["integrals"][0]["name"]
-    out += [f"poly hkP = {_poly(h.num)}; poly hkQ = {_poly(h.den)};",
-            f"list hkA = hkPullback(hkP, hkN, hkD, {n}); list hkBq = hkPullback(hkQ, hkN, hkD, {n});",
+    return [_DECLARE, *_pulled(ring, step["function"], n),
             "poly hkDiff = hkA[1] * hkD^hkBq[2] * hkQ - hkP * hkBq[1] * hkD^hkA[2];",
             f'if (hkD != 0 && hkBq[1] != 0 && hkDiff == 0) {{ "verified: step {k}, {name} o f = {name}"; }}',
-            f'else {{ "refuted: step {k}, {name} o f - {name} is not 0"; }}',
-            f"kill hkR{k};"]
-    return out
+            f'else {{ "refuted: step {k}, {name} o f - {name} is not 0"; }}']
+
+
+def _darboux(k: int, ring: Ring, n: int, step: Mapping) -> list[str]:
+    """P_j(N/D) D^b Q_j K_den = K_num P_j Q_j(N/D) D^a for P_j = hkP/hkQ and K = K_num/K_den; with densities also
+    K_num D^(2n) = K_den det(D dN_i/dx_j - N_i dD/dx_j) (K = det Df)."""
+    cofactor = parse_formula(ring, step["cofactor"])
+    out = [_DECLARE, f"poly hkKn = {_poly(cofactor.num)}; poly hkKd = {_poly(cofactor.den)}; hkOk = (hkD != 0);"]
+    for text in step["polynomials"]:
+        out += [*_pulled(ring, text, n),
+                "hkOk = hkOk && (hkA[1] * hkD^hkBq[2] * hkQ * hkKd - hkKn * hkP * hkBq[1] * hkD^hkA[2] == 0);"]
+    if step.get("densities"):
+        out += [f"matrix hkJ[{n}][{n}];",
+                f"for (i = 1; i <= {n}; i++) {{ for (j = 1; j <= {n}; j++) {{"
+                " hkJ[i, j] = hkD * diff(hkN[i], var(j)) - hkN[i] * diff(hkD, var(j)); } }",
+                f"hkOk = hkOk && (hkKn * hkD^{2 * n} - hkKd * det(hkJ) == 0);"]
+    what = ", ".join(step["names"]) + " o f = K " + ", ".join(step["names"]) + (", K = det Df" if step.get(
+        "densities") else "")
+    return [*out, f'if (hkOk) {{ "verified: step {k}, {what}"; }} else {{ "refuted: step {k}, {what} fails"; }}']
+
+
+_DECLARE = "poly hkP; poly hkQ; list hkA; list hkBq;"
+_STEPS = {"substitution": _substitution, "darboux": _darboux}
 
 
 def _text(ring: Ring, text: str) -> str:

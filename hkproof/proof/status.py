@@ -4,7 +4,9 @@ from __future__ import annotations
 from enum import IntEnum
 from typing import Mapping
 
-__all__ = ["specialized_label", "Status"]
+from hkproof.exit_codes import ExitCode
+
+__all__ = ["exit_code", "specialized_label", "Status"]
 
 
 class Status(IntEnum):
@@ -42,3 +44,15 @@ def specialized_label(status: Status, fixed: Mapping[str, object]) -> str:
     if fixed and status >= Status.VERIFIED_SPECIALIZED:
         return f"verified(specialized: {', '.join(f'{k}={v}' for k, v in fixed.items())})"
     return status.label
+
+
+def exit_code(status: Status) -> ExitCode:
+    """How a command that states one status ends (the one place): 0 verified, verified(specialized) or evidence (an
+    answer, labelled as such), 1 refuted, 4 unknown (the method or its budget could not decide).
+
+    >>> [int(exit_code(s)) for s in (Status.VERIFIED, Status.VERIFIED_SPECIALIZED, Status.REFUTED, Status.UNKNOWN)]
+    [0, 0, 1, 4]
+    """
+    if status is Status.REFUTED:
+        return ExitCode.REFUTED
+    return ExitCode.LIMIT if status is Status.UNKNOWN else ExitCode.VERIFIED

@@ -38,6 +38,7 @@ from hkproof.hk.translation import ParameterTranslation
 from hkproof.hk.transport import Substitution, map_mismatches
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate, StepRecorder
+from hkproof.proof.export import substitution_step
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import H, named, recall, record, shift_frac
 from hkproof.theorems._common import parse_matrix
@@ -317,6 +318,7 @@ def prove_second_flow(cert: Certificate, claimed: Mapping[str, str]) -> None:
     with cert.step("L is an integral (substitution)", "L(N/Delta) - L = 0 in Q(x, eps, w)", r) as s:
         s.require(check_integral(f, big_l).status is Status.VERIFIED, "L o f != L")
         s.note("confirmed independently by recipe (G) in flow-second-recipe-g")
+    cert.checks.append(substitution_step(f.field, "L", big_l))
     _kernel_lower_bound(cert, f, e, "L")
     _kernel_rank_bound(cert, f, e)
 
