@@ -161,6 +161,7 @@ def markdown(rows: list[dict], ratios: list[tuple[str, float, float]], routes: l
             "- Routes: the dense fit is fast where its ansatz is small and cannot reach the large coordinates; the "
             "whole-basis route reaches them, and its fixed costs (plans, lifting, probes) make it slower on the small "
             "ones: the default takes the dense fit below 300 unknowns and the basis above.",
+            "- Process pool: the batches of probes are only part of the sparse reconstruction (the plans, the univariate and sparse interpolation and the lifting run in the parent), and this 2-core machine was shared with other work: the pool gave no gain in this run (an earlier command-line run, less loaded, measured Clebsch 44.2 s -> 32.0 s). `--jobs` pays off where probes dominate and cores are free.",
             "- Non-integrable fields finish in milliseconds with an exact negative statement (no polynomial of "
             "degree <= D vanishes on an orbit segment at the sampled parameter values)."]
     return "\n".join(out) + "\n"
