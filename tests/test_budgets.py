@@ -13,7 +13,7 @@ import pytest
 from hkproof.cli import main
 
 HH = str(Path(__file__).resolve().parents[1] / "docs" / "examples" / "henon-heiles.toml")
-STOPPED_WITHIN = 6.0        # seconds: the unbounded runs below take 8 s (scan), 12 s (measure) to > 100 s (degrees)
+STOPPED_WITHIN = 6.0        # seconds: the unbounded runs below take 8 s (scan), 60 s (measure) to > 100 s (degrees)
 
 
 def _run(argv, capsys) -> tuple[int, dict, float]:
@@ -38,8 +38,9 @@ def test_a_command_without_a_partial_answer_stops_with_a_limit(argv, capsys):
 
 
 def test_measure_returns_what_it_found_when_the_budget_runs_out(capsys):
-    code, payload, elapsed = _run(["measure", HH], capsys)
+    code, payload, elapsed = _run(["measure", "zhukovsky-volterra"], capsys)
     assert code == 0 and payload["complete"] is False and "time budget of 1 s" in payload["stopped"]
+    assert "not reconstructed (degrees" in payload["stopped"]      # what it gave up, and how to get it
     assert elapsed < STOPPED_WITHIN
     assert main(["measure", "lotka-volterra", "--seconds", "60", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["complete"] is True

@@ -5,7 +5,8 @@ to detect and determine preserved measures and integrals of rational maps", 2019
 the products of the irreducible factors of the numerator and denominator of det Df (hkproof.hk.darboux); for each K
 the coefficients of P (all monomials of degree <= D) solve a linear system sampled at random points mod a large
 prime at random rational eps and parameters; each kernel vector is reconstructed with eps and the parameters
-symbolic (Cramer's rule on its support, at rational points) and then checked exactly by hkproof.hk.darboux.
+symbolic (from its kernels mod primes at shared values, on its support) and then checked exactly by
+hkproof.hk.darboux.
 """
 from __future__ import annotations
 
@@ -16,14 +17,17 @@ from typing import Any, Callable, Mapping, Sequence
 import flint
 
 from hkproof.algebra.sampling import random_point
-from hkproof.algebra.fraction import Frac, homogenized_compose, poly_str
-from hkproof.algebra.linalg import cramer, lcm
+from hkproof.algebra.fraction import Frac, poly_str
+from hkproof.algebra.linalg import lcm
 from hkproof.algebra.modular import free_kernel_mod_p, random_prime
 from hkproof.algebra.monomials import Exponents, exponents_upto, value, values_mod_p
-from hkproof.algebra.ring import Ring, get_ring
+from hkproof.algebra.ring import Rational, Ring, get_ring
+from hkproof.algebra.rational_lifting import CoefficientLifter
+from hkproof.algebra.vector_reconstruction import reconstruct_vector
 from hkproof.dynamics.field import EPS, STEP_CONVENTION
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.dynamics.modular_map import ModularKahanMap
+from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.errors import BudgetExhausted, HKProofError, SingularSystemError
 from hkproof.hk.darboux import (Atom, Cofactor, DarbouxPolynomial, candidate_cofactors, check_at_points,
                                 check_darboux, cofactor_value, jacobian_atoms)
@@ -124,12 +128,16 @@ class DarbouxSearch:
 
 # ---- modular search --------------------------------------------------------------------------------------------------
 class ModularScene:
-    """The modular map and the atoms, mod p at fixed eps and parameters: samples (x, f(x), atom values)."""
+    """The modular map and the atoms, mod p at fixed eps and parameters: samples (x, f(x), atom values). The atoms
+    may come reduced already (`atoms_mod_p`, once per prime for scenes that share it)."""
 
-    def __init__(self, kmap: KahanMap, atoms: Sequence[Atom], values: dict[str, flint.fmpq], prime: int):
+    def __init__(self, kmap: KahanMap, atoms: Sequence[Atom], values: Mapping[str, Rational], prime: int,
+                 reduced: Sequence[flint.nmod_mpoly] | None = None):
         self.kmap, self.atoms, self.prime = kmap, atoms, prime
         self.modular: ModularKahanMap = kmap.mod(prime, values)
-        self.atom_polys = [self.modular.reduce(a.poly) for a in atoms]
+        self.atom_polys = list(reduced) if reduced is not None else atoms_mod_p(kmap, atoms, prime)
+        self.slots = [kmap.ring.index(v) for v in kmap.variables]
+        self.args = [self.modular.values.get(n, 0) for n in kmap.ring.names]
 
     def sample(self, rng: random.Random) -> tuple[list[int], list[int], list[int]] | None:
         """(x, f(x), atom values) at a random point, or None where Delta or an atom vanishes."""
@@ -137,10 +145,22 @@ class ModularScene:
         fx = self.modular.evaluate(x)
         if fx is None:
             return None
-        vals = [int(q(*(fx if a.pulled else x))) for a, q in zip(self.atoms, self.atom_polys, strict=True)]
+        vals = [int(q(*self._at(fx if a.pulled else x))) for a, q in zip(self.atoms, self.atom_polys, strict=True)]
         if any(v == 0 for v in vals):
             return None
         return x, fx, vals
+
+    def _at(self, x: Sequence[int]) -> list[int]:
+        args = list(self.args)
+        for slot, v in zip(self.slots, x, strict=True):
+            args[slot] = v
+        return args
+
+
+def atoms_mod_p(kmap: KahanMap, atoms: Sequence[Atom], p: int) -> list[flint.nmod_mpoly]:
+    """The atoms mod p as polynomials in every name of the ring (phase variables, eps, parameters)."""
+    ctx = flint.nmod_mpoly_ctx.get(kmap.ring.names, p, "degrevlex")  # type: ignore[call-arg, arg-type]  # stubs lag
+    return [ctx.from_dict({m: int(c) % p for m, c in a.poly.to_dict().items() if int(c) % p}) for a in atoms]
 
 
 def modular_kernels(scene: ModularScene, cofactors: Sequence[Cofactor], monos: Sequence[Exponents],
@@ -169,75 +189,98 @@ def modular_kernels(scene: ModularScene, cofactors: Sequence[Cofactor], monos: S
 
 
 # ---- reconstruction with eps and parameters symbolic ---------------------------------------------------------
-class SymbolicRows:
-    """Rows m(f(x)) - K(x) m(x) at rational points x, with eps and the parameters symbolic (ring Z[eps, params])."""
-
-    def __init__(self, kmap: KahanMap, atoms: Sequence[Atom], rng: random.Random):
-        self.kmap, self.atoms, self.rng = kmap, atoms, rng
-        self.small: Ring = get_ring((EPS,) + kmap.field.parameters)
-        self.points: list[dict] = []
-
-    def point(self, k: int) -> dict:
-        """The k-th rational point: x, f(x) and the atoms there, as elements of Q(eps, params)."""
-        while len(self.points) <= k:
-            x = random_point(self.rng, self.kmap.variables, 9, denominator=5, zero=True)
-            nums, delta = self.kmap.explicit
-            d = self._at(delta, x)
-            if d.is_zero():
-                continue
-            fx = [self._at(n, x) / d for n in nums]
-            vals = [self._pulled(a.poly, fx) if a.pulled else self._at(a.poly, x) for a in self.atoms]
-            if any(v.is_zero() for v in vals):
-                continue
-            self.points.append({"x": [Frac.rational(self.small, x[v]) for v in self.kmap.variables], "fx": fx,
-                                "atoms": vals})
-        return self.points[k]
-
-    def _at(self, p: flint.fmpz_mpoly, x: dict) -> Frac:
-        num, den = self.kmap.ring.specialize_poly(p, x, self.small)
-        return Frac(self.small, num, self.small.constant(1) * int(den))
-
-    def _pulled(self, q: flint.fmpz_mpoly, fx: Sequence[Frac]) -> Frac:
-        """q(f(x)) with q(x, eps, params) and f(x) in Q(eps, params)."""
-        big = self.kmap.ring
-        den = lcm([c.den for c in fx])
-        images = [(c.num * (den / c.den)).project_to_context(big.ctx) for c in fx]
-        value, deg = homogenized_compose(big, q, self.kmap.variables, images, den.project_to_context(big.ctx))
-        return Frac(self.small, value.project_to_context(self.small.ctx), (den ** deg))
-
-    def row(self, k: int, cofactor: Cofactor, monos: Sequence[Exponents]) -> list[Frac]:
-        pt = self.point(k)
-        kv = Frac(self.small, 1)
-        for v, e in zip(pt["atoms"], cofactor.exponents, strict=True):
-            if e:
-                kv = kv * v ** e
-        return [value(m, pt["fx"]) - kv * value(m, pt["x"]) for m in monos]
+def _support_vector_mod_p(kmap: KahanMap, atoms: Sequence[Atom], reduced: Sequence[flint.nmod_mpoly],
+                          cofactor: Cofactor, support: Sequence[Exponents], free: int, p: int,
+                          controls: Mapping[str, int], rng: random.Random) -> list[int] | None:
+    """The kernel vector of P -> P o f - K P on the monomials `support` mod p at the given residues of eps and the
+    parameters, its coefficient at `support[free]` set to 1 (the others in order); None when that kernel is not a
+    line there (a special value or an unlucky prime)."""
+    scene = ModularScene(kmap, atoms, controls, p, reduced)
+    rows: list[list[int]] = []
+    for _ in range(4 * len(support) + 20):
+        if len(rows) == len(support) + 3:
+            break
+        s = scene.sample(rng)
+        if s is None:
+            continue
+        x, fx, vals = s
+        kv = 1
+        for v, e in zip(vals, cofactor.exponents, strict=True):
+            kv = kv * pow(v, e % (p - 1), p) % p if e else kv
+        rows.append([(b - kv * a) % p for a, b in zip(values_mod_p(support, x, p), values_mod_p(support, fx, p),
+                                                       strict=True)])
+    kernel = free_kernel_mod_p(rows, p, free_value=1)
+    if len(kernel) != 1 or kernel[0][0] != free:
+        return None
+    vector = kernel[0][1]
+    return [c for j, c in enumerate(vector) if j != free]
 
 
-def reconstruct(rows: SymbolicRows, scene: ModularScene, cofactor: Cofactor, monos: Sequence[Exponents],
-                free: int, vector: Sequence[int]) -> flint.fmpz_mpoly:
-    """The kernel vector with eps and the parameters symbolic, on the support of the modular one: the coefficient of
-    its free monomial is 1, the others solve square rows (points chosen independent mod p) by Cramer's rule."""
-    support = [j for j, c in enumerate(vector) if c]
-    unknowns = [j for j in support if j != free]
-    if not unknowns:
-        return _poly_in_ring(rows.kmap.ring, {monos[free]: Frac(rows.small, 1)}, rows.kmap.variables)
-    cols = [support.index(j) for j in unknowns]
-    chosen: list[list[Frac]] = []
-    k = 0
-    while len(chosen) < len(unknowns):
-        if k > 4 * len(unknowns) + 20:
-            raise SingularSystemError("no independent rows found to reconstruct a Darboux polynomial")
-        row = rows.row(k, cofactor, [monos[j] for j in support])
-        k += 1
-        if _rank_mod(chosen + [row], cols, scene.prime) == len(chosen) + 1:
-            chosen.append(row)
-    a = [[r[c] for c in cols] for r in chosen]
-    b = [-r[support.index(free)] for r in chosen]
-    solution, _ = cramer(a, b)
-    coeffs = {monos[free]: Frac(rows.small, 1)}
-    coeffs.update({monos[j]: c for j, c in zip(unknowns, solution, strict=True)})
-    return _poly_in_ring(rows.kmap.ring, coeffs, rows.kmap.variables)
+def reconstruct(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, monos: Sequence[Exponents], free: int,
+                vector: Sequence[int], rng: random.Random, weights: Weights | None = None) -> flint.fmpz_mpoly:
+    """The kernel vector with eps and the parameters symbolic, on the support of the modular one (its free
+    monomial's coefficient 1): every other coefficient is a rational function of eps and the parameters, rebuilt from
+    kernels mod primes at shared values (hkproof.algebra.vector_reconstruction). With the `weights` of a scaling
+    symmetry under which the cofactor has weight 0, the unique kernel vector is weighted homogeneous: the
+    coefficient of x^m has the weight of x^free / x^m, so the normalized names are set to 1 in the probes and
+    restored afterwards. A candidate: check_darboux proves it."""
+    support = [monos[j] for j, c in enumerate(vector) if c]
+    at = support.index(monos[free])
+    ring = kmap.ring
+    normalized = weights.normalized if weights is not None else ()
+    names = [n for n in kmap.field.control_names if n not in normalized]
+    one = Frac(ring, 1)
+    if len(support) == 1:
+        return _poly_in_ring(ring, {support[0]: one}, kmap.variables)
+
+    reduced: dict[int, list[flint.nmod_mpoly]] = {}
+
+    def box(p: int, t: Sequence[int]) -> list[int] | None:
+        controls = {**{n: 1 for n in normalized}, **dict(zip(names, t, strict=True))}
+        if p not in reduced:
+            reduced[p] = atoms_mod_p(kmap, atoms, p)
+        return _support_vector_mod_p(kmap, atoms, reduced[p], cofactor, support, at, p, controls, rng)
+    if names:
+        sampled = get_ring(tuple(names))
+        values = [Frac(ring, sampled.project(sampled.ctx.from_dict(num), ring),
+                       sampled.project(sampled.ctx.from_dict(den), ring))
+                  for num, den in reconstruct_vector(box, len(names), len(support) - 1, rng=rng)]
+    else:
+        values = [Frac.rational(ring, c) for c in _rational_vector(box, rng)]
+    coeffs = {support[at]: one}
+    others = [m for j, m in enumerate(support) if j != at]
+    for m, h in zip(others, values, strict=True):
+        if weights is not None:
+            weight = [a - b for a, b in zip(_weight(weights, kmap, support[at]), _weight(weights, kmap, m),
+                                            strict=True)]
+            restored = weights.restore_frac(h, weight)
+            if restored is None:
+                raise SingularSystemError(f"the coefficient {h} of a Darboux polynomial is not weighted homogeneous of "
+                                          "the weight its monomial asks for")
+            h = restored
+        coeffs[m] = h
+    return _poly_in_ring(ring, coeffs, kmap.variables)
+
+
+def _weight(weights: Weights, kmap: KahanMap, m: Exponents) -> list[flint.fmpq]:
+    return weights.of_monomial(dict(zip(kmap.variables, m, strict=True)))
+
+
+def _rational_vector(box: Callable[[int, Sequence[int]], list[int] | None], rng: random.Random,
+                     max_primes: int = 12) -> list[flint.fmpq]:
+    """Constants (no name left to sample) from their residues modulo primes until the rational reconstruction is
+    stable."""
+    lifter: CoefficientLifter[int] = CoefficientLifter()
+    for _ in range(max_primes):
+        p = random_prime(rng, 50)
+        values = box(p, [])
+        if values is None:
+            continue
+        before = dict(lifter.rationals)
+        _, missing = lifter.add(dict(enumerate(values)), p)
+        if not missing and before == lifter.rationals:
+            return [lifter.rationals[k] for k in range(len(values))]
+    raise SingularSystemError("the coefficients of a Darboux polynomial did not stabilize over the primes tried")
 
 
 def reconstruct_at_values(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, values: dict[str, flint.fmpq],
@@ -274,16 +317,6 @@ def reconstruct_at_values(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofac
         coeffs.update({monos[j]: sol[i, 0] for i, j in enumerate(unknowns)})
     small = get_ring((EPS,) + kmap.field.parameters)
     return _poly_in_ring(kmap.ring, {m: Frac.rational(small, c) for m, c in coeffs.items()}, kmap.variables)
-
-
-def _rank_mod(rows: Sequence[Sequence[Frac]], cols: Sequence[int], p: int) -> int:
-    """Rank mod p of the columns `cols` at a random value of eps and the parameters (a lower bound of the rank)."""
-    rng = random.Random(p + len(rows))
-    while True:
-        point = [rng.randrange(1, p) for _ in rows[0][0].ring.names]
-        vals = [[r[j].residue_at(point, p) for j in cols] for r in rows]
-        if all(v is not None for row in vals for v in row):
-            return flint.nmod_mat([[int(v or 0) for v in row] for row in vals], p).rank()
 
 
 def _poly_in_ring(ring: Ring, coeffs: dict[Exponents, Frac], variables: Sequence[str]) -> flint.fmpz_mpoly:
@@ -341,32 +374,43 @@ def _search(kmap: KahanMap, result: DarbouxSearch, cofactors: Sequence[Cofactor]
     atoms, symbolic, values = result.atoms, result.symbolic, result.values
     scene = ModularScene(kmap, atoms, values, result.prime)
     kernels = modular_kernels(scene, cofactors, monos, rng)
-    rows = SymbolicRows(kmap, atoms, row_rng)
     one = tuple(0 for _ in atoms)
-    for k, basis in kernels.items():
-        cof = cofactors[k]
-        cvalue = cofactor_value(kmap, atoms, cof) if symbolic else None
-        for free, vec in basis:
-            if cof.exponents == one and sum(monos[free]) == 0:
-                continue            # P = 1 with K = 1
-            try:
-                if symbolic:
-                    p = reconstruct(rows, scene, cof, monos, free, vec)
-                else:
-                    p = reconstruct_at_values(kmap, atoms, cof, values, monos, free, vec, rng)
-            except (SingularSystemError, ZeroDivisionError) as exc:
-                result.unverified.append(f"K = {cof.text(atoms)}: reconstruction failed ({exc})")
-                continue
+    weights = scaling_weights(kmap) if symbolic else None
+    tasks = [(cofactors[k], free, vec) for k, basis in kernels.items() for free, vec in basis
+             if cofactors[k].exponents != one or sum(monos[free]) > 0]          # not P = 1 with K = 1
+    values_of: dict[tuple[int, ...], tuple[Frac | None, Weights | None]] = {}
+    for done, (cof, free, vec) in enumerate(tasks):
+        if cof.exponents not in values_of:
+            cvalue = cofactor_value(kmap, atoms, cof) if symbolic else None
+            values_of[cof.exponents] = (cvalue, weights if weights is not None and cvalue is not None
+                                        and not any(weights.of_frac(cvalue)) else None)
+        cvalue, homogeneous = values_of[cof.exponents]
+        try:
             if symbolic:
-                status, how = check_darboux(kmap, atoms, cof, p, cvalue, rng)
+                p = reconstruct(kmap, atoms, cof, monos, free, vec, row_rng, homogeneous)
             else:
-                ok = check_at_points(kmap, atoms, cof, p, rng, fixed=values)
-                status = Status.EVIDENCE_EXACT if ok else Status.REFUTED
-                how = (f"at {', '.join(f'{k} = {v}' for k, v in values.items())} only: P(f(x)) = K(x) P(x) at 3 "
-                       "random exact points x")
-            if status is Status.REFUTED:
-                result.unverified.append(f"K = {cof.text(atoms)}: the reconstructed {p} fails the exact check")
-                continue
-            result.darboux.append(DarbouxPolynomial(p, cof, status, how))
-            if progress:
-                progress(result.darboux[-1])
+                p = reconstruct_at_values(kmap, atoms, cof, values, monos, free, vec, rng)
+        except BudgetExhausted as exc:
+            left = tasks[done:]
+            degrees = sorted({max(sum(m) for m, c in zip(monos, v, strict=True) if c) for _, _, v in left})
+            raise BudgetExhausted(f"{exc}; {len(left)} Darboux polynomial(s) found mod p were not reconstructed "
+                                  f"(degrees {', '.join(map(str, degrees))}; cofactors "
+                                  f"{', '.join(sorted({c.text(atoms) for c, _, _ in left}))}): give more time, "
+                                  "a smaller --degree, or fix parameters with --param", limit=exc.limit,
+                                  raise_with=exc.raise_with) from None
+        except (HKProofError, ZeroDivisionError) as exc:
+            result.unverified.append(f"K = {cof.text(atoms)}: reconstruction failed ({exc})")
+            continue
+        if symbolic:
+            status, how = check_darboux(kmap, atoms, cof, p, cvalue, rng)
+        else:
+            ok = check_at_points(kmap, atoms, cof, p, rng, fixed=values)
+            status = Status.EVIDENCE_EXACT if ok else Status.REFUTED
+            how = (f"at {', '.join(f'{k} = {v}' for k, v in values.items())} only: P(f(x)) = K(x) P(x) at 3 "
+                   "random exact points x")
+        if status is Status.REFUTED:
+            result.unverified.append(f"K = {cof.text(atoms)}: the reconstructed {p} fails the exact check")
+            continue
+        result.darboux.append(DarbouxPolynomial(p, cof, status, how))
+        if progress:
+            progress(result.darboux[-1])
