@@ -36,6 +36,7 @@ from hkproof.proof.status import Status, specialized_label
 
 __all__ = ["DarbouxSearch", "JACOBIAN", "MAX_DARBOUX_DEGREE", "ModularScene", "search_darboux"]
 
+EXPAND_LIMIT = 4            # above this many phase variables det M(x, -eps) o f stays one atom (factoring it takes minutes)
 MAX_DARBOUX_DEGREE = 8      # C(n + 8, 8) monomials times the cofactors: already 12 870 unknowns per cofactor for n = 8
 
 JACOBIAN = "det Df(x) = det M(f(x), -eps) / det M(x, eps), from M(x, eps) Df(x) = M(f(x), -eps)"
@@ -348,7 +349,7 @@ def search_darboux(kmap: KahanMap, degree: int = 4, *, seed: int = 0, symbolic_l
         raise HKProofError(f"the degree of the Darboux polynomials must be between 1 and {MAX_DARBOUX_DEGREE}, got "
                            f"{degree}")
     rng = random.Random(seed)
-    atoms, jac = jacobian_atoms(kmap, expand_limit=symbolic_limit)
+    atoms, jac = jacobian_atoms(kmap, expand_limit=min(symbolic_limit, EXPAND_LIMIT))
     cofactors = candidate_cofactors(jac)
     monos = exponents_upto(len(kmap.variables), degree)
     symbolic = len(kmap.variables) <= symbolic_limit

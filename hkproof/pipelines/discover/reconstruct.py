@@ -19,7 +19,7 @@ import flint
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.modular import rank_mod_p
 from hkproof.algebra.monomials import Exponents, text
-from hkproof.errors import HKProofError
+from hkproof.errors import BudgetExhausted, HKProofError
 from hkproof.experiments.profiles import ProfileProblem, kernel_vector
 from hkproof.experiments.reconstruction import dense_size, line_degrees, reconstruct_rational
 from hkproof.experiments.scene import make_scene
@@ -28,12 +28,16 @@ from hkproof.pipelines.discover.candidates import Candidate, modular_sampler
 from hkproof.pipelines.discover.context import SearchContext
 from hkproof.pipelines.discover.report import DiscoveryReport, FoundIntegral
 from hkproof.pipelines.discover.solve import BasisProof, Postponed, prove_basis
+from hkproof.pipelines.discover.symbolic import kernel_ratio
 from hkproof.proof.status import Status
 
 __all__ = ["Reconstructed", "reconstruct_candidates"]
 
 
 
+SPARSE_LIMIT = 20000     # the last resort (sparse reconstruction, substitution) is tried on ratios whose dense ansatz
+                         # has at most this many unknowns (Henon-Heiles' modified energy: 4 290)
+SUBSTITUTION_LIMIT = 2000    # terms of h above which h o f is not expanded (one uninterruptible compose)
 DENSE_FIRST = 300    # a ratio whose dense ansatz has at most this many unknowns is fitted first (fast when small);
                      # a larger one is proven with its basis, densely only if that waits for integrals not yet proven
 
@@ -66,6 +70,8 @@ class _Progress:
     skipped: dict[tuple, dict] = field(default_factory=dict)
     reported: set[tuple[Exponents, ...]] = field(default_factory=set)
     dense: int = 0
+    sparse: set[tuple] = field(default_factory=set)     # candidates tried by sparse reconstruction and substitution
+    rescued: set[tuple] = field(default_factory=set)    # ... and proven that way
 
 
 def reconstruct_candidates(ctx: SearchContext, report: DiscoveryReport, candidates: list[Candidate], target: int,
@@ -77,22 +83,29 @@ def reconstruct_candidates(ctx: SearchContext, report: DiscoveryReport, candidat
                              if i.frac is not None and i.status >= Status.VERIFIED_SPECIALIZED
                              and not is_phase_constant(i.frac, ctx.full_map.variables)
                              and set(i.frac.variables()) <= set(ctx.kmap.ring.names)})
+    last_resort = False
     while len(state.accepted) < target:
         before = len(state.known)
-        _pass(ctx, report, candidates, target, p, state)
-        if len(state.known) == before:
+        _pass(ctx, report, candidates, target, p, state, last_resort)
+        if len(state.known) > before:
+            last_resort = False
+        elif last_resort:
             break
-    out = Reconstructed(skipped=list(state.skipped.values()))
+        else:
+            last_resort = True          # one more pass, with sparse reconstruction and substitution for what is left
+    out = Reconstructed(skipped=[entry for key, entry in state.skipped.items() if key not in state.rescued])
     out.skipped += [{"basis": [text(ctx.kmap.variables, e) for e in b], "coordinate": None, "degrees": None,
-                     "reason": reason} for b, (_, reason) in state.postponed.items() if b not in state.proofs]
+                     "reason": reason} for b, (_, reason) in state.postponed.items()
+                    if b not in state.proofs and not any(key[0] == b for key in state.rescued)]
     out.covered = (f"reconstructed {state.dense} kernel coordinates densely and proved {len(state.proofs)} bases "
                    f"whole by Prop. \"prop: even\" (sparse reconstruction, relations with proven integrals); "
+                   f"{len(state.sparse)} ratios tried by sparse reconstruction and substitution; "
                    f"{len(out.skipped)} left out")
     return out
 
 
 def _pass(ctx: SearchContext, report: DiscoveryReport, candidates: list[Candidate], target: int, p: int,
-          state: _Progress) -> None:
+          state: _Progress, last_resort: bool) -> None:
     for cand in candidates:
         if len(state.accepted) >= target:
             return
@@ -104,6 +117,8 @@ def _pass(ctx: SearchContext, report: DiscoveryReport, candidates: list[Candidat
             found = _from_basis(ctx, report, cand, state)
         if found is None and DENSE_FIRST < cand.estimate <= ctx.max_unknowns:
             found = _dense_or_skip(ctx, report, cand, p, state)
+        if found is None and last_resort:
+            found = _sparse(ctx, report, cand, state)
         if found is None:
             continue
         report.integrals.append(found)
@@ -159,6 +174,42 @@ def _from_basis(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, st
                          "with proven integrals, coordinates by sparse reconstruction over prime fields)",
                          [] if status >= Status.VERIFIED_SPECIALIZED else [proof.certificate.error],
                          certificate=proof.certificate, proof=proof)
+
+
+def _sparse(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, state: _Progress) -> FoundIntegral | None:
+    """The last resort for a ratio too large to fit densely whose basis no square system proves: c_k / c_j by sparse
+    reconstruction over prime fields, proven by exact substitution h(f(x)) = h(x) (once per candidate)."""
+    key = (tuple(cand.basis), cand.k, cand.j)
+    if key in state.sparse or cand.estimate > SPARSE_LIMIT:
+        return None
+    state.sparse.add(key)
+    texts = [text(ctx.kmap.variables, e) for e in cand.basis]
+    name = f"I{len(report.integrals) + 1}"
+    ctx.stages.start("sparse ratios", f"{name}: coordinate {cand.k + 1} of the kernel of ({', '.join(texts)}) by sparse "
+                     "reconstruction")
+    start = time.perf_counter()
+    try:
+        h = kernel_ratio(ctx, cand.basis, cand.k, cand.j, ctx.rng)
+    except BudgetExhausted:
+        raise
+    except HKProofError as exc:
+        return FoundIntegral(name, None, Status.UNKNOWN, "kernel coordinate", texts, cand.label,
+                             time.perf_counter() - start, "sparse reconstruction failed", [str(exc)])
+    size = len(h.num) + len(h.den)
+    if size > SUBSTITUTION_LIMIT:
+        return FoundIntegral(name, h.to_ring(ctx.full_map.ring), Status.UNKNOWN, "kernel coordinate", texts,
+                             cand.label, time.perf_counter() - start, "not proven",
+                             [f"sparse reconstruction gave {size} terms, more than the {SUBSTITUTION_LIMIT} that an "
+                              "exact substitution h(f(x)) = h(x) is tried on, and no square system of its basis "
+                              "was found for Prop. \"prop: even\""])
+    ctx.stages.start("proofs", f"{name}: exact substitution h(f(x)) = h(x)")
+    cert = certify(ctx.full_map, h.to_ring(ctx.full_map.ring), ctx.fixed, name)
+    if cert.status >= Status.VERIFIED_SPECIALIZED:
+        state.rescued.add(key)
+    return FoundIntegral(name, h.to_ring(ctx.full_map.ring), cert.status, "kernel coordinate", texts, cand.label,
+                         time.perf_counter() - start, cert.steps[-1].detail or cert.error,
+                         [f"sparse reconstruction over prime fields ({len(h.num)} + {len(h.den)} terms), then exact "
+                          "substitution"], certificate=cert)
 
 
 def _dense(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, texts: list[str],

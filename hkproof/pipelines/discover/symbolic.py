@@ -103,16 +103,23 @@ def coordinates(ctx: SearchContext, basis: Sequence[Exponents], rng: random.Rand
                 mapper: Mapper | None = None, progress: Callable[[dict], None] | None = None) -> list[Frac]:
     """c_1, ..., c_(l-1) of the kernel of `basis` (c_l = -1) with eps and the parameters symbolic, by sparse
     reconstruction over prime fields (a candidate)."""
+    last = len(basis) - 1
+    return [-kernel_ratio(ctx, basis, k, last, rng, budget=budget, mapper=mapper, progress=progress)  # c_k/c_l = -c_k
+            for k in range(last)]
+
+
+def kernel_ratio(ctx: SearchContext, basis: Sequence[Exponents], k: int, j: int, rng: random.Random, *,
+                 budget: Budget | None = None, mapper: Mapper | None = None,
+                 progress: Callable[[dict], None] | None = None) -> Frac:
+    """c_k / c_j of the kernel of `basis` with eps and the parameters symbolic, by sparse reconstruction over prime
+    fields (the normalized names set to 1 and restored to the weight [phi_j] - [phi_k]): a candidate."""
     inputs = list(ctx.free) + list(ctx.kmap.variables)
-    fixed = {n: 1 for n in ctx.weights.normalized}
-    weights = coordinate_weights(ctx, basis)
-    out = []
-    for k in range(len(basis) - 1):
-        box = KernelBlackBox(ctx.kmap, basis, k, len(basis) - 1, inputs, fixed)      # c_k / c_l = -c_k
-        rec = reconstruct_rational(box, len(inputs), rng=rng, budget=budget or ctx.budget, primes=_primes(rng),
-                                   mapper=mapper or ctx.mapper, progress=progress, batch_size=BATCH)
-        out.append(-_restored(ctx, rec, inputs, weights[k]))
-    return out
+    box = KernelBlackBox(ctx.kmap, basis, k, j, inputs, {n: 1 for n in ctx.weights.normalized})
+    rec = reconstruct_rational(box, len(inputs), rng=rng, budget=budget or ctx.budget, primes=_primes(rng),
+                               mapper=mapper or ctx.mapper, progress=progress, batch_size=BATCH)
+    weight = [a - b for a, b in zip(_weight_of_exponents(ctx, basis[j]), _weight_of_exponents(ctx, basis[k]),
+                                    strict=True)]
+    return _restored(ctx, rec, inputs, weight)
 
 
 def _flat(relations: Sequence[ModularRelation]) -> list[int]:
