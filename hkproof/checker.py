@@ -32,6 +32,7 @@ __all__ = ["check_document", "check_file", "CheckReport", "KahanData", "MAX_BYTE
 
 FORMAT, VERSIONS, CONVENTION = "hkproof-certificate", (1, 2), "eps = h/2"      # version 2 adds darboux, recipe-g
 EPS = "eps"
+DET_DF = "det Df"      # a darboux step's cofactor written as the Jacobian determinant the checker computes itself
 MAX_BYTES = 200_000_000
 Poly = flint.fmpz_mpoly
 
@@ -376,7 +377,8 @@ def _darboux(f: KahanData, step: Any, known: Mapping[str, Frac], where: str) -> 
     names = [check_name(n, "Darboux polynomial name") for n in _strings(step, "names", where)]
     if not names or len(names) != len(polys) or len(set(names)) != len(names) or set(names) & {*f.ring.names, *known}:
         raise CertificateError(f"{where}: {len(polys)} Darboux polynomials need as many new distinct names")
-    cofactor = f.parse(_get(step, "cofactor", str, where), where)
+    text = _get(step, "cofactor", str, where)
+    cofactor = f.jacobian() if text == DET_DF else f.parse(text, where)
     for n, p in zip(names, polys, strict=True):
         if p.is_zero() or f.pull(p, 1) != cofactor * p:
             raise _Refutation(f"{where}: {n}(f(x)) = K(x) {n}(x) fails for {n} = {str(p)[:200]}")

@@ -36,3 +36,43 @@ def test_perturbed_refuted(claim_id, key, text):
 
 def test_the_script_certifies_the_group(monkeypatch, capsys):
     assert_group_certified("clebsch-map", monkeypatch, capsys)
+
+
+def test_invariant_measures_claim_refuted_where_the_search_finds_other_polynomials():
+    """Perturbed degree: no Darboux polynomial of degree <= 4 has cofactor det Df, so the claimed two are not found
+    (the run at degree 6, slow, is in test_invariant_measures_of_the_clebsch_map)."""
+    cert = get_claim("dc-invariant-measures").prove({"degree": "4"})
+    assert cert.status is Status.REFUTED and "0 Darboux polynomials" in cert.render()
+
+
+@pytest.mark.slow
+def test_invariant_measures_of_the_clebsch_map():
+    """Two sextic densities, eps and w symbolic; a changed coefficient of P1 is refuted by the same exact check, and
+    the densities hold by an independent route (sympy's Jacobian determinant of the printed map at a rational point,
+    no hkproof algebra on that side)."""
+    import random
+
+    import sympy
+
+    from hkproof.algebra.fraction import Frac
+    from hkproof.dynamics.catalogue import kahan_map
+    from hkproof.hk.darboux import check_darboux, cofactor_value, jacobian_atoms
+
+    cert = proven("dc-invariant-measures")
+    assert cert.status is Status.VERIFIED, cert.render()
+    f = kahan_map("clebsch")
+    p1 = cert.values["P1"]
+    atoms, jac = jacobian_atoms(f)
+    bad = p1.num + f.ring.gen("m1") * f.ring.gen("p2") ** 5
+    assert check_darboux(f, atoms, jac, bad, cofactor_value(f, atoms, jac))[0] is Status.REFUTED
+    symbols = {n: sympy.Symbol(n) for n in f.ring.names}
+    xs = [symbols[v] for v in f.variables]
+    rng = random.Random(5)
+    at = {s: sympy.Rational(rng.randint(-9, 9) or 1, rng.randint(2, 9)) for s in symbols.values()}
+    controls = {s: v for s, v in at.items() if s not in xs}
+    comps = sympy.Matrix([sympy.sympify(str(c), locals=symbols).subs(controls) for c in f.components()])
+    det = comps.jacobian(xs).subs(at).det()
+    image = {x: comps[k].subs(at) for k, x in enumerate(xs)}
+    for name in ("P1", "P2"):
+        p = sympy.sympify(str(cert.values[name]), locals=symbols)
+        assert p.subs({**at, **image}) == det * p.subs(at), name

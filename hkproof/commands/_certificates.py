@@ -8,6 +8,7 @@ from typing import Sequence
 from hkproof.algebra.printing import to_json
 from hkproof.algebra.formula import tokens
 from hkproof.algebra.fraction import Frac
+from hkproof.checker import DET_DF
 from hkproof.commands.report import writable_target, write_atomically
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import OutputError
@@ -142,7 +143,8 @@ def measure_document(kmap: KahanMap, search: DarbouxSearch) -> dict:
                      [named("I", p / polys[0], f"({n})/({names[0]})") for n, p in pairs[1:]])
         densities = ([named("rho", 1 / p, f"1/({n})") for n, p in pairs]
                      if exps == search.jacobian.exponents and search.jacobian_lemma else [])
-        k = cofactor_value(kmap, search.atoms, cofactors[exps]) if exps in cofactors else Frac(kmap.ring, 1)
+        k: Frac | str = DET_DF if exps == search.jacobian.exponents else (
+            cofactor_value(kmap, search.atoms, cofactors[exps]) if exps in cofactors else Frac(kmap.ring, 1))
         steps.append(darboux_step(kmap.field, names, polys, k, integrals, densities))
     return document(f"Darboux polynomials of the Kahan map of {search.system}",
                     f"the Darboux polynomials of degree <= {search.degree} found give the integrals and invariant "

@@ -337,7 +337,7 @@ def _poly_in_ring(ring: Ring, coeffs: dict[Exponents, Frac], variables: Sequence
 
 
 # ---- the search and its exact checks -----------------------------------------------------------------------------
-def search_darboux(kmap: KahanMap, degree: int = 4, *, seed: int = 0, symbolic_limit: int = 4,
+def search_darboux(kmap: KahanMap, degree: int = 4, *, seed: int = 0, symbolic_limit: int = 6,
                    progress: Callable[[DarbouxPolynomial], None] | None = None,
                    fixed: Mapping[str, flint.fmpq] | None = None) -> DarbouxSearch:
     """Darboux polynomials of degree <= `degree` with cofactors among the products of the factors of det Df, each

@@ -9,6 +9,7 @@ import flint
 
 from hkproof.algebra.formula import parse_formula
 from hkproof.algebra.ring import Ring, get_ring
+from hkproof.checker import DET_DF
 from hkproof.errors import CertificateError
 
 __all__ = ["singular_script"]
@@ -93,17 +94,21 @@ def _substitution(k: int, ring: Ring, n: int, step: Mapping) -> list[str]:
 
 def _darboux(k: int, ring: Ring, n: int, step: Mapping) -> list[str]:
     """P_j(N/D) D^b Q_j K_den = K_num P_j Q_j(N/D) D^a for P_j = hkP/hkQ and K = K_num/K_den; with densities also
-    K_num D^(2n) = K_den det(D dN_i/dx_j - N_i dD/dx_j) (K = det Df)."""
-    cofactor = parse_formula(ring, step["cofactor"])
-    out = [_DECLARE, f"poly hkKn = {_poly(cofactor.num)}; poly hkKd = {_poly(cofactor.den)}; hkOk = (hkD != 0);"]
+    K_num D^(2n) = K_den det(D dN_i/dx_j - N_i dD/dx_j) (K = det Df); a cofactor written "det Df" is that
+    determinant over D^(2n)."""
+    jacobian = [f"matrix hkJ[{n}][{n}];",
+                f"for (i = 1; i <= {n}; i++) {{ for (j = 1; j <= {n}; j++) {{"
+                " hkJ[i, j] = hkD * diff(hkN[i], var(j)) - hkN[i] * diff(hkD, var(j)); } }"]
+    if step["cofactor"] == DET_DF:
+        out = [_DECLARE, *jacobian, f"poly hkKn = det(hkJ); poly hkKd = hkD^{2 * n}; hkOk = (hkD != 0);"]
+    else:
+        cofactor = parse_formula(ring, step["cofactor"])
+        out = [_DECLARE, f"poly hkKn = {_poly(cofactor.num)}; poly hkKd = {_poly(cofactor.den)}; hkOk = (hkD != 0);"]
+        if step.get("densities"):
+            out += [*jacobian, f"hkOk = hkOk && (hkKn * hkD^{2 * n} - hkKd * det(hkJ) == 0);"]
     for text in step["polynomials"]:
         out += [*_pulled(ring, text, n),
                 "hkOk = hkOk && (hkA[1] * hkD^hkBq[2] * hkQ * hkKd - hkKn * hkP * hkBq[1] * hkD^hkA[2] == 0);"]
-    if step.get("densities"):
-        out += [f"matrix hkJ[{n}][{n}];",
-                f"for (i = 1; i <= {n}; i++) {{ for (j = 1; j <= {n}; j++) {{"
-                " hkJ[i, j] = hkD * diff(hkN[i], var(j)) - hkN[i] * diff(hkD, var(j)); } }",
-                f"hkOk = hkOk && (hkKn * hkD^{2 * n} - hkKd * det(hkJ) == 0);"]
     what = ", ".join(step["names"]) + " o f = K " + ", ".join(step["names"]) + (", K = det Df" if step.get(
         "densities") else "")
     return [*out, f'if (hkOk) {{ "verified: step {k}, {what}"; }} else {{ "refuted: step {k}, {what} fails"; }}']

@@ -5,19 +5,24 @@ from typing import Mapping
 
 from hkproof.algebra.fraction import Frac, homogenized_compose
 from hkproof.algebra.linalg import det
+from hkproof.checker import DET_DF
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.hk.expansion import support_stats, weighted_degrees
 from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.integrals import lie_derivative
+from hkproof.hk.jacobian import matrix_identity_holds
 from hkproof.hk.matrix_form import require_matrix_form
 from hkproof.orchestration.registry import claim
+from hkproof.pipelines.darboux import search_darboux
 from hkproof.proof.certificate import Certificate
+from hkproof.proof.export import darboux_step
+from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import SYSTEM, H, X, cycled, named, number, shift
 from hkproof.theorems._common import parse, parse_matrix
 
 __all__ = ["GROUP", "MATRIX", "prove_complexity", "prove_continuous", "prove_equations", "prove_explicit",
-           "prove_reversibility", "prove_symmetries", "TILDE_EQUATIONS"]
+           "prove_invariant_measures", "prove_reversibility", "prove_symmetries", "TILDE_EQUATIONS"]
 
 GROUP = "clebsch-map"
 TILDE_EQUATIONS = {
@@ -204,3 +209,39 @@ def prove_complexity(cert: Certificate, claimed: Mapping[str, str]) -> None:
                             f"(m, p); only the m~ numerators do: the p~ numerators and the common denominator "
                             f"Delta have total degree {stats['p'][0]['degree']} (e.g. the eps^5 terms "
                             "m1 p2^3 p3 of Delta). The monomial counts 41, 31, 28 are right.")
+
+
+@claim("dc-invariant-measures", GROUP, "Invariant measures of the discrete Clebsch map (beyond the paper)",
+       "sec. 7 names invariant measures of the discrete Clebsch system as unknown; docs/geometry.md, "
+       "`hkproof measure clebsch --degree 6`",
+       "The Darboux polynomials P of degree <= 6 in (m, p) with cofactor det Df (P o f = det Df P) found mod p are "
+       "two, P1 and P2; with eps and w symbolic both satisfy P o f = det Df P exactly, so dm dp / P1 and dm dp / P2 "
+       "are invariant measures of the discrete Clebsch map and P2 / P1 is an integral.",
+       claimed={"degree": "6", "densities": "2"}, slow=True)
+def prove_invariant_measures(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    f = kahan_map(SYSTEM)
+    r = f.ring
+    with cert.step("det Df = det M(f(x), -eps) / det M(x, eps)", "the matrix identity M(x, eps) Df(x) = "
+                   "M(f(x), -eps) from the bilinear Kahan equations, exact", r) as s:
+        s.require(matrix_identity_holds(f), "M(x, eps) Df(x) != M(f(x), -eps)")
+    degree = int(claimed["degree"])
+    with cert.step(f"the Darboux polynomials of degree <= {degree} with cofactor det Df",
+                   "kernels mod p at random eps, w; coefficients rebuilt from kernels mod primes (docs/geometry.md); "
+                   "P(N/Delta) = det Df P exactly, det M(x, -eps) o f composed unexpanded", r) as s:
+        found = search_darboux(f, degree)
+        s.require(found.complete and not found.unverified, "the search did not reconstruct and prove every "
+                  f"Darboux polynomial it found mod p: {found.unverified or found.stopped}")
+        dens = [d for d in found.darboux if d.cofactor == found.jacobian]
+        s.require(all(d.status is Status.VERIFIED for d in dens), "a Darboux polynomial is not verified")
+        s.require(str(len(dens)) == claimed["densities"].strip(),
+                  f"{len(dens)} Darboux polynomials with cofactor det Df, the claim says {claimed['densities']}")
+        polys = [Frac(r, d.poly) for d in dens]
+        s.note(", ".join(f"P{k + 1}: {len(p.num)} terms, degree {max(weighted_degrees(r, p.num, dict.fromkeys(X, 1)))} "
+                         "in (m, p)" for k, p in enumerate(polys)))
+    for k, p in enumerate(polys):
+        cert.formula(f"P{k + 1}", p)
+    ratios = [(f"I{k}", p / polys[0], f"(P{k + 1})/(P1)") for k, p in enumerate(polys[1:], start=1)]
+    for name, value, _ in ratios:
+        cert.formula(name, value)
+    cert.checks.append(darboux_step(f.field, [f"P{k + 1}" for k in range(len(polys))], polys, DET_DF, ratios,
+                                    [(f"rho{k + 1}", 1 / p, f"1/(P{k + 1})") for k, p in enumerate(polys)]))
