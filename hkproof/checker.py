@@ -6,11 +6,12 @@ parity in eps by eps -> -eps), and Prop. "prop: even" of the paper as a theorem.
 it rebuilds the Kahan map (and its equations, and det Df) from the field's right-hand sides by its own Cramer's rule,
 and every identity it reports as verified is an exact polynomial identity it computed. Step kinds: substitution
 (h o f = h), prop-even (Prop. "prop: even"), darboux (P o f = K P; integrals and invariant densities from Darboux
-polynomials) and recipe-g (D delta = sum lambda_i E_i). What it cannot check, it refuses (malformed, exit 2).
+polynomials; a cofactor "det Df" is computed here), recipe-g (D delta = sum lambda_i E_i) and degrees (deg f^n by
+exact iterates). What it cannot check, it refuses (malformed, exit 2).
 
     verified   every step's identities hold exactly, and every claimed integral and density is concluded by a step
     refuted    a stated identity is false (h o f != h, a row not satisfied, a component not even, det = 0 at the point,
-               P o f != K P, K != det Df for a density, D delta != sum lambda_i E_i)
+               P o f != K P, K != det Df for a density, D delta != sum lambda_i E_i, a degree of f^n differs)
     malformed  not a certificate this checker can read (format, version, convention, entries, step kind, scope)
 """
 from __future__ import annotations
@@ -30,7 +31,7 @@ from hkproof.errors import CertificateError, HKProofError
 
 __all__ = ["check_document", "check_file", "CheckReport", "KahanData", "MAX_BYTES"]
 
-FORMAT, VERSIONS, CONVENTION = "hkproof-certificate", (1, 2), "eps = h/2"      # version 2 adds darboux, recipe-g
+FORMAT, VERSIONS, CONVENTION = "hkproof-certificate", (1, 2, 3), "eps = h/2"   # 2: darboux, recipe-g; 3: degrees
 EPS = "eps"
 DET_DF = "det Df"      # a darboux step's cofactor written as the Jacobian determinant the checker computes itself
 MAX_BYTES = 200_000_000
@@ -141,7 +142,8 @@ def _check(doc: Any, report: CheckReport) -> None:
             name, _ = _conclude(f, entry, local, {**proven, **dict.fromkeys(densities)}, where)
             densities.add(name)
         concluded = [_get(e, "name", str, where) for e in [*step["integrals"], *step.get("densities", [])]]
-        checked = f"Darboux polynomials {', '.join(local)}; " if kind == "darboux" else ""
+        checked = (f"Darboux polynomials {', '.join(local)}; " if kind == "darboux" else
+                   f"deg f^n = {step['degrees']}; " if kind == "degrees" else "")
         report.lines.append(f"{where} ({kind}, field {key}): verified; {checked}concludes {', '.join(concluded) or '-'}")
     claim = _get(doc, "claim", dict, "certificate")
     missing = [n for n in _strings(claim, "integrals", "claim") if n not in proven]
@@ -397,6 +399,29 @@ def _darboux(f: KahanData, step: Any, known: Mapping[str, Frac], where: str) -> 
     return local
 
 
+def _degrees(f: KahanData, step: Any, known: Mapping[str, Frac], where: str) -> dict[str, Frac]:
+    """deg f^n = d_n for n = 1..N: f^(n+1) = f^n o f composed exactly (each numerator and the denominator pulled back
+    through f, brought to one power of Delta), the common gcd cancelled, the degree read in the phase variables."""
+    stated = _get(step, "degrees", list, where)
+    if not stated or not all(isinstance(d, int) and not isinstance(d, bool) and d >= 0 for d in stated):
+        raise CertificateError(f"{where}: 'degrees' must be a non-empty list of non-negative integers")
+    idx = [f.ring.index(v) for v in f.variables]
+    polys = [*f.nums, f.delta]
+    for n, d in enumerate(stated, 1):
+        if n > 1:
+            pulled = [f._compose(p, idx, f.nums, f.delta) for p in polys]
+            top = max(e for _, e in pulled)
+            polys = [q * f.delta ** (top - e) for q, e in pulled]
+        common = polys[0]
+        for p in polys[1:]:
+            common = common.gcd(p)
+        polys = [p / common for p in polys]
+        degree = max(sum(m[k] for k in idx) for p in polys for m in p.monoms())
+        if degree != d:
+            raise _Refutation(f"{where}: deg f^{n} = {degree}, the certificate says {d}")
+    return {}
+
+
 def _recipe_g(f: KahanData, step: Any, known: Mapping[str, Frac], where: str) -> dict[str, Frac]:
     """Recipe (G): D delta = sum_i lambda_i E_i in Q[x, eps, params, x~] with delta = p(x~) q(x) - p(x) q(x~) for
     h = p/q, E_i the Kahan equations (rebuilt here; the stated generators must be them) and D != 0 free of x~. At
@@ -440,4 +465,5 @@ def _nonzero_on_image(f: KahanData, q: Frac) -> bool:
     return False
 
 
-_STEPS = {"substitution": _substitution, "prop-even": _prop_even, "darboux": _darboux, "recipe-g": _recipe_g}
+_STEPS = {"substitution": _substitution, "prop-even": _prop_even, "darboux": _darboux, "recipe-g": _recipe_g,
+          "degrees": _degrees}

@@ -1,5 +1,6 @@
-"""The step kinds of certificate version 2 (docs/certificates.md): darboux (measure's Darboux polynomials, integrals
-and densities; hamiltonian's density) and recipe-g (recipe (G)'s cofactors). Each round-trips through `hkproof check`,
+"""The step kinds of certificate versions 2 and 3 (docs/certificates.md): darboux (measure's Darboux polynomials,
+integrals and densities; hamiltonian's density; a cofactor "det Df" the checker computes), recipe-g (recipe (G)'s
+cofactors) and degrees (deg f^n of exact iterates). Each round-trips through `hkproof check`,
 and each mutation (a changed coefficient, a dropped or swapped element, a wrong convention, a truncated file, a
 conclusion of the wrong degree) is refused with its exit code."""
 from __future__ import annotations
@@ -122,6 +123,9 @@ DARBOUX = {   # on measure lotka-volterra (steps: x, y, xy with its density) or 
     "lv: a claimed density no step concludes": ("lotka", lambda d: d["claim"]["densities"].append("rho7"),
                                                 "malformed"),
     "lv: a wrong convention": ("lotka", lambda d: d.__setitem__("convention", "eps = h"), "malformed"),
+    "lv: the density's cofactor 'det Df' replaced by 1": ("lotka", lambda d: d["steps"][2].__setitem__("cofactor", "1"),
+                                                           "refuted"),
+    "lv: 'det Df' misspelled": ("lotka", lambda d: d["steps"][2].__setitem__("cofactor", "det df"), "malformed"),
     "et: an integral that is not of degree 0": ("euler", lambda d: d["steps"][0]["integrals"][0].update(
         formula=d["steps"][0]["polynomials"][1], **{"from": "P2"}), "malformed"),
     "et: a dropped polynomial": ("euler", _first("polynomials", lambda p: p[:-1]), "malformed"),
@@ -153,6 +157,40 @@ def test_every_darboux_mutation_is_refused(lotka, euler, name):
     assert verdict(mutated(doc, change)) == expected, name
 
 
+def test_a_density_step_writes_det_df_for_the_checker_to_compute(lotka):
+    assert lotka["steps"][2]["cofactor"] == "det Df" and lotka["steps"][2]["densities"]
+    assert lotka["version"] == 3
+
+
+@pytest.fixture(scope="module")
+def degrees_doc(tmp_path_factory) -> dict:
+    """degrees euler-top --iterates 3 --symbolic-up-to 3 --certificate FILE: deg f^n = 3, 9, 19, exact."""
+    path = tmp_path_factory.mktemp("deg") / "deg.json"
+    assert main(["degrees", "euler-top", "--iterates", "3", "--symbolic-up-to", "3", "--certificate", str(path)]) == 0
+    return json.loads(path.read_text())
+
+
+DEGREES = {
+    "a wrong degree": (lambda d: d["steps"][0]["degrees"].__setitem__(2, 20), "refuted"),
+    "a fourth degree that is not 2*4**2 + 1 = 33": (lambda d: d["steps"][0]["degrees"].append(34), "refuted"),
+    "a degree as text": (lambda d: d["steps"][0]["degrees"].__setitem__(0, "3"), "malformed"),
+    "no degrees": (lambda d: d["steps"][0].__setitem__("degrees", []), "malformed"),
+    "another field": (lambda d: d["fields"]["euler-top"]["rhs"].__setitem__(0, "a1*x2*x3 + x1**2"), "refuted"),
+}
+
+
+def test_degrees_certificate_verifies(degrees_doc, capsys, tmp_path):
+    assert degrees_doc["steps"][0]["degrees"] == [3, 9, 19] and verdict(degrees_doc) == "verified"
+    assert main(["degrees", "euler-top", "--iterates", "3", "--certificate", str(tmp_path / "no.json")]) == 2
+    assert "degrees --symbolic-up-to" in capsys.readouterr().err      # mod p degrees are evidence: no certificate
+
+
+@pytest.mark.parametrize("name", DEGREES)
+def test_every_degrees_mutation_is_refused(degrees_doc, name):
+    change, expected = DEGREES[name]
+    assert verdict(mutated(degrees_doc, change)) == expected, name
+
+
 @pytest.mark.parametrize("name", RECIPE_G)
 def test_every_recipe_g_mutation_is_refused(groebner, name):
     change, expected = RECIPE_G[name]
@@ -166,10 +204,10 @@ def test_truncated_files_are_malformed(lotka, groebner, capsys, tmp_path):
         assert main(["check", str(tmp_path / f"t{k}.json")]) == 2
 
 
-def test_version_2_documents_follow_the_schema(lotka, euler, groebner):
+def test_version_3_documents_follow_the_schema(lotka, euler, groebner, degrees_doc):
     jsonschema = pytest.importorskip("jsonschema")
     schema = json.loads((Path(__file__).resolve().parents[1] / "docs" / "certificate.schema.json").read_text())
-    for doc in (lotka, euler, groebner):
+    for doc in (lotka, euler, groebner, degrees_doc):
         jsonschema.validate(doc, schema)
     with pytest.raises(jsonschema.ValidationError):
         jsonschema.validate(mutated(groebner, lambda d: d["steps"][0].pop("cofactors")), schema)

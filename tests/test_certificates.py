@@ -122,7 +122,7 @@ MUTATIONS = {
     "a relation citing no proven integral": (lambda d: d["steps"][2]["relations"][0].__setitem__("uses", ["J"]),
                                              "malformed"),
     "a wrong step convention (eps = h)": (lambda d: d.__setitem__("convention", "eps = h"), "malformed"),
-    "another version": (lambda d: d.__setitem__("version", 3), "malformed"),
+    "another version": (lambda d: d.__setitem__("version", 4), "malformed"),
     "another format": (lambda d: d.__setitem__("format", "drat"), "malformed"),
     "a claimed integral no step concludes": (lambda d: d["claim"]["integrals"].append("c9"), "malformed"),
     "a symmetric range of rows": (lambda d: d["steps"][0].__setitem__("iterates", [-1, 1]), "malformed"),
@@ -142,8 +142,10 @@ def test_every_mutation_is_refused(theorems, name):
 def test_bad_files_are_malformed(theorems, capsys, tmp_path):
     """A truncated file, a JSON float, a missing file: exit 2, never a traceback."""
     text = json.dumps(theorems)
-    cases = {"truncated.json": text[: len(text) // 2], "float.json": text.replace('"version": 2', '"version": 2.0'),
+    version = f'"version": {theorems["version"]}'
+    cases = {"truncated.json": text[: len(text) // 2], "float.json": text.replace(version, version + ".0"),
              "list.json": "[1, 2]"}
+    assert cases["float.json"] != text
     for name, content in cases.items():
         (tmp_path / name).write_text(content)
         assert run(capsys, "check", str(tmp_path / name))[0] == 2, name

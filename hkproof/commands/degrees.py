@@ -5,10 +5,13 @@ import argparse
 
 from hkproof.commands import (Result, add_budget_option, add_command, add_system_argument, add_values_options,
                               at_least, fixed_values)
+from hkproof.commands._certificates import add_certificate_option, certificate_target, write_certificate
 from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.degrees import MAX_DEGREE
 from hkproof.experiments.degrees import degree_report
+from hkproof.proof.export import degrees_step, document
+from hkproof.proof.status import Status
 
 __all__ = ["register", "run_degrees"]
 
@@ -26,11 +29,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--symbolic-up-to", type=at_least(0), default=0, metavar="K",
                    help="also compute f^n for n <= K with eps and the parameters symbolic: those degrees are exact "
                         "(costly: the Euler top's f^5 takes about 20 s, the Clebsch f^2 minutes)")
+    add_certificate_option(p)
 
 
 def run_degrees(args: argparse.Namespace) -> Result:
     fixed = fixed_values(args)
-    report = degree_report(kahan_map(args.system), args.iterates, fixed, seed=args.seed, runs=args.runs,
+    target = certificate_target(args)
+    kmap = kahan_map(args.system)
+    report = degree_report(kmap, args.iterates, fixed, seed=args.seed, runs=args.runs,
                            symbolic_up_to=args.symbolic_up_to)
     res, exact, status = report.found, report.symbolic, report.status
     payload = {"system": res.system, "degrees": res.degrees, "second_differences": res.second_differences,
@@ -52,5 +58,10 @@ def run_degrees(args: argparse.Namespace) -> Result:
     lines.append(("the runs agree" if res.agree else "the runs DISAGREE (the largest degree is kept: a special "
                   "choice only lowers degrees)") + f"; status {status.label}: {report.status_reason}")
     lines.append(f"({EPS_CONVENTION})")
-    return Result(payload, "\n".join(lines))
+    doc = None
+    if status is Status.VERIFIED:
+        doc = document(f"the degrees of the iterates of the Kahan map of {res.system}",
+                       f"deg f^n = {exact} for n = 1..{len(exact)}, eps and every parameter symbolic",
+                       [degrees_step(kmap.field, exact)])
+    return Result(payload, "\n".join(lines) + write_certificate(target, doc, payload))
 
