@@ -39,8 +39,8 @@ def write_certificate(target: Path | None, doc: dict | None, payload: dict) -> s
         return ""
     if doc is None or not doc["steps"]:
         raise OutputError(f"no certificate written to {target}: nothing was verified by a step a certificate can "
-                          "record (an exact substitution, Prop. \"prop: even\", a Darboux polynomial, recipe (G), or the "
-                          "degrees of symbolic iterates: degrees --symbolic-up-to N)")
+                          "record (an exact substitution, Prop. \"prop: even\", a Darboux polynomial, recipe (G), "
+                          "or the degrees of symbolic iterates: degrees --symbolic-up-to N)")
     write_atomically(target, to_json(doc, indent=1) + "\n")
     payload["certificate"] = str(target)
     return f"\ncertificate: {target} ({len(doc['steps'])} step(s); check it with `hkproof check {target}`)"

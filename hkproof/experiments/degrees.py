@@ -9,6 +9,7 @@ from hkproof.algebra.printing import markdown_table
 from hkproof.algebra.ring import Rational
 from hkproof.dynamics.degrees import DegreeGrowth, degree_growth, fit_growth, symbolic_degree
 from hkproof.dynamics.kahan import KahanMap
+from hkproof.proof.certificate import Certificate, Step
 from hkproof.proof.status import Status
 
 __all__ = ["DegreeReport", "degree_report"]
@@ -29,11 +30,32 @@ class DegreeReport:
         return len(self.found.degrees) < self.requested
 
     @property
+    def certificate(self) -> Certificate:
+        """The report in the proof kernel's terms: a step for the degrees of the symbolic iterates (exact, eps and the
+        parameters symbolic) and, for the degrees beyond them or when the two disagree, a step for the runs mod p
+        (evidence: restrictions to random lines at random values)."""
+        found, k = self.found, len(self.symbolic)
+        steps = []
+        if self.symbolic:
+            steps.append(Step(f"deg f^n for n = 1..{k}", "symbolic iterates f^n = f^(n-1) o f composed exactly, the "
+                              "common gcd cancelled", "Q[x, eps, parameters]", Status.VERIFIED,
+                              detail=f"{self.symbolic}"))
+        if k < self.requested or not self.symbolic_agree:
+            steps.append(Step(f"deg f^n for n = {k + 1 if self.symbolic_agree else 1}..{len(found.degrees)}",
+                              f"restriction to random lines over large prime fields, {len(found.runs)} runs "
+                              + ("that agree" if found.agree else "that DISAGREE (the largest degree kept)"),
+                              "Z/p at random eps and parameters", Status.EVIDENCE_EXACT,
+                              detail=f"{found.degrees}" + ("" if self.symbolic_agree else
+                                                           "; the symbolic iterates disagreed and replace them")))
+        return Certificate(f"degrees:{found.system}", f"degree growth of the Kahan map of {found.system}",
+                           "algebraic entropy, docs/geometry.md", f"deg f^n = {found.degrees} for n = 1..."
+                           f"{len(found.degrees)}", steps)
+
+    @property
     def status(self) -> Status:
         """verified when every degree asked for comes from the symbolic iterates and the modular runs agree with
-        them, evidence(exact) otherwise (degrees mod p at random values: not a proof)."""
-        exact = self.symbolic_agree and len(self.symbolic) == self.requested
-        return Status.VERIFIED if exact else Status.EVIDENCE_EXACT
+        them, evidence(exact) otherwise (degrees mod p at random values: not a proof): the certificate's status."""
+        return self.certificate.status
 
     @property
     def status_reason(self) -> str:

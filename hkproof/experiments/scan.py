@@ -19,6 +19,7 @@ from hkproof.experiments.profiles import (AMBIGUOUS, HK_BASIS, IRREGULAR, NO_BAS
                                           ProfileProblem, parse_basis)
 from hkproof.experiments.progress import bar
 from hkproof.experiments.scene import make_scene
+from hkproof.proof.certificate import Certificate, Step
 from hkproof.proof.status import Status
 
 __all__ = ["PARALLEL_MIN", "scan", "ScanResult"]
@@ -58,11 +59,23 @@ class ScanResult:
         return dims.pop()
 
     @property
+    def certificate(self) -> Certificate:
+        """The scan in the proof kernel's terms: one step, algorithm (N) at the points, evidence only (exact over Q,
+        or approximate: modular, float, mpmath), unknown when the points disagree."""
+        d = self.dimension
+        status = Status.UNKNOWN if d is None else (Status.EVIDENCE_EXACT if self.arithmetic == "exact" else
+                                                   Status.EVIDENCE_FLOAT)
+        step = Step(f"dim K of ({', '.join(self.basis)}) at {len(self.profiles)} points",
+                    f"algorithm (N): kernel profiles in {self.arithmetic} arithmetic", "Q" if self.arithmetic ==
+                    "exact" else self.arithmetic, status, points=len(self.profiles),
+                    detail="the points disagree or are undecided" if d is None else f"d = {d}")
+        return Certificate(f"scan:{self.system}", f"algorithm (N) on a basis of {self.system}", "sec. 4, algorithm (N)",
+                           f"dim K_Phi = {d} for Phi = ({', '.join(self.basis)})", [step], fixed=dict(self.values))
+
+    @property
     def status(self) -> Status:
-        """Experiments give evidence only: exact over Q, or approximate (modular, float, mpmath)."""
-        if self.dimension is None:
-            return Status.UNKNOWN
-        return Status.EVIDENCE_EXACT if self.arithmetic == "exact" else Status.EVIDENCE_FLOAT
+        """Experiments give evidence only: the certificate's status."""
+        return self.certificate.status
 
     def to_dict(self) -> dict:
         return {"system": self.system, "basis": self.basis, "arithmetic": self.arithmetic, "values": self.values,

@@ -8,7 +8,7 @@ from __future__ import annotations
 import itertools
 import random
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import flint
 
@@ -17,6 +17,7 @@ from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ResourceLimitError
 from hkproof.hk.jacobian import jacobian_determinant
+from hkproof.proof.certificate import Certificate, Step, describe_ring
 from hkproof.proof.status import Status
 
 __all__ = ["Atom", "Cofactor", "DarbouxPolynomial", "candidate_cofactors", "check_at_points", "check_darboux",
@@ -48,12 +49,31 @@ class Cofactor:
 
 @dataclass
 class DarbouxPolynomial:
-    """P with P o f = K P; `status` verified when the identity was checked exactly with everything symbolic."""
+    """P with P o f = K P and the certificate of that identity (verified when checked exactly with everything
+    symbolic, evidence(exact) when checked at points)."""
 
     poly: flint.fmpz_mpoly
     cofactor: Cofactor
-    status: Status
-    detail: str = ""
+    certificate: Certificate
+
+    @property
+    def status(self) -> Status:
+        return self.certificate.status
+
+    @property
+    def detail(self) -> str:
+        """How the identity was checked."""
+        return self.certificate.steps[-1].method
+
+
+def darboux_certificate(kmap: KahanMap, p: flint.fmpz_mpoly, cofactor: str, status: Status, how: str, seconds: float,
+                        fixed: Mapping[str, object] | None = None) -> Certificate:
+    """The certificate of one Darboux polynomial: the step P o f = K P as it was checked."""
+    ring = describe_ring(kmap.ring, fixed)
+    return Certificate(f"darboux:{kmap.field.name}", f"a Darboux polynomial of the Kahan map of {kmap.field.name}",
+                       "Celledoni et al. 2019; docs/geometry.md", f"P o f = K P with P = {p}, K = {cofactor}",
+                       [Step("P o f = K P", how, ring, status, seconds)],
+                       fixed={k: str(v) for k, v in (fixed or {}).items()})
 
 
 # ---- atoms: the factors of det Df ----------------------------------------------------------------------------------

@@ -4,6 +4,7 @@
 are preserved by the Kahan map.  Both are constructed here and checked exactly."""
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -15,10 +16,13 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ParseError
 from hkproof.hk.integrals import check_integral
 from hkproof.hk.jacobian import jacobian_determinant, matrix_identity_holds
+from hkproof.proof.certificate import Certificate, Step, describe_ring
 from hkproof.proof.status import Status
 
 __all__ = ["check_inputs", "field_jacobian", "measure_denominator", "modified_hamiltonian", "ModifiedHamiltonianResult",
            "NotHamiltonianError", "parse_matrix", "verify"]
+
+CMOQ = "Celledoni, McLachlan, Owren, Quispel, J. Phys. A 46 (2013) 025201; docs/geometry.md"
 
 
 class NotHamiltonianError(ParseError):
@@ -99,25 +103,44 @@ def _i_minus_eps_jacobian(kmap: KahanMap) -> list[list[Frac]]:
 
 @dataclass
 class ModifiedHamiltonianResult:
-    """H~ and the density, each with its exact verdict."""
+    """H~ and the density, each with the certificate of its exact verdict."""
 
     h_tilde: Frac
     density_denominator: Frac
-    integral: Status
-    measure: Status
+    integral_certificate: Certificate
+    measure_certificate: Certificate
     jacobian_identity: bool
     jacobian: Frac          # det Df, the cofactor of det(I - eps F') (a Darboux polynomial)
+
+    @property
+    def integral(self) -> Status:
+        return self.integral_certificate.status
+
+    @property
+    def measure(self) -> Status:
+        return self.measure_certificate.status
 
 
 def verify(kmap: KahanMap, h: Frac, j: Sequence[Sequence[Frac]]) -> ModifiedHamiltonianResult:
     """Check the inputs, construct H~ and det(I - eps F'), and decide exactly H~ o f = H~ and
     rho(f(x)) det Df(x) = rho(x) for rho = 1 / det(I - eps F') (det Df from M(x, eps) Df = M(f(x), -eps))."""
     check_inputs(kmap, h, j)
+    name, ring = kmap.field.name, describe_ring(kmap.ring)
+    start = time.perf_counter()
     ht = modified_hamiltonian(kmap, h)
-    integral = check_integral(kmap, ht).status
+    verdict = check_integral(kmap, ht)
+    integral = Certificate(f"hamiltonian:{name}", f"the modified Hamiltonian of the Kahan map of {name}", CMOQ,
+                           f"H~ o f = H~ for H~ = {ht}", [Step("H~ o f = H~", verdict.method, ring, verdict.status,
+                                                                time.perf_counter() - start)])
+    start = time.perf_counter()
     p = measure_denominator(kmap)
     num, den, _ = jacobian_determinant(kmap)
     lemma = matrix_identity_holds(kmap)
     ok = kmap.pullback(p) == Frac(kmap.ring, num, den) * p
-    measure = (Status.VERIFIED if lemma else Status.UNKNOWN) if ok else Status.REFUTED
+    status = (Status.VERIFIED if lemma else Status.UNKNOWN) if ok else Status.REFUTED
+    measure = Certificate(f"hamiltonian-measure:{name}", f"the invariant measure of the Kahan map of {name}", CMOQ,
+                          f"rho(f(x)) det Df(x) = rho(x) for rho = 1/({p})",
+                          [Step("rho(f(x)) det Df(x) = rho(x)", "P(N/Delta) = det Df P exactly, det Df = det M(f(x), "
+                                "-eps)/det M(x, eps) by the matrix identity M(x, eps) Df = M(f(x), -eps)", ring, status,
+                                time.perf_counter() - start, "" if lemma else "the matrix identity does not hold")])
     return ModifiedHamiltonianResult(ht, p, integral, measure, lemma, Frac(kmap.ring, num, den))

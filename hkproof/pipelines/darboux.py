@@ -11,6 +11,7 @@ hkproof.hk.darboux.
 from __future__ import annotations
 
 import random
+import time
 from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping, Sequence
 
@@ -30,7 +31,7 @@ from hkproof.dynamics.modular_map import ModularKahanMap
 from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.errors import BudgetExhausted, HKProofError, SingularSystemError
 from hkproof.hk.darboux import (Atom, Cofactor, DarbouxPolynomial, candidate_cofactors, check_at_points,
-                                check_darboux, cofactor_value, jacobian_atoms)
+                                check_darboux, cofactor_value, darboux_certificate, jacobian_atoms)
 from hkproof.hk.jacobian import matrix_identity_holds
 from hkproof.proof.status import Status, specialized_label
 
@@ -381,6 +382,7 @@ def _search(kmap: KahanMap, result: DarbouxSearch, cofactors: Sequence[Cofactor]
              if cofactors[k].exponents != one or sum(monos[free]) > 0]          # not P = 1 with K = 1
     values_of: dict[tuple[int, ...], tuple[Frac | None, Weights | None]] = {}
     for done, (cof, free, vec) in enumerate(tasks):
+        start = time.perf_counter()
         if cof.exponents not in values_of:
             cvalue = cofactor_value(kmap, atoms, cof) if symbolic else None
             values_of[cof.exponents] = (cvalue, weights if weights is not None and cvalue is not None
@@ -412,6 +414,8 @@ def _search(kmap: KahanMap, result: DarbouxSearch, cofactors: Sequence[Cofactor]
         if status is Status.REFUTED:
             result.unverified.append(f"K = {cof.text(atoms)}: the reconstructed {p} fails the exact check")
             continue
-        result.darboux.append(DarbouxPolynomial(p, cof, status, how))
+        cert = darboux_certificate(kmap, p, cof.text(atoms), status, how, time.perf_counter() - start,
+                                   values if not symbolic else result.fixed)
+        result.darboux.append(DarbouxPolynomial(p, cof, cert))
         if progress:
             progress(result.darboux[-1])
