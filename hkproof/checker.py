@@ -231,11 +231,14 @@ class KahanData:
         return nums, delta
 
     def jacobian(self) -> Frac:
-        """det Df = det(Delta dN_i/dx_j - N_i dDelta/dx_j) / Delta^(2n), from the map itself (computed once)."""
+        """det Df from the map itself (computed once): Df = (Delta dN - N grad(Delta)^T) / Delta^2, and
+        det(Delta J - u v^T) = Delta^(n-1) det [[Delta, v^T], [u, J]] (Schur complement), so
+        det Df = det [[Delta, grad(Delta)^T], [N, dN]] / Delta^(n+1): one bordered determinant of the small entries."""
         if self._jacobian is None:
             idx = [self.ring.index(v) for v in self.variables]
-            rows = [[self.delta * p.derivative(k) - p * self.delta.derivative(k) for k in idx] for p in self.nums]
-            self._jacobian = Frac(self.ring, _det(rows), self.delta ** (2 * len(idx)))
+            rows = [[self.delta, *(self.delta.derivative(k) for k in idx)],
+                    *([p, *(p.derivative(k) for k in idx)] for p in self.nums)]
+            self._jacobian = Frac(self.ring, _det(rows), self.delta ** (len(idx) + 1))
         return self._jacobian
 
     def _down(self, big: Ring, p: Poly) -> Poly:
@@ -284,23 +287,22 @@ def _homogenize(p: Poly, idx: list[int], d: int, ctx: flint.fmpz_mpoly_ctx) -> P
 
 
 def _det(matrix: list[list[Poly]]) -> Poly:
-    """The determinant of a square polynomial matrix by Bareiss' fraction-free elimination (exact divisions)."""
-    a = [row[:] for row in matrix]
-    n, sign = len(a), 1
-    previous = a[0][0] - a[0][0] + 1
-    for k in range(n - 1):
-        pivot = next((r for r in range(k, n) if not a[r][k].is_zero()), None)
-        if pivot is None:
-            return previous - previous
-        if pivot != k:
-            a[k], a[pivot], sign = a[pivot], a[k], -sign
-        for i in range(k + 1, n):
-            for j in range(k + 1, n):
-                q, r = divmod(a[i][j] * a[k][k] - a[i][k] * a[k][j], previous)
-                assert r.is_zero(), "Bareiss division is exact"
-                a[i][j] = q
-        previous = a[k][k]
-    return sign * a[n - 1][n - 1]
+    """The determinant of a square polynomial matrix by Laplace expansion, row by row from the bottom, each minor of
+    the last rows (keyed by its columns) computed once: no division, products of the matrix's own entries."""
+    n = len(matrix)
+    zero = matrix[0][0] - matrix[0][0]
+    minors: dict[tuple[int, ...], Poly] = {(): zero + 1}
+    for row in reversed(matrix):
+        grown: dict[tuple[int, ...], Poly] = {}
+        for cols, sub in minors.items():
+            for j in range(n):
+                if j in cols or row[j].is_zero():
+                    continue
+                key = tuple(sorted((*cols, j)))
+                term = row[j] * sub
+                grown[key] = grown.get(key, zero) + (-term if sum(c < j for c in cols) % 2 else term)
+        minors = grown
+    return minors.get(tuple(range(n)), zero)
 
 
 def _substitution(f: KahanData, step: Any, known: Mapping[str, Frac], where: str) -> dict[str, Frac]:
