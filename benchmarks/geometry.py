@@ -76,7 +76,8 @@ def measure_section() -> list[str]:
              "| system | degree | Darboux polynomials | densities | integrals | status | seconds |",
              "|---|---|---|---|---|---|---|"]
     for name, d in (("euler-top", 4), ("lotka-volterra", 4), (str(EXAMPLES / "cubic-oscillator.toml"), 3),
-                    (str(EXAMPLES / "henon-heiles.toml"), 2), ("clebsch", 4), ("clebsch", 6)):
+                    (str(EXAMPLES / "henon-heiles.toml"), 2), ("zhukovsky-volterra-1", 4), ("zhukovsky-volterra", 4),
+                    ("clebsch", 4), ("clebsch", 6)):
         res, sec = timed(search_darboux, kahan_map(name), d)
         statuses = sorted({p.status.label for p in res.darboux}) or ["-"]
         lines.append(f"| {Path(name).stem} | {d} | {len(res.darboux)} | {len(res.densities())} | "
