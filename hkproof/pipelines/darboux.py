@@ -177,17 +177,19 @@ def modular_kernels(scene: ModularScene, cofactors: Sequence[Cofactor], monos: S
             samples.append((values_mod_p(monos, x, p), values_mod_p(monos, fx, p), vals))
     out = {}
     for k, cof in enumerate(cofactors):
-        rows = []
-        for mx, mf, vals in samples:
-            kv = 1
-            for v, e in zip(vals, cof.exponents, strict=True):
-                if e:
-                    kv = kv * pow(v, e % (p - 1), p) % p
-            rows.append([(b - kv * a) % p for a, b in zip(mx, mf, strict=True)])
-        kernel = free_kernel_mod_p(rows, p, free_value=1)
+        kernel = free_kernel_mod_p([_row(mx, mf, vals, cof, p) for mx, mf, vals in samples], p, free_value=1)
         if kernel:
             out[k] = kernel
     return out
+
+
+def _row(mx: Sequence[int], mf: Sequence[int], atoms: Sequence[int], cofactor: Cofactor, p: int) -> list[int]:
+    """m(f(x)) - K(x) m(x) mod p for the monomials m, from their values at x and f(x) and the atoms' values."""
+    k = 1
+    for v, e in zip(atoms, cofactor.exponents, strict=True):
+        if e:
+            k = k * pow(v, e % (p - 1), p) % p
+    return [(b - k * a) % p for a, b in zip(mx, mf, strict=True)]
 
 
 # ---- reconstruction with eps and parameters symbolic ---------------------------------------------------------
@@ -206,11 +208,7 @@ def _support_vector_mod_p(kmap: KahanMap, atoms: Sequence[Atom], reduced: Sequen
         if s is None:
             continue
         x, fx, vals = s
-        kv = 1
-        for v, e in zip(vals, cofactor.exponents, strict=True):
-            kv = kv * pow(v, e % (p - 1), p) % p if e else kv
-        rows.append([(b - kv * a) % p for a, b in zip(values_mod_p(support, x, p), values_mod_p(support, fx, p),
-                                                       strict=True)])
+        rows.append(_row(values_mod_p(support, x, p), values_mod_p(support, fx, p), vals, cofactor, p))
     kernel = free_kernel_mod_p(rows, p, free_value=1)
     if len(kernel) != 1 or kernel[0][0] != free:
         return None
