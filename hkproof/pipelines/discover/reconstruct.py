@@ -1,12 +1,14 @@
 """Kernel coordinates made integrals: a small one by dense reconstruction and substitution, a big one with its whole
-basis by Prop. "prop: even" (hkproof.pipelines.discover.solve), never by expanding h o f.
+basis by Prop. "prop: even" (hkproof.pipelines.discover.solve), never by expanding a big h o f.
 
 Candidates are taken simplest first while they add a new independent gradient. A ratio c_k / c_j whose dense ansatz
 is small is sampled exactly (kernels over Q at rational points, eps and the parameters varying; names that scaling
 symmetries allow are set to 1 and restored by weighted homogeneity), fitted, and proven by exact substitution. Any
 other is proven with its basis: relations with the integrals proven so far, the coordinates by sparse reconstruction
 over prime fields, the proof by Prop. "prop: even". A basis that needs integrals not yet proven waits, and is tried
-again whenever a new integral is proven. Every formula is proven before it is called an integral.
+again whenever a new integral is proven. When a pass proves nothing new, a last pass rebuilds each ratio still open
+(dense ansatz at most SPARSE_LIMIT unknowns) by sparse reconstruction and proves it by substitution if it has at most
+SUBSTITUTION_LIMIT terms. Every formula is proven before it is called an integral.
 """
 from __future__ import annotations
 
