@@ -12,6 +12,7 @@ from pathlib import Path
 
 import flint
 
+from docs_section import write_section
 from timebox import in_child
 
 from hkproof.algebra.fraction import Frac
@@ -99,14 +100,12 @@ def hamiltonian_section() -> list[str]:
 
 
 def main() -> None:
-    body = ["# Performance of the geometry commands", "",
-            f"Measured in one run by `benchmarks/geometry.py` on {platform.machine()}, Python "
+    body = [f"Measured in one run by `benchmarks/geometry.py` on {platform.machine()}, Python "
             f"{platform.python_version()}, python-flint {flint.__version__} (a shared 2-core machine: ratios are more "
             "telling than seconds). Goals of issue 15: 10 iterates of the Euler top and of the first Clebsch flow "
             "under 2 s each; the measure search for the Euler top under 10 s.", ""]
     body += degrees_section() + measure_section() + hamiltonian_section()
-    DOC.write_text("\n".join(body) + "\n")
-    print("\n".join(body))
+    print(write_section(DOC, "geometry", body))
 
 
 if __name__ == "__main__":
