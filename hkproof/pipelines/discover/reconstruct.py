@@ -7,8 +7,8 @@ symmetries allow are set to 1 and restored by weighted homogeneity), fitted, and
 other is proven with its basis: relations with the integrals proven so far, the coordinates by sparse reconstruction
 over prime fields, the proof by Prop. "prop: even". A basis that needs integrals not yet proven waits, and is tried
 again whenever a new integral is proven. When a pass proves nothing new, a last pass rebuilds each ratio still open
-(dense ansatz at most SPARSE_LIMIT unknowns) by sparse reconstruction and proves it by substitution if it has at most
-SUBSTITUTION_LIMIT terms. Every formula is proven before it is called an integral.
+(dense ansatz at most SPARSE_LIMIT unknowns; one ratio per basis, SPARSE_TRIES bases) by sparse reconstruction and proves
+it by substitution if it has at most SUBSTITUTION_LIMIT terms. Every formula is proven before it is called an integral.
 """
 from __future__ import annotations
 
@@ -39,7 +39,9 @@ __all__ = ["Reconstructed", "reconstruct_candidates"]
 
 SPARSE_LIMIT = 20000     # the last resort (sparse reconstruction, substitution) is tried on ratios whose dense ansatz
                          # has at most this many unknowns (Henon-Heiles' modified energy: 4 290)
-SUBSTITUTION_LIMIT = 2000    # terms of h above which h o f is not expanded (one uninterruptible compose)
+SPARSE_TRIES = 8         # bases the last resort tries (one ratio each)
+SUBSTITUTION_LIMIT = 300     # terms of h above which h o f is not expanded (one uninterruptible compose: the commuting
+                             # so(4) flow's 1 100-1 300-term ratios take about 100 s each; Henon-Heiles' 65 terms 0.01 s)
 DENSE_FIRST = 300    # a ratio whose dense ansatz has at most this many unknowns is fitted first (fast when small);
                      # a larger one is proven with its basis, densely only if that waits for integrals not yet proven
 
@@ -180,9 +182,11 @@ def _from_basis(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, st
 
 def _sparse(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, state: _Progress) -> FoundIntegral | None:
     """The last resort for a ratio too large to fit densely whose basis no square system proves: c_k / c_j by sparse
-    reconstruction over prime fields, proven by exact substitution h(f(x)) = h(x) (once per candidate)."""
+    reconstruction over prime fields, proven by exact substitution h(f(x)) = h(x) when it is small enough (one ratio
+    per basis, SPARSE_TRIES bases at most; a ratio too large to substitute is listed as skipped)."""
     key = (tuple(cand.basis), cand.k, cand.j)
-    if key in state.sparse or cand.estimate > SPARSE_LIMIT:
+    if cand.estimate > SPARSE_LIMIT or len(state.sparse) >= SPARSE_TRIES or \
+            any(tried[0] == key[0] for tried in state.sparse):
         return None
     state.sparse.add(key)
     texts = [text(ctx.kmap.variables, e) for e in cand.basis]
@@ -195,15 +199,16 @@ def _sparse(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, state:
     except BudgetExhausted:
         raise
     except HKProofError as exc:
-        return FoundIntegral(name, None, Status.UNKNOWN, "kernel coordinate", texts, cand.label,
-                             time.perf_counter() - start, "sparse reconstruction failed", [str(exc)])
+        state.skipped[key] = {"basis": texts, "coordinate": cand.label, "degrees": None,
+                              "reason": f"sparse reconstruction failed: {exc}"}
+        return None
     size = len(h.num) + len(h.den)
     if size > SUBSTITUTION_LIMIT:
-        return FoundIntegral(name, h.to_ring(ctx.full_map.ring), Status.UNKNOWN, "kernel coordinate", texts,
-                             cand.label, time.perf_counter() - start, "not proven",
-                             [f"sparse reconstruction gave {size} terms, more than the {SUBSTITUTION_LIMIT} that an "
-                              "exact substitution h(f(x)) = h(x) is tried on, and no square system of its basis "
-                              "was found for Prop. \"prop: even\""])
+        state.skipped[key] = {"basis": texts, "coordinate": cand.label, "degrees": None,
+                              "reason": f"sparse reconstruction gave {size} terms, more than the {SUBSTITUTION_LIMIT} "
+                                        "an exact substitution h(f(x)) = h(x) is tried on, and no square system of its "
+                                        "basis was found for Prop. \"prop: even\""}
+        return None
     ctx.stages.start("proofs", f"{name}: exact substitution h(f(x)) = h(x)")
     cert = certify(ctx.full_map, h.to_ring(ctx.full_map.ring), ctx.fixed, name)
     if cert.status >= Status.VERIFIED_SPECIALIZED:
