@@ -37,7 +37,7 @@ from hkproof.proof.status import Status, specialized_label
 
 __all__ = ["DarbouxSearch", "JACOBIAN", "MAX_DARBOUX_DEGREE", "ModularScene", "search_darboux"]
 
-EXPAND_LIMIT = 4            # above this many phase variables det M(x, -eps) o f stays one atom (factoring it takes minutes)
+EXPAND_LIMIT = 4            # above this many phase variables det M(x, -eps) o f stays one atom (factoring: minutes)
 MAX_DARBOUX_DEGREE = 8      # C(n + 8, 8) monomials times the cofactors: already 12 870 unknowns per cofactor for n = 8
 
 JACOBIAN = "det Df(x) = det M(f(x), -eps) / det M(x, eps), from M(x, eps) Df(x) = M(f(x), -eps)"
@@ -276,9 +276,8 @@ def _rational_vector(box: Callable[[int, Sequence[int]], list[int] | None], rng:
         values = box(p, [])
         if values is None:
             continue
-        before = dict(lifter.rationals)
         _, missing = lifter.add(dict(enumerate(values)), p)
-        if not missing and before == lifter.rationals:
+        if not missing and lifter.changed == 0:                # every constant confirmed by one more prime
             return [lifter.rationals[k] for k in range(len(values))]
     raise SingularSystemError("the coefficients of a Darboux polynomial did not stabilize over the primes tried")
 

@@ -15,8 +15,8 @@ from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import QuadraticField
 from hkproof.proof.certificate import Certificate
 
-__all__ = ["CONVENTION", "Conclusion", "darboux_step", "degrees_step", "document", "field_data", "FORMAT", "prop_even_step",
-           "recipe_g_step", "relation_data", "substitution_step", "VERSION"]
+__all__ = ["CONVENTION", "Conclusion", "darboux_step", "degrees_step", "document", "field_data", "FORMAT",
+           "prop_even_step", "recipe_g_step", "relation_data", "substitution_step", "VERSION"]
 
 FORMAT = "hkproof-certificate"
 VERSION = 3                   # 2: darboux and recipe-g steps, densities; 3: degrees steps, cofactor "det Df"
@@ -73,8 +73,8 @@ def degrees_step(field: QuadraticField, degrees: Sequence[int]) -> dict:
     """The step "deg f^n = d_n for n = 1..N": the iterates composed exactly with eps and the parameters symbolic, the
     common factor of the numerators and the denominator cancelled, the degree taken in the phase variables."""
     return {"kind": "degrees", "field": field_data(field), "degrees": [int(d) for d in degrees],
-            "identity": "deg f^n = degrees[n - 1] for n = 1..N, f^n = (N_1, ..., N_k) / D with gcd(N, D) = 1, degree in "
-                        "the phase variables", "integrals": []}
+            "identity": "deg f^n = degrees[n - 1] for n = 1..N, f^n = (N_1, ..., N_k) / D with gcd(N, D) = 1, "
+                        "degree in the phase variables", "integrals": []}
 
 
 def recipe_g_step(field: QuadraticField, name: str, h: Frac, generators: Sequence[object],

@@ -7,8 +7,9 @@ symmetries allow are set to 1 and restored by weighted homogeneity), fitted, and
 other is proven with its basis: relations with the integrals proven so far, the coordinates by sparse reconstruction
 over prime fields, the proof by Prop. "prop: even". A basis that needs integrals not yet proven waits, and is tried
 again whenever a new integral is proven. When a pass proves nothing new, a last pass rebuilds each ratio still open
-(dense ansatz at most SPARSE_LIMIT unknowns; one ratio per basis, SPARSE_TRIES bases) by sparse reconstruction and proves
-it by substitution if it has at most SUBSTITUTION_LIMIT terms. Every formula is proven before it is called an integral.
+(dense ansatz at most SPARSE_LIMIT unknowns; one ratio per basis, SPARSE_TRIES bases) by sparse reconstruction and
+proves it by substitution if it has at most SUBSTITUTION_LIMIT terms. Every formula is proven before it is called an
+integral.
 """
 from __future__ import annotations
 
@@ -40,8 +41,9 @@ __all__ = ["Reconstructed", "reconstruct_candidates"]
 SPARSE_LIMIT = 20000     # the last resort (sparse reconstruction, substitution) is tried on ratios whose dense ansatz
                          # has at most this many unknowns (Henon-Heiles' modified energy: 4 290)
 SPARSE_TRIES = 8         # bases the last resort tries (one ratio each)
-SUBSTITUTION_LIMIT = 300     # terms of h above which h o f is not expanded (one uninterruptible compose: the commuting
-                             # so(4) flow's 1 100-1 300-term ratios take about 100 s each; Henon-Heiles' 65 terms 0.01 s)
+SUBSTITUTION_LIMIT = 300     # terms of h above which h o f is not expanded (one uninterruptible compose: the
+                             # commuting so(4) flow's 1 100-1 300-term ratios take about 100 s each; Henon-Heiles'
+                             # 65 terms 0.01 s)
 DENSE_FIRST = 300    # a ratio whose dense ansatz has at most this many unknowns is fitted first (fast when small);
                      # a larger one is proven with its basis, densely only if that waits for integrals not yet proven
 
@@ -191,8 +193,8 @@ def _sparse(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, state:
     state.sparse.add(key)
     texts = [text(ctx.kmap.variables, e) for e in cand.basis]
     name = f"I{len(report.integrals) + 1}"
-    ctx.stages.start("sparse ratios", f"{name}: coordinate {cand.k + 1} of the kernel of ({', '.join(texts)}) by sparse "
-                     "reconstruction")
+    ctx.stages.start("sparse ratios", f"{name}: coordinate {cand.k + 1} of the kernel of ({', '.join(texts)}) by "
+                     "sparse reconstruction")
     start = time.perf_counter()
     try:
         h = kernel_ratio(ctx, cand.basis, cand.k, cand.j, ctx.rng)
