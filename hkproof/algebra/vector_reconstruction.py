@@ -110,9 +110,8 @@ def reconstruct_vector(box: VectorBox, n: int, count: int, *, rng: random.Random
             continue                     # the supports changed: this prime was unlucky
         residues = {(j, part, m): c for j, s in enumerate(solved) if s is not None
                     for part, poly in enumerate(s) for m, c in poly.items()}
-        before = dict(lifter.rationals)
         _, missing = lifter.add(residues, p)
-        if not missing and before == lifter.rationals:
+        if not missing and lifter.changed == 0:
             break                        # every coefficient reconstructed and confirmed by one more prime
     else:
         raise ResourceLimitError(f"the coefficients were not stable after {max_primes} primes: raise the bound")
