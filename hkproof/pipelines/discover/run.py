@@ -18,7 +18,7 @@ from hkproof.algebra.functional_reconstruction import Mapper
 from hkproof.algebra.sampling import random_point
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.modular import rank_mod_p
-from hkproof.algebra.monomials import count_upto
+from hkproof.algebra.monomials import count_upto, exponents_upto
 from hkproof.algebra.ring import Rational
 from hkproof.budget import Budget
 from hkproof.dynamics.catalogue import get_system, kahan_map
@@ -29,6 +29,7 @@ from hkproof.experiments.scene import make_scene
 from hkproof.hk.discover import certify, independent_subset, jacobian_points
 from hkproof.pipelines.discover.bases import confirm_basis, minimal_bases
 from hkproof.pipelines.discover.context import SearchContext
+from hkproof.pipelines.discover.integral_bases import prove_with_integral_bases
 from hkproof.pipelines.discover.reconstruct import reconstruct_candidates
 from hkproof.pipelines.discover.report import DiscoveryReport, FoundIntegral
 from hkproof.pipelines.discover.screen import screen, without_conserved
@@ -39,6 +40,7 @@ __all__ = ["MAX_CONFIRMED", "discover"]
 
 MAX_CONFIRMED = 24          # minimal bases confirmed by algorithm (N) over Q; the rest are listed
 MAX_SEARCH_DEGREE = 6
+INTEGRAL_BASIS_ROUNDS = 2    # groups of bases with integrals of the flow proven, at most
 
 
 def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[str, Rational] | None = None,
@@ -156,6 +158,29 @@ def _search(ctx: SearchContext, report: DiscoveryReport) -> None:
     done = reconstruct_candidates(ctx, report, candidates, chosen_rank, probe.p)
     report.skipped += done.skipped
     report.covered.append(done.covered)
+    _with_integral_bases(ctx, report, probe, new_degrees, chosen_rank)
+
+
+def _with_integral_bases(ctx: SearchContext, report: DiscoveryReport, probe, degrees: list[int], target: int) -> None:
+    """The last stage, when the kernels carry more integrals than are proven: bases with integrals of the continuous
+    flow, solved together (hkproof.pipelines.discover.integral_bases)."""
+    n = len(ctx.kmap.variables)
+    for _ in range(INTEGRAL_BASIS_ROUNDS):
+        known = {i.name: i.frac.to_ring(ctx.kmap.ring) for i in report.integrals
+                 if i.frac is not None and i.status >= Status.VERIFIED_SPECIALIZED
+                 and set(i.frac.variables()) <= set(ctx.kmap.ring.names)}
+        if len(independent_subset(list(known.values()), list(ctx.kmap.variables),
+                                  jacobian_points(ctx.kmap.ring.names))) >= target:
+            return
+        d = max(degrees)
+        monos = exponents_upto(n, d)
+        support = [monos[j] for j in range(len(monos)) if any(v[j] for v in probe.kernels[d])]
+        found = prove_with_integral_bases(ctx, support, known, d, len(report.integrals) + 1)
+        report.integrals += found
+        report.covered.append(f"bases with integrals of the continuous flow: {len(found)} new independent "
+                              "integrals proven")
+        if not found:
+            return
 
 
 def _independence(report: DiscoveryReport, full_map: KahanMap, stages: Stages) -> None:

@@ -1,0 +1,508 @@
+"""Bases made of monomials and integrals of the continuous flow, solved together: the last stage of `discover`.
+
+The paper builds bases from integrals of the continuous flow (Th. "dC Theta": I1, I2, I3 and H4) and proves
+several bases at once with relations across them (Th. "dC bases 345"). Both ideas, driven by the search:
+
+1. The polynomial integrals of the continuous flow of degree <= D, exactly (the kernel of the Lie derivative over
+   Q(parameters)), and their circuits: the integrals of minimal support, which do not depend on a choice of basis.
+2. Bases (some monomials of the kernel's support, one integral circuit I) with a one-dimensional kernel on orbits
+   mod p, other than the identity I = its expansion, minimal; `new` when their coordinates raise the rank of the
+   gradients of the integrals proven so far (the orbit's tangent maps).
+3. Groups of such bases, each with a normalization, added greedily while the rows i = 0, 1 of every basis and the
+   constant relations among all their coordinates (recipe (E) across bases, found mod p) come closer to a square
+   system; a group is taken when they reach rank = unknowns.
+4. The relations with eps and the parameters symbolic (hkproof.algebra.vector_reconstruction), the coordinates by
+   sparse reconstruction over prime fields, and the proof: Prop. "prop: even" for the whole block system
+   (hk.block_system.verify_candidate: rank at a rational point, even relations and coordinates, every row and
+   relation substituted exactly). Nothing is called an integral before that proof.
+"""
+from __future__ import annotations
+
+import itertools
+import random
+import time
+from dataclasses import dataclass
+from typing import Sequence
+
+import flint
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.functional_reconstruction import reconstruct_rational
+from hkproof.algebra.linalg import cramer
+from hkproof.algebra.modular import kernel_mod_p, random_prime, rank_mod_p
+from hkproof.algebra.monomials import Exponents, exponents_upto, text
+from hkproof.algebra.vector_reconstruction import reconstruct_vector
+from hkproof.errors import HKProofError, UnluckyPrimeError
+from hkproof.hk.block_system import BlockSystem, verify_candidate
+from hkproof.hk.discover import independent_subset, jacobian_points
+from hkproof.hk.independence import sample_point
+from hkproof.hk.integrals import lie_derivative
+from hkproof.hk.reduced import Relation
+from hkproof.pipelines.discover.context import SearchContext
+from hkproof.pipelines.discover.report import FoundIntegral
+from hkproof.pipelines.discover.symbolic import PRIME_BITS, _primes, _restored
+from hkproof.proof.certificate import Certificate, ProofStopped
+from hkproof.proof.status import Status
+
+__all__ = ["Group", "IntegralBasis", "continuous_integral_circuits", "find_group", "group_coordinates", "integral_bases",
+           "lift_group_relations", "prove_group", "prove_with_integral_bases"]
+
+MAX_BASIS = 6        # functions in a basis (monomials and one integral circuit)
+MAX_GROUP = 4        # bases solved together
+MAX_CIRCUITS = 16    # integral circuits tried (smallest support first)
+STARTS = 6           # bases (with each normalization) a group may start from
+SAMPLES_SPARE = 12   # sample points beyond the number of unknowns when relations are sought mod p
+Weight = list[flint.fmpq]
+
+
+@dataclass
+class IntegralBasis:
+    """A basis of monomials and one integral circuit (the circuit last among the monomials' order is kept as given),
+    `new` when its coordinates carry an integral independent of those proven."""
+
+    functions: list[Frac]
+    names: list[str]
+    new: bool
+
+
+class _Modular:
+    """The map mod p at fixed eps and parameters, and functions of the ring evaluated there."""
+
+    def __init__(self, ctx: SearchContext, p: int, controls: dict[str, int]):
+        self.ctx, self.p, self.controls = ctx, p, controls
+        self.map = ctx.kmap.mod(p, controls)
+        self.names = ctx.kmap.ring.names
+        self.phase = [self.names.index(v) for v in ctx.kmap.variables]
+
+    def ring_point(self, x: Sequence[int]) -> list[int]:
+        values = dict(zip(self.ctx.kmap.variables, x, strict=True)) | self.controls
+        return [values[n] % self.p for n in self.names]
+
+    def random_orbit(self, rng: random.Random, steps: int) -> list[list[int]]:
+        for _ in range(20):
+            try:
+                return self.map.orbit([rng.randrange(1, self.p) for _ in self.phase], steps)
+            except (UnluckyPrimeError, ZeroDivisionError):
+                continue
+        raise HKProofError(f"twenty random orbits mod {self.p} met det M = 0: the map looks singular")
+
+    def table(self, functions: Sequence[Frac], orbit: Sequence[Sequence[int]]) -> list[list[int]]:
+        """phi_k(f^i x) mod p, row i, column k (HKProofError where a function has a pole)."""
+        mods = [h.mod_p(self.p) for h in functions]
+        out = []
+        for y in orbit:
+            at = self.ring_point(y)
+            row = [m(at) for m in mods]
+            if any(v is None for v in row):
+                raise HKProofError("a basis function has a pole on the orbit mod p")
+            out.append([int(v) for v in row])      # type: ignore[arg-type]
+        return out
+
+
+def _normalized(vector: Sequence[int], j: int, p: int) -> list[int] | None:
+    """a_k = -c_k / c_j (k != j) for a kernel vector c: the unknowns of a basis normalized by its j-th function."""
+    if vector[j] % p == 0:
+        return None
+    inv = pow(-vector[j], -1, p)
+    return [c * inv % p for k, c in enumerate(vector) if k != j]
+
+
+def continuous_integral_circuits(ctx: SearchContext, degree: int, rng: random.Random) -> list[Frac]:
+    """The polynomial integrals of x' = F(x) of degree <= `degree` with minimal support (circuits of the kernel of
+    the Lie derivative), exact over Q(parameters), each checked exactly (L_F I = 0)."""
+    kmap = ctx.kmap
+    ring, field = kmap.ring, kmap.field
+    n = len(kmap.variables)
+    monos = [e for e in exponents_upto(n, degree) if any(e)]
+    derivs = [lie_derivative(field, Frac.parse(field.ring, text(kmap.variables, e))).to_ring(ring) for e in monos]
+    phase = [ring.index(v) for v in kmap.variables]
+    rows: dict[tuple[int, ...], dict[int, dict]] = {}
+    for col, d in enumerate(derivs):
+        if not d.den.is_one():
+            raise HKProofError("the Lie derivative of a monomial has a denominator: rational coefficients expected "
+                               "to be cleared by the field")
+        for m, c in d.num.to_dict().items():
+            key = tuple(m[i] for i in phase)
+            rest = tuple(0 if i in phase else e for i, e in enumerate(m))
+            rows.setdefault(key, {}).setdefault(col, {})[rest] = c
+    matrix = [[Frac(ring, ring.ctx.from_dict(row[c])) if c in row else Frac(ring, 0) for c in range(len(monos))]
+              for row in rows.values()]
+    p = random_prime(rng, 62)
+    controls = [rng.randrange(1, p) if i not in phase else 0 for i in range(len(ring.names))]
+    mod = [[int(e.residue_at(controls, p) or 0) for e in r] for r in matrix]
+    kernel = kernel_mod_p(mod, p)
+    if not kernel:
+        return []
+    support = [c for c in range(len(monos)) if any(v[c] for v in kernel)]
+    supports: set[tuple[int, ...]] = set()
+    for zeros in itertools.combinations(support, len(kernel) - 1):
+        extra = [[1 if c == z else 0 for c in range(len(monos))] for z in zeros]
+        restricted = kernel_mod_p(mod + extra, p)
+        if len(restricted) == 1:
+            supports.add(tuple(c for c in range(len(monos)) if restricted[0][c]))
+    minimal = sorted((s for s in supports if not any(set(t) < set(s) for t in supports)), key=len)
+    out = []
+    for s in minimal[:MAX_CIRCUITS]:
+        sub = [[r[c] for c in s] for r in mod]
+        chosen: list[int] = []
+        for i, r in enumerate(sub):
+            if rank_mod_p([sub[k] for k in chosen] + [r], p) > len(chosen):
+                chosen.append(i)
+        if len(chosen) != len(s) - 1:
+            continue
+        rest = [[matrix[i][c] for c in s[1:]] for i in chosen]
+        rhs = [-matrix[i][s[0]] for i in chosen]
+        try:
+            coeffs = [Frac(ring, 1)] + cramer(rest, rhs)[0]
+        except (HKProofError, ZeroDivisionError):
+            continue
+        total = sum((a * Frac.parse(ring, text(kmap.variables, monos[c])) for a, c in zip(coeffs, s, strict=True)),
+                    Frac(ring, 0))
+        integral = Frac(ring, total.num)
+        if not integral.is_zero() and lie_derivative(field, integral.to_ring(field.ring)).is_zero():
+            out.append(integral)
+    return out
+
+
+def integral_bases(ctx: SearchContext, monomials: Sequence[Exponents], circuits: Sequence[Frac],
+                   known: Sequence[Frac], rng: random.Random) -> list[IntegralBasis]:
+    """Minimal bases (monomials, one circuit) with a one-dimensional kernel on orbits mod p that is not the circuit's
+    own expansion; `new` when their coordinates raise the gradient rank of `known` (at one orbit, mod p)."""
+    kmap = ctx.kmap
+    p = random_prime(rng, 62)
+    controls = {n: rng.randrange(1, p) for n in kmap.field.control_names}
+    mod = _Modular(ctx, p, controls)
+    mono_fracs = [Frac.parse(kmap.ring, text(kmap.variables, e)) for e in monomials]
+    functions = mono_fracs + list(circuits)
+    steps = MAX_BASIS + 3
+    orbit, tangents = mod.map.tangent_orbit([rng.randrange(1, p) for _ in kmap.variables], steps)
+    values = mod.table(functions, orbit)
+    at = mod.ring_point(orbit[0])
+    known_grads = [g for g in (h.mod_p(p).gradient(at, mod.phase) for h in known) if g is not None]
+    base_rank = rank_mod_p(known_grads, p) if known_grads else 0
+    m = len(monomials)
+    out: list[IntegralBasis] = []
+    for ci, circuit in enumerate(circuits):
+        own = {k for k, h in enumerate(mono_fracs) if _occurs(h, circuit, mod.phase)}
+        hits: list[set[int]] = []
+        for size in range(1, MAX_BASIS):
+            for subset in itertools.combinations(range(m), size):
+                chosen = set(subset)
+                if own <= chosen or any(h <= chosen for h in hits):
+                    continue
+                cols = list(subset) + [m + ci]
+                rows = [[r[c] for c in cols] for r in values]
+                if len(kernel_mod_p([r[:-1] for r in rows], p)) or len(kernel_mod_p(rows, p)) != 1:
+                    continue
+                hits.append(chosen)
+                basis = [functions[c] for c in cols]
+                grads = _coordinate_gradients(mod, basis, orbit, tangents)
+                new = grads is not None and rank_mod_p(known_grads + grads, p) > base_rank
+                out.append(IntegralBasis(basis, [text(kmap.variables, monomials[c]) for c in subset] +
+                                         [f"I{ci + 1}"], new))
+    return out
+
+
+def _occurs(monomial: Frac, circuit: Frac, phase: Sequence[int]) -> bool:
+    """Whether the monomial x^e occurs in the circuit (its coefficient a polynomial in the parameters)."""
+    (e,) = monomial.num.monoms()
+    return any(all(m[i] == e[i] for i in phase) for m in circuit.num.monoms())
+
+
+def _coordinate_gradients(mod: _Modular, basis: Sequence[Frac], orbit: Sequence[Sequence[int]],
+                          tangents: Sequence[flint.nmod_mat]) -> list[list[int]] | None:
+    """Gradients mod p of the coordinates a_k (sum_k a_k phi_k = phi_l on rows i = 0..l-2) by the tangent maps."""
+    p, l = mod.p, len(basis)
+    mods = [h.mod_p(p) for h in basis]
+    vals = [[int(mods[k](mod.ring_point(orbit[i])) or 0) for k in range(l)] for i in range(l - 1)]
+    a = flint.nmod_mat([row[:-1] for row in vals], p)
+    try:
+        coeffs = a.solve(flint.nmod_mat([[row[-1]] for row in vals], p))
+    except ZeroDivisionError:
+        return None
+    cs = [int(coeffs[k, 0]) for k in range(l - 1)]
+    nphase = len(mod.phase)
+
+    def grad(k: int, i: int) -> list[int]:
+        g = mods[k].gradient(mod.ring_point(orbit[i]), mod.phase) or [0] * nphase
+        t = tangents[i]
+        return [sum(g[r] * int(t[r, c]) for r in range(nphase)) % p for c in range(nphase)]
+    rhs = []
+    for i in range(l - 1):
+        row = grad(l - 1, i)
+        for k in range(l - 1):
+            if cs[k]:
+                row = [(r - cs[k] * q) % p for r, q in zip(row, grad(k, i), strict=True)]
+        rhs.append(row)
+    d = a.solve(flint.nmod_mat(rhs, p))
+    return [[int(d[k, c]) for c in range(nphase)] for k in range(l - 1)]
+
+
+Member = tuple[int, int]      # (basis index, the index of its normalized function)
+
+
+@dataclass
+class Group:
+    """Bases solved together, each with its normalized function, and the relations among their coordinates mod p."""
+
+    members: list[Member]
+    bases: list[IntegralBasis]
+
+    def order(self, m: Member) -> list[Frac]:
+        """The functions of a member's basis, the normalized one last (hk.block_system's convention)."""
+        b, j = m
+        fs = self.bases[b].functions
+        return [f for k, f in enumerate(fs) if k != j] + [fs[j]]
+
+    def labels(self, m: Member) -> list[str]:
+        b, j = m
+        names = self.bases[b].names
+        return [n for k, n in enumerate(names) if k != j] + [names[j]]
+
+    @property
+    def width(self) -> int:
+        return sum(len(self.bases[b].functions) - 1 for b, _ in self.members)
+
+
+def _kernel_vector(mod: _Modular, basis: Sequence[Frac], x: Sequence[int]) -> list[int] | None:
+    """The kernel vector of recipe (B)'s rows i = 0..l-2 at x mod p (None where it is not one-dimensional)."""
+    try:
+        orbit = mod.map.orbit(list(x), len(basis) - 2)
+        rows = mod.table(basis, orbit[:len(basis) - 1])
+    except (UnluckyPrimeError, ZeroDivisionError, HKProofError):
+        return None
+    kernel = kernel_mod_p(rows, mod.p)
+    return kernel[0] if len(kernel) == 1 else None
+
+
+class _Sampler:
+    """Normalized coordinates of every candidate basis at shared random points, and the rows i = 0, 1 at a test
+    point, mod p at one value of eps and the parameters: what deficits and relations are computed from."""
+
+    def __init__(self, mod: _Modular, bases: Sequence[IntegralBasis], count: int, rng: random.Random):
+        self.mod, self.bases = mod, list(bases)
+        self.vectors: list[list[list[int]]] = []
+        while len(self.vectors) < count:
+            x = [rng.randrange(1, mod.p) for _ in mod.phase]
+            vs = [_kernel_vector(mod, b.functions, x) for b in self.bases]
+            if all(v is not None for v in vs):
+                self.vectors.append(vs)            # type: ignore[arg-type]
+        orbit = mod.random_orbit(rng, 1)
+        self.rows = [mod.table(b.functions, orbit) for b in self.bases]
+
+    def relations(self, members: Sequence[Member]) -> list[list[int]] | None:
+        """The constant relations sum v_k a_k + v_U = 0 among the members' coordinates (kernel of the samples)."""
+        matrix = []
+        for vs in self.vectors:
+            row: list[int] = []
+            for b, j in members:
+                a = _normalized(vs[b], j, self.mod.p)
+                if a is None:
+                    return None
+                row += a
+            matrix.append(row + [1])
+        return kernel_mod_p(matrix, self.mod.p)
+
+    def deficit(self, members: Sequence[Member]) -> int:
+        """Unknowns minus the rank of the rows i = 0, 1 of every member and the relations among them."""
+        relations = self.relations(members)
+        width = sum(len(self.bases[b].functions) - 1 for b, _ in members)
+        if relations is None:
+            return width
+        system, start = [], 0
+        for b, j in members:
+            size = len(self.bases[b].functions) - 1
+            for values in self.rows[b]:
+                row = [0] * width
+                row[start:start + size] = [v for k, v in enumerate(values) if k != j]
+                system.append(row)
+            start += size
+        system += [r[:width] for r in relations]
+        return width - rank_mod_p(system, self.mod.p)
+
+
+def find_group(ctx: SearchContext, bases: Sequence[IntegralBasis], rng: random.Random) -> Group | None:
+    """Bases with normalizations whose rows i = 0, 1 and constant relations form a square system (mod p), grown
+    greedily from each new basis (smallest first) by the member that leaves the smallest deficit."""
+    p = random_prime(rng, 62)
+    mod = _Modular(ctx, p, {n: rng.randrange(1, p) for n in ctx.kmap.field.control_names})
+    sampler = _Sampler(mod, bases, MAX_GROUP * (MAX_BASIS - 1) + SAMPLES_SPARE, rng)
+    starts = [b for b in sorted(range(len(bases)), key=lambda b: len(bases[b].functions)) if bases[b].new][:STARTS]
+    for b0 in starts:
+        for j0 in range(len(bases[b0].functions)):
+            ctx.budget.check("grouping bases with integrals of the flow")
+            members = [(b0, j0)]
+            deficit = sampler.deficit(members)
+            while deficit > 0 and len(members) < MAX_GROUP:
+                used = {b for b, _ in members}
+                options = [(sampler.deficit(members + [(b, j)]), (b, j)) for b in range(len(bases)) if b not in used
+                           for j in range(len(bases[b].functions))]
+                if not options:
+                    break
+                deficit, best = min(options)
+                members.append(best)
+            if deficit == 0:
+                return Group([(k, j) for k, (_, j) in enumerate(members)], [bases[b] for b, _ in members])
+    return None
+
+
+def _weight(ctx: SearchContext, h: Frac) -> Weight:
+    return ctx.weights.of_frac(h) if not h.is_constant() else [flint.fmpq(0)] * len(ctx.weights.basis)
+
+
+def _coordinate_weights(ctx: SearchContext, group: Group) -> list[Weight]:
+    """[a_k] = [phi_l] - [phi_k] for every unknown (a_k = -c_k / c_l, the last function normalized)."""
+    out = []
+    for m in group.members:
+        fs = group.order(m)
+        last = _weight(ctx, fs[-1])
+        out += [[a - b for a, b in zip(last, _weight(ctx, f), strict=True)] for f in fs[:-1]]
+    return out
+
+
+def lift_group_relations(ctx: SearchContext, group: Group, rng: random.Random) -> list[Relation]:
+    """The constant relations of the group with eps and the parameters symbolic: their entries rebuilt on shared
+    probes (hkproof.algebra.vector_reconstruction), each restored to its weight."""
+    width = group.width
+    count = width + SAMPLES_SPARE
+    shape: list[tuple[int, ...]] = []
+
+    def relations_at(p: int, t: Sequence[int]) -> list[list[int]] | None:
+        controls = {n: 1 for n in ctx.weights.normalized} | dict(zip(ctx.free, t, strict=True))
+        try:
+            mod = _Modular(ctx, p, controls)
+            sampler = _Sampler(mod, group.bases, count, random.Random(rng.random()))
+        except HKProofError:
+            return None
+        return sampler.relations(group.members)
+
+    def box(p: int, t: Sequence[int]) -> list[int] | None:
+        found = relations_at(p, t)
+        if found is None:
+            return None
+        free = tuple(next(k for k, v in enumerate(r) if v == p - 1) for r in found)
+        if not shape:
+            shape.append(free)
+        if free != shape[0]:
+            return None
+        return [v for r in found for k, v in enumerate(r) if k not in free]
+    p0 = random_prime(rng, PRIME_BITS)
+    first = box(p0, [rng.randrange(1, p0) for _ in ctx.free])
+    if first is None:
+        raise HKProofError("the relations of the group could not be sampled")
+    flat = iter(reconstruct_vector(box, len(ctx.free), len(first), rng=rng)) if first else iter(())
+    weights = _coordinate_weights(ctx, group) + [[flint.fmpq(0)] * len(ctx.weights.basis)]
+    ring = ctx.kmap.ring
+    out = []
+    for free in shape[0]:
+        entries: list[Frac] = []
+        for k in range(width + 1):
+            if k == free:
+                entries.append(Frac(ring, -1))
+            elif k in shape[0]:
+                entries.append(Frac(ring, 0))
+            else:
+                target = [a - b for a, b in zip(weights[free], weights[k], strict=True)]
+                entries.append(_restored(ctx, next(flat), ctx.free, target))
+        out.append(Relation(entries[:width], -entries[width]))
+    return out
+
+
+def group_coordinates(ctx: SearchContext, group: Group, rng: random.Random) -> list[Frac]:
+    """Every unknown a_k of the group with eps and the parameters symbolic, by sparse reconstruction over prime
+    fields (the names weighted homogeneity normalizes set to 1, then restored): a candidate."""
+    inputs = list(ctx.free) + list(ctx.kmap.variables)
+    fixed = {n: 1 for n in ctx.weights.normalized}
+    weights = iter(_coordinate_weights(ctx, group))
+    out = []
+    for m in group.members:
+        basis = group.order(m)
+        for k in range(len(basis) - 1):
+            def box(p: int, points: Sequence[Sequence[int]], basis: list[Frac] = basis, k: int = k
+                    ) -> list[int | None]:
+                values: list[int | None] = []
+                for pt in points:
+                    controls = fixed | dict(zip(inputs[:len(ctx.free)], pt[:len(ctx.free)], strict=True))
+                    try:
+                        vector = _kernel_vector(_Modular(ctx, p, controls), basis, pt[len(ctx.free):])
+                    except HKProofError:
+                        vector = None
+                    a = None if vector is None else _normalized(vector, len(basis) - 1, p)
+                    values.append(None if a is None else a[k])
+                return values
+            rec = reconstruct_rational(box, len(inputs), rng=rng, budget=ctx.budget, primes=_primes(rng),
+                                       batch_size=256)
+            out.append(_restored(ctx, rec, inputs, next(weights)))
+    return out
+
+
+def prove_group(ctx: SearchContext, group: Group, rng: random.Random) -> tuple[list[Frac], Certificate]:
+    """Relations and coordinates made exact, then Prop. "prop: even" for the whole block system."""
+    labels = ["; ".join(f"({', '.join(group.labels(m))})" for m in group.members)]
+    cert = Certificate(f"bases {labels[0]}", f"the kernel coordinates of the bases {labels[0]}, solved together, are "
+                       "integrals", 'Prop. "prop: even" (block system)',
+                       f"Each basis has a one-dimensional kernel; its coordinates, normalized by the last function "
+                       "(-1), are integrals of the Kahan map. Functions I<k> are integrals of the continuous flow "
+                       "(circuits of the kernel of its Lie derivative).", fixed={k: str(v) for k, v in ctx.fixed.items()})
+    with cert.step("basis functions", "monomials and integrals of the continuous flow (free of eps)",
+                   ctx.kmap.ring) as s:
+        for m in group.members:
+            for name, f in zip(group.labels(m), group.order(m), strict=True):
+                if name.startswith("I"):
+                    s.note(f"{name} = {f}")
+    relations = lift_group_relations(ctx, group, rng)
+    candidate = group_coordinates(ctx, group, rng)
+    system = BlockSystem(ctx.kmap, tuple(tuple(group.order(m)) for m in group.members), tuple(relations), (0, 1))
+    names = [f"a{b + 1}_{k + 1}" for b, m in enumerate(group.members) for k in range(len(group.order(m)) - 1)]
+    try:
+        verify_candidate(cert, system, names, candidate, sample_point(ctx.kmap.ring.names, 3))
+    except ProofStopped as exc:
+        cert.error = str(exc)
+    except HKProofError as exc:
+        cert.error = f"{type(exc).__name__}: {exc}"
+    return candidate, cert
+
+
+def prove_with_integral_bases(ctx: SearchContext, monomials: Sequence[Exponents], known: dict[str, Frac],
+                              degree: int, start_name: int) -> list[FoundIntegral]:
+    """The stage: circuits, bases, a group, its proof; the coordinates that raise the exact Jacobian rank of the
+    integrals proven so far, as found integrals (named I<start_name>, ...)."""
+    rng = ctx.rng
+    start = time.perf_counter()
+    ctx.stages.start("integral bases", "bases with integrals of the continuous flow, solved together")
+    circuits = continuous_integral_circuits(ctx, degree, rng)
+    if not circuits:
+        ctx.stages.say("the continuous flow has no polynomial integral of this degree")
+        return []
+    bases = integral_bases(ctx, monomials, circuits, list(known.values()), rng)
+    ctx.stages.say(f"{len(circuits)} integral circuits of the flow; {len(bases)} minimal bases with one of them, "
+                   f"{sum(b.new for b in bases)} carrying a new integral (gradients mod p)")
+    group = find_group(ctx, bases, rng) if any(b.new for b in bases) else None
+    if group is None:
+        ctx.stages.say("no group of these bases gives a square system (mod p)")
+        return []
+    labels = [f"({', '.join(group.labels(m))})" for m in group.members]
+    ctx.stages.say(f"{len(group.members)} bases solved together, {group.width} unknowns: {'; '.join(labels)}")
+    candidate, cert = prove_group(ctx, group, rng)
+    if cert.status < Status.VERIFIED_SPECIALIZED:
+        ctx.stages.say(f"the block system was not proven: {cert.error}")
+        return []
+    full = ctx.full_map
+    proven = [h.to_ring(full.ring) for h in known.values()]
+    order = sorted(range(len(candidate)), key=lambda k: len(candidate[k].num) + len(candidate[k].den))
+    trial = proven + [candidate[k].to_ring(full.ring) for k in order]
+    chosen = independent_subset(trial, list(full.variables), jacobian_points(full.ring.names))
+    labels_flat = [f"a{b + 1}_{k + 1} ({name})" for b, m in enumerate(group.members)
+                   for k, name in enumerate(group.labels(m)[:-1])]
+    out = []
+    for idx in chosen:
+        if idx < len(proven):
+            continue
+        k = order[idx - len(proven)]
+        name = f"I{start_name + len(out)}"
+        cert.formula(name, candidate[k])
+        out.append(FoundIntegral(name, candidate[k].to_ring(full.ring), cert.status, "kernel coordinate",
+                                 labels, labels_flat[k], time.perf_counter() - start,
+                                 f"Prop. \"prop: even\" on {len(group.members)} bases solved together (monomials and "
+                                 f"integrals of the continuous flow; {len(cert.steps)} steps)", certificate=cert))
+    return out
