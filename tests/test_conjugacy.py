@@ -3,7 +3,7 @@ a wrong chart is caught, and an integral proven in one chart is an integral in t
 import pytest
 
 from hkproof.algebra.fraction import Frac
-from hkproof.dynamics.catalogue import SO4_SPLIT, kahan_map
+from hkproof.dynamics.catalogue import SO4_SPLIT, SO4_SPLIT_FLOW2, kahan_map
 from hkproof.errors import HKProofError
 from hkproof.hk.conjugacy import LinearChart, conjugacy_mismatches, pull_back
 from hkproof.hk.discover import certify
@@ -75,3 +75,12 @@ def test_split_integrals_are_constant_along_sympy_orbits_in_both_charts():
     pulled = pull_back(_chart(), [i.frac for i in proven])
     assert not constant_along_sympy_orbit(get_system("so4-euler-top"),
                                           [SimpleNamespace(name=i.name, frac=h) for i, h in zip(proven, pulled)])
+
+
+def test_the_commuting_flow_in_the_split_chart_is_conjugate():
+    """so4-euler-top-flow2-split is the commuting Manakov flow in the chart so(3) + so(3), with s = a1 + ... + a4."""
+    chart = LinearChart(kahan_map("so4-euler-top-flow2"), kahan_map("so4-euler-top-flow2-split"), SO4_SPLIT_FLOW2)
+    assert conjugacy_mismatches(chart) == []
+    wrong = LinearChart(kahan_map("so4-euler-top-flow2"), kahan_map("so4-euler-top-flow2-split"),
+                        {**SO4_SPLIT_FLOW2, "s": "a1 + a2 + a3 - a4"})
+    assert conjugacy_mismatches(wrong)

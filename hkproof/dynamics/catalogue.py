@@ -83,6 +83,18 @@ _register(QuadraticField(
     "Euler top on so(4), Manakov case, in the coordinates of so(4) = so(3) + so(3): u = (m23 + m14, m24 - m13, "
     "m12 + m34), v = (m23 - m14, -m13 - m24, m12 - m34), b1 = (a1 + a2 - a3 - a4)/2, b2 = (a1 - a2 + a3 - a4)/2, "
     "b3 = (a1 - a2 - a3 + a4)/2"))
+# the commuting flow in the same chart: b1, b2, b3 as above and s = a1 + a2 + a3 + a4 (checked by hk.conjugacy)
+SO4_SPLIT_FLOW2 = {**SO4_SPLIT, "s": "a1 + a2 + a3 + a4"}
+_register(QuadraticField(
+    "so4-euler-top-flow2-split", ("u1", "u2", "u3", "v1", "v2", "v3"), ("b1", "b2", "b3", "s"),
+    ("-(2*(b1**2 - b2**2)*u2*u3 - 2*b1*b3*u3*v2 + (3*b1*s + 2*b2*b3)*u2*v3 - 3*b2*s*u3*v2)/4",
+     "(2*(b1**2 - b3**2)*u1*u3 + (2*b1*b2 + 3*b3*s)*u3*v1 + (3*b1*s + 2*b2*b3)*u1*v3)/4",
+     "-(2*(b2**2 - b3**2)*u1*u2 + (2*b1*b2 + 3*b3*s)*u2*v1 + (2*b1*b3 + 3*b2*s)*u1*v2)/4",
+     "(-2*(b1**2 - b2**2)*v2*v3 + 2*b1*b3*u2*v3 - (3*b1*s + 2*b2*b3)*u3*v2 + 3*b2*s*u2*v3)/4",
+     "(2*(b1**2 - b3**2)*v1*v3 + (2*b1*b2 + 3*b3*s)*u1*v3 + (3*b1*s + 2*b2*b3)*u3*v1)/4",
+     "-(2*(b2**2 - b3**2)*v1*v2 + (2*b1*b2 + 3*b3*s)*u1*v2 + (2*b1*b3 + 3*b2*s)*u2*v1)/4"),
+    "Commuting Manakov flow on so(4) in the chart so(4) = so(3) + so(3) of so4-euler-top-split, with "
+    "s = a1 + a2 + a3 + a4"))
 
 
 def _volterra(n: int) -> QuadraticField:

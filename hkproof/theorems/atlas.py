@@ -146,7 +146,7 @@ _register(Entry("lagrange-top", 2, (), 4), "Lagrange top",
           "a deformed quadric ratio by interpolation and two from whole HK-bases by Prop. \"prop: even\"), what "
           "Liouville integrability needs (2 Casimirs + 2)", 4, "0,3", 3)
 # the commuting flow's integrals have larger coefficients in a_i: its parameters are fixed (verified(specialized));
-# the Manakov flow itself is searched in its chart so(3) + so(3) (below), where discover proves 3 instead of 1
+# the Manakov flow itself is searched in its chart so(3) + so(3) (below), where discover proves all 4
 _A_FIXED = (("a1", "1"), ("a2", "2"), ("a3", "3"), ("a4", "5"))
 _register(Entry("so4-euler-top-flow2", 2, _A_FIXED, 4, seconds=900.0), "Euler top on so(4), commuting Manakov flow",
           "The orbits lie on 4 quadrics (kernel of the 28 quadratic monomials) whose coordinates carry 4 independent "
@@ -154,18 +154,20 @@ _register(Entry("so4-euler-top-flow2", 2, _A_FIXED, 4, seconds=900.0), "Euler to
           "reconstructed and proven", 1, "0,4", 4, slow=True)
 _SPLIT = Entry("so4-euler-top-split", 2, (), 4, seconds=900.0)
 _register(_SPLIT, "Euler top on so(4), Manakov case, in the chart so(3) + so(3)",
-          "The Kahan map has 3 functionally independent rational integrals proven with b1, b2, b3 symbolic (a ratio "
-          "of quadrics from the basis (u1 v1, u2 v2, u3 v3, 1), two from the basis of the six squares, each by "
-          "Prop. \"prop: even\" on the whole basis); the kernels carry 4, what Liouville integrability needs "
-          "(2 Casimirs + 2)", 3, "0,4", 4, slow=True)
+          "The Kahan map has 4 functionally independent rational integrals proven with b1, b2, b3 symbolic, what "
+          "Liouville integrability needs (2 Casimirs + 2): a ratio of quadrics from the basis (u1 v1, u2 v2, u3 v3, "
+          "1), two from the basis of the six squares, each by Prop. \"prop: even\" on the whole basis, and a fourth "
+          "from three bases of monomials and integrals of the continuous flow solved together (Prop. \"prop: "
+          "even\" on the block system)", 4, "0,4", 4, slow=True)
 
 
 @claim("atlas-so4-euler-top-chart", GROUP, "Euler top on so(4), Manakov case: integrals through the chart "
        "so(3) + so(3)", "docs/atlas.md; hkproof.hk.conjugacy",
        "The Kahan map of so4-euler-top is conjugate to that of so4-euler-top-split by the linear chart u, v of "
        "so(4) = so(3) + so(3) (g o T = T o f exactly, a1..a4 symbolic), so the integrals proven for the split map, "
-       "pulled back, are integrals of the so(4) Kahan map: 3 functionally independent ones",
-       claimed={"independent": "3"}, slow=True, uses=["atlas-so4-euler-top-split-integrals"])
+       "pulled back, are integrals of the so(4) Kahan map: 4 functionally independent ones, what Liouville "
+       "integrability needs",
+       claimed={"independent": "4"}, slow=True, uses=["atlas-so4-euler-top-split-integrals"])
 def _so4_chart(cert: Certificate, claimed: Mapping[str, str]) -> None:
     source = kahan_map("so4-euler-top")
     chart = LinearChart(source, kahan_map(_SPLIT.system), SO4_SPLIT)

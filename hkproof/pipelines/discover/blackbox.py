@@ -1,10 +1,11 @@
 """Kernel coordinates as a black box mod p: recipe (B) on a batch of points, the input of sparse reconstruction.
 
-For a minimal HK-basis of monomials phi_1..phi_l (one-dimensional kernel), the coordinates c with c_l = -1 solve
-sum_k c_k phi_k(f^i x) = phi_l(f^i x), i = 0..l-2 (eq. "smaller system"). The orbit and this system are taken on a
-whole batch at once (hkproof.dynamics.batch_map), projectively: a monomial of degree e at X / W is X^e W^(d-e)
-after clearing W^d. The black box answers c_k / c_j mod p at each point, None where the orbit or the system is
-singular mod p there.
+For a minimal HK-basis phi_1..phi_l (one-dimensional kernel), the coordinates c with c_l = -1 solve
+sum_k c_k phi_k(f^i x) = phi_l(f^i x), i = 0..l-2 (eq. "smaller system"). The basis functions are monomials or
+polynomials in the phase variables whose coefficients are polynomials in eps and the parameters (integrals of the
+continuous flow, hkproof.pipelines.discover.integral_bases). The orbit and this system are taken on a whole batch at
+once (hkproof.dynamics.batch_map), projectively: a term of degree e in x at X / W is X^e W^(d-e) after clearing W^d.
+The black box answers c_k / c_j mod p at each point, None where the orbit or the system is singular mod p there.
 """
 from __future__ import annotations
 
@@ -12,29 +13,52 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
+from hkproof.algebra.fraction import Frac
 from hkproof.algebra.monomials import Exponents
 from hkproof.dynamics.batch_map import BatchKahanMap, mulmod, power_table, solve_projective
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
+from hkproof.errors import HKProofError
 
-__all__ = ["KernelBlackBox"]
+__all__ = ["KernelBlackBox", "basis_terms"]
+
+Terms = tuple[tuple[int, tuple[int, ...]], ...]     # (integer coefficient, exponents over the ring's names)
 
 _WORKER_MAPS: dict[tuple[QuadraticField, int], BatchKahanMap] = {}    # a worker process's batch maps, by prime
+
+
+def basis_terms(kmap: KahanMap, phi: Exponents | Frac) -> Terms:
+    """A basis function as integer terms over the ring's names: x^e for a monomial, the numerator of a polynomial."""
+    names = kmap.ring.names
+    if isinstance(phi, Frac):
+        if not phi.den.is_one():
+            raise HKProofError(f"a basis function of the black box must be a polynomial, got {phi}")
+        return tuple((int(c), tuple(int(e) for e in m)) for m, c in phi.num.to_dict().items())
+    full = [0] * len(names)
+    for v, e in zip(kmap.variables, phi, strict=True):
+        full[names.index(v)] = e
+    return ((1, tuple(full)),)
 
 
 class KernelBlackBox:
     """c_k / c_j of the kernel of `basis` (its last element normalized by c_l = -1), as a function of the names
     `inputs` (the other ring names fixed to `fixed`), evaluated mod primes below 2^50 on batches of points."""
 
-    def __init__(self, kmap: KahanMap, basis: Sequence[Exponents], k: int, j: int, inputs: Sequence[str],
+    def __init__(self, kmap: KahanMap, basis: Sequence[Exponents | Frac], k: int, j: int, inputs: Sequence[str],
                  fixed: Mapping[str, int] | None = None):
-        self.kmap, self.basis, self.k, self.j = kmap, list(basis), k, j
+        self.kmap, self.k, self.j = kmap, k, j
+        self.basis = [basis_terms(kmap, phi) for phi in basis]
         self.inputs, self.fixed = list(inputs), dict(fixed or {})
         missing = set(kmap.ring.names) - set(self.inputs) - set(self.fixed)
         if missing:
             raise ValueError(f"no value for {sorted(missing)}")
-        self.degree = max(sum(e) for e in self.basis)
+        names = kmap.ring.names
+        self.phase = [names.index(v) for v in kmap.variables]
+        self.controls = [i for i in range(len(names)) if i not in self.phase]
+        terms = [t for phi in self.basis for t in phi]
+        self.degree = max(sum(m[i] for i in self.phase) for _, m in terms)
+        self.control_degree = max((m[i] for _, m in terms for i in self.controls), default=0)
         self._maps: dict[int, BatchKahanMap] = {}
         self.probes = 0
 
@@ -65,16 +89,26 @@ class KernelBlackBox:
         orbit = self._map(p).orbit(values, l - 2)
         rows = np.empty((count, l - 1, l), dtype=np.int64)
         ok = np.ones(count, dtype=bool)
+        names = self.kmap.ring.names
+        c_pow = {i: power_table(values[names[i]], self.control_degree, p) for i in self.controls}
         for i, (xs, w) in enumerate(orbit[:l - 1]):
             ok &= w != 0
             x_pow = [power_table(x, self.degree, p) for x in xs]
             w_pow = power_table(w, self.degree, p)
-            for c, e in enumerate(self.basis):
-                v = w_pow[self.degree - sum(e)].copy()
-                for table, a in zip(x_pow, e, strict=True):
-                    if a:
-                        v = mulmod(v, table[a], p)
-                rows[:, i, c] = v
+            for c, phi in enumerate(self.basis):
+                total = np.zeros(count, dtype=np.int64)
+                for coefficient, m in phi:
+                    v = w_pow[self.degree - sum(m[q] for q in self.phase)].copy()
+                    if coefficient != 1:
+                        v = mulmod(v, np.full(count, coefficient % p, dtype=np.int64), p)
+                    for table, q in zip(x_pow, self.phase, strict=True):
+                        if m[q]:
+                            v = mulmod(v, table[m[q]], p)
+                    for q in self.controls:
+                        if m[q]:
+                            v = mulmod(v, c_pow[q][m[q]], p)
+                    total = (total + v) % p
+                rows[:, i, c] = total
         nums, den = solve_projective(rows[:, :, :l - 1], rows[:, :, l - 1], p)
         ok &= den != 0
         self.probes += count

@@ -28,7 +28,7 @@ import flint
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.functional_reconstruction import reconstruct_rational
-from hkproof.algebra.linalg import cramer
+from hkproof.algebra.linalg import cramer, lcm
 from hkproof.algebra.modular import kernel_mod_p, random_prime, rank_mod_p
 from hkproof.algebra.monomials import Exponents, exponents_upto, text
 from hkproof.algebra.vector_reconstruction import reconstruct_vector
@@ -40,7 +40,8 @@ from hkproof.hk.integrals import lie_derivative
 from hkproof.hk.reduced import Relation
 from hkproof.pipelines.discover.context import SearchContext
 from hkproof.pipelines.discover.report import FoundIntegral
-from hkproof.pipelines.discover.symbolic import PRIME_BITS, _primes, _restored
+from hkproof.pipelines.discover.blackbox import KernelBlackBox
+from hkproof.pipelines.discover.symbolic import BATCH, PRIME_BITS, _primes, _restored
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 
@@ -114,13 +115,15 @@ def continuous_integral_circuits(ctx: SearchContext, degree: int, rng: random.Ra
     ring, field = kmap.ring, kmap.field
     n = len(kmap.variables)
     monos = [e for e in exponents_upto(n, degree) if any(e)]
-    derivs = [lie_derivative(field, Frac.parse(field.ring, text(kmap.variables, e))).to_ring(ring) for e in monos]
+    scale = Frac(ring, lcm([f.to_ring(ring).den for f in field.rhs]))   # a constant time scale clears denominators
+    derivs = [lie_derivative(field, Frac.parse(field.ring, text(kmap.variables, e))).to_ring(ring) * scale
+              for e in monos]
     phase = [ring.index(v) for v in kmap.variables]
     rows: dict[tuple[int, ...], dict[int, dict]] = {}
     for col, d in enumerate(derivs):
         if not d.den.is_one():
-            raise HKProofError("the Lie derivative of a monomial has a denominator: rational coefficients expected "
-                               "to be cleared by the field")
+            raise HKProofError("the Lie derivative of a monomial has a denominator in the phase variables: the "
+                               "field is not polynomial")
         for m, c in d.num.to_dict().items():
             key = tuple(m[i] for i in phase)
             rest = tuple(0 if i in phase else e for i, e in enumerate(m))
@@ -150,10 +153,10 @@ def continuous_integral_circuits(ctx: SearchContext, degree: int, rng: random.Ra
                 chosen.append(i)
         if len(chosen) != len(s) - 1:
             continue
-        rest = [[matrix[i][c] for c in s[1:]] for i in chosen]
+        square = [[matrix[i][c] for c in s[1:]] for i in chosen]
         rhs = [-matrix[i][s[0]] for i in chosen]
         try:
-            coeffs = [Frac(ring, 1)] + cramer(rest, rhs)[0]
+            coeffs = [Frac(ring, 1)] + cramer(square, rhs)[0]
         except (HKProofError, ZeroDivisionError):
             continue
         total = sum((a * Frac.parse(ring, text(kmap.variables, monos[c])) for a, c in zip(coeffs, s, strict=True)),
@@ -410,29 +413,18 @@ def lift_group_relations(ctx: SearchContext, group: Group, rng: random.Random) -
 
 def group_coordinates(ctx: SearchContext, group: Group, rng: random.Random) -> list[Frac]:
     """Every unknown a_k of the group with eps and the parameters symbolic, by sparse reconstruction over prime
-    fields (the names weighted homogeneity normalizes set to 1, then restored): a candidate."""
+    fields (the batch black box of recipe (B); the names weighted homogeneity normalizes set to 1, then restored):
+    a candidate."""
     inputs = list(ctx.free) + list(ctx.kmap.variables)
-    fixed = {n: 1 for n in ctx.weights.normalized}
     weights = iter(_coordinate_weights(ctx, group))
     out = []
     for m in group.members:
         basis = group.order(m)
         for k in range(len(basis) - 1):
-            def box(p: int, points: Sequence[Sequence[int]], basis: list[Frac] = basis, k: int = k
-                    ) -> list[int | None]:
-                values: list[int | None] = []
-                for pt in points:
-                    controls = fixed | dict(zip(inputs[:len(ctx.free)], pt[:len(ctx.free)], strict=True))
-                    try:
-                        vector = _kernel_vector(_Modular(ctx, p, controls), basis, pt[len(ctx.free):])
-                    except HKProofError:
-                        vector = None
-                    a = None if vector is None else _normalized(vector, len(basis) - 1, p)
-                    values.append(None if a is None else a[k])
-                return values
+            box = KernelBlackBox(ctx.kmap, basis, k, len(basis) - 1, inputs, {n: 1 for n in ctx.weights.normalized})
             rec = reconstruct_rational(box, len(inputs), rng=rng, budget=ctx.budget, primes=_primes(rng),
-                                       batch_size=256)
-            out.append(_restored(ctx, rec, inputs, next(weights)))
+                                       mapper=ctx.mapper, batch_size=BATCH)
+            out.append(-_restored(ctx, rec, inputs, next(weights)))       # a_k = -c_k / c_l
     return out
 
 
@@ -494,7 +486,7 @@ def prove_with_integral_bases(ctx: SearchContext, monomials: Sequence[Exponents]
     chosen = independent_subset(trial, list(full.variables), jacobian_points(full.ring.names))
     labels_flat = [f"a{b + 1}_{k + 1} ({name})" for b, m in enumerate(group.members)
                    for k, name in enumerate(group.labels(m)[:-1])]
-    out = []
+    out: list[FoundIntegral] = []
     for idx in chosen:
         if idx < len(proven):
             continue
