@@ -108,3 +108,25 @@ def test_discover_proves_four_integrals_of_the_split_so4_map():
     assert len(proven) == 4
     assert any("solved together" in i.method for i in proven)
     assert constant_along_sympy_orbit(kahan_map(SPLIT).field, proven) == []
+
+
+def test_the_batch_black_box_agrees_with_the_pointwise_kernel(split_ctx, first_group):
+    """KernelBlackBox on a basis with an integral of the flow (numpy batches) against recipe (B) point by point."""
+    from hkproof.algebra.modular import random_prime
+    from hkproof.pipelines.discover.blackbox import KernelBlackBox
+    from hkproof.pipelines.discover.symbolic import PRIME_BITS
+    from hkproof.pipelines.discover.integral_bases import _kernel_vector, _Modular, _normalized
+    basis = first_group.order(first_group.members[0])
+    ring = split_ctx.kmap.ring
+    inputs = list(ring.names)
+    rng = random.Random(4)
+    p = random_prime(rng, PRIME_BITS)
+    points = [[rng.randrange(1, p) for _ in inputs] for _ in range(5)]
+    for k in range(len(basis) - 1):
+        box = KernelBlackBox(split_ctx.kmap, basis, k, len(basis) - 1, inputs)
+        batch = box(p, points)
+        for pt, value in zip(points, batch):
+            controls = {n: v for n, v in zip(inputs, pt) if n not in split_ctx.kmap.variables}
+            x = [v for n, v in zip(inputs, pt) if n in split_ctx.kmap.variables]
+            a = _normalized(_kernel_vector(_Modular(split_ctx, p, controls), basis, x), len(basis) - 1, p)
+            assert value == (-a[k]) % p            # the box gives c_k / c_l = -a_k
