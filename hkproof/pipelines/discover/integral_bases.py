@@ -189,6 +189,7 @@ def integral_bases(ctx: SearchContext, monomials: Sequence[Exponents], circuits:
         own = {k for k, h in enumerate(mono_fracs) if _occurs(h, circuit, mod.phase)}
         hits: list[set[int]] = []
         for size in range(1, MAX_BASIS):
+            ctx.budget.check("searching bases with integrals of the flow")
             for subset in itertools.combinations(range(m), size):
                 chosen = set(subset)
                 if own <= chosen or any(h <= chosen for h in hits):
