@@ -46,8 +46,8 @@ CASES = [("euler-top", "euler-top", 2, 60.0), ("clebsch (first flow)", "clebsch"
          ("volterra-3", "volterra-3", 3, 60.0)]
 ROUTES = (("default (dense <= 300, then the basis)", reconstruct.DENSE_FIRST),
           ("dense first (<= 2500)", 2500), ("whole basis first", 0))
-STAGES = ("screening", "minimal bases", "confirm bases", "reconstruction", "relations", "proofs", "integral bases",
-          "independence")
+STAGES = ("screening", "minimal bases", "confirm bases", "reconstruction", "bases", "relations", "proofs",
+          "integral bases", "independence")
 
 
 def run_cases(quick: bool) -> list[dict]:
