@@ -130,3 +130,21 @@ def test_the_batch_black_box_agrees_with_the_pointwise_kernel(split_ctx, first_g
             x = [v for n, v in zip(inputs, pt) if n in split_ctx.kmap.variables]
             a = _normalized(_kernel_vector(_Modular(split_ctx, p, controls), basis, x), len(basis) - 1, p)
             assert value == (-a[k]) % p            # the box gives c_k / c_l = -a_k
+
+
+def test_a_failure_inside_the_stage_is_reported_not_raised(monkeypatch):
+    """An unlucky prime inside step 5d ends the stage with a note; the report and the earlier integrals stand."""
+    import hkproof.pipelines.discover.run as run
+    from hkproof.errors import UnluckyPrimeError
+    from hkproof.pipelines.discover.reconstruct import Reconstructed
+
+    def nothing(ctx, report, candidates, target, p):
+        return Reconstructed(covered="nothing reconstructed (test)")
+
+    def unlucky(*args, **kwargs):
+        raise UnluckyPrimeError("det M = 0 mod p at every point tried (test)")
+    monkeypatch.setattr(run, "reconstruct_candidates", nothing)
+    monkeypatch.setattr(run, "prove_with_integral_bases", unlucky)
+    report = discover("euler-top", 2)
+    assert report.integrals == []
+    assert any("stopped" in c and "det M = 0" in c for c in report.covered)

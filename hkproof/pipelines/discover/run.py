@@ -24,7 +24,7 @@ from hkproof.budget import Budget
 from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import ParseError, ResourceLimitError
+from hkproof.errors import HKProofError, ParseError, ResourceLimitError
 from hkproof.experiments.scene import make_scene
 from hkproof.hk.discover import certify, independent_subset, jacobian_points
 from hkproof.pipelines.discover.bases import confirm_basis, minimal_bases
@@ -175,7 +175,13 @@ def _with_integral_bases(ctx: SearchContext, report: DiscoveryReport, probe, deg
         d = max(degrees)
         monos = exponents_upto(n, d)
         support = [monos[j] for j in range(len(monos)) if any(v[j] for v in probe.kernels[d])]
-        found = prove_with_integral_bases(ctx, support, known, d, len(report.integrals) + 1)
+        try:
+            found = prove_with_integral_bases(ctx, support, known, d, len(report.integrals) + 1)
+        except ResourceLimitError:
+            raise
+        except HKProofError as exc:          # an unlucky prime or point, a reconstruction that failed: not an answer
+            report.covered.append(f"bases with integrals of the continuous flow: stopped ({exc})")
+            return
         report.integrals += found
         report.covered.append(f"bases with integrals of the continuous flow: {len(found)} new independent "
                               "integrals proven")
