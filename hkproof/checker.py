@@ -5,9 +5,10 @@ It trusts python-flint (polynomial arithmetic, gcd, determinants over Q), hkproo
 parity in eps by eps -> -eps), and Prop. "prop: even" of the paper as a theorem. It imports nothing else of hkproof:
 it rebuilds the Kahan map (and its equations, and det Df) from the field's right-hand sides by its own Cramer's rule,
 and every identity it reports as verified is an exact polynomial identity it computed. Step kinds: substitution
-(h o f = h), prop-even (Prop. "prop: even"), darboux (P o f = K P; integrals and invariant densities from Darboux
-polynomials; a cofactor "det Df" is computed here), recipe-g (D delta = sum lambda_i E_i) and degrees (deg f^n by
-exact iterates). What it cannot check, it refuses (malformed, exit 2).
+(h o f = h), prop-even (Prop. "prop: even", one basis or several solved together), darboux (P o f = K P; integrals
+and invariant densities from Darboux polynomials; a cofactor "det Df" is computed here), recipe-g
+(D delta = sum lambda_i E_i) and degrees (deg f^n by exact iterates). What it cannot check, it refuses (malformed,
+exit 2).
 
     verified   every step's identities hold exactly, and every claimed integral and density is concluded by a step
     refuted    a stated identity is false (h o f != h, a row not satisfied, a component not even, det = 0 at the point,
@@ -31,7 +32,8 @@ from hkproof.errors import CertificateError, HKProofError
 
 __all__ = ["check_document", "check_file", "CheckReport", "KahanData", "MAX_BYTES"]
 
-FORMAT, VERSIONS, CONVENTION = "hkproof-certificate", (1, 2, 3), "eps = h/2"   # 2: darboux, recipe-g; 3: degrees
+FORMAT, VERSIONS, CONVENTION = "hkproof-certificate", (1, 2, 3, 4), "eps = h/2"   # 2: darboux, recipe-g; 3: degrees;
+# 4: prop-even with blocks (several bases solved together)
 EPS = "eps"
 DET_DF = "det Df"      # a darboux step's cofactor written as the Jacobian determinant the checker computes itself
 MAX_BYTES = 200_000_000
@@ -317,20 +319,24 @@ def _substitution(f: KahanData, step: Any, known: Mapping[str, Frac], where: str
 
 
 def _prop_even(f: KahanData, step: Any, known: Mapping[str, Frac], where: str) -> dict[str, Frac]:
-    """Prop. "prop: even": (1) det != 0 at a rational point, (2) basis functions even in eps, rows i in a
-    non-symmetric range of {-1, 0, 1} containing 0, relation data even in eps and written in integrals proven before, (3) every component even in eps,
-    (4) every row satisfied exactly. Then the components are integrals."""
-    basis = [f.parse(t, where) for t in _strings(step, "basis", where)]
-    target = f.parse(_get(step, "target", str, where), where)
+    """Prop. "prop: even" for one basis, or for several solved together ("blocks": the unknowns of the bases form one
+    vector, block after block): (1) det != 0 at a rational point, (2) basis functions even in eps, rows i in a
+    non-symmetric range of {-1, 0, 1} containing 0, relation data even in eps and written in integrals proven before,
+    (3) every component even in eps, (4) every row and relation satisfied exactly. Then the components are
+    integrals."""
+    raw = _get(step, "blocks", list, where) if "blocks" in step else [step]
+    blocks = [([f.parse(t, where) for t in _strings(b, "basis", where)], f.parse(_get(b, "target", str, where), where))
+              for b in raw]
+    width = sum(len(basis) for basis, _ in blocks)
     names = [check_name(n, "component name") for n in _strings(step, "names", where)]
     solution = [f.parse(t, where) for t in _strings(step, "solution", where)]
     iterates = _get(step, "iterates", list, where)
     if sorted(iterates) not in ([0, 1], [-1, 0]):
         raise CertificateError(f"{where}: iterates {iterates}: this checker takes rows i in {{0, 1}} or {{-1, 0}}")
-    if not all(phi.is_even_in(EPS) for phi in (*basis, target)):
+    if not blocks or not all(phi.is_even_in(EPS) for basis, target in blocks for phi in (*basis, target)):
         raise CertificateError(f"{where}: Prop. \"prop: even\" needs basis functions even in eps")
-    if len(names) != len(basis) or len(solution) != len(basis) or set(names) & {*f.ring.names, *known}:
-        raise CertificateError(f"{where}: {len(basis)} basis functions need as many new component names and values")
+    if len(names) != width or len(solution) != width or set(names) & {*f.ring.names, *known}:
+        raise CertificateError(f"{where}: {width} basis functions need as many new component names and values")
     scope, rows = dict(known), []
     for k, rel in enumerate(_get(step, "relations", list, where)):
         uses = _strings(rel, "uses", where)
@@ -338,27 +344,37 @@ def _prop_even(f: KahanData, step: Any, known: Mapping[str, Frac], where: str) -
             raise CertificateError(f"{where}: relation {k + 1} uses {uses}, not all proven before it")
         coefficients = [f.parse_in(t, scope, where) for t in _strings(rel, "coefficients", where)]
         rhs = f.parse_in(_get(rel, "rhs", str, where), scope, where)
-        if len(coefficients) != len(basis):
-            raise CertificateError(f"{where}: relation {k + 1} has {len(coefficients)} coefficients, not {len(basis)}")
+        if len(coefficients) != width:
+            raise CertificateError(f"{where}: relation {k + 1} has {len(coefficients)} coefficients, not {width}")
         if not all(c.is_even_in(EPS) for c in (*coefficients, rhs)):
             raise _Refutation(f"{where}: relation {k + 1} has a coefficient or right-hand side not even in eps")
         scope[f"_l{k}"] = rhs
         rows.append((coefficients, rhs))
-    if len(iterates) + len(rows) != len(basis):
-        raise CertificateError(f"{where}: {len(iterates)} rows and {len(rows)} relations for {len(basis)} unknowns: "
-                               "the system must be square")
+    if len(blocks) * len(iterates) + len(rows) < width:
+        raise CertificateError(f"{where}: {len(blocks) * len(iterates)} rows and {len(rows)} relations for {width} "
+                               "unknowns: the system must determine them")
     point = {n: parse_rational(_get(_get(step, "point", dict, where), n, str, where)) for n in f.ring.names}
-    moved = {i: [f.pull(phi, i) for phi in (*basis, target)] for i in iterates}
-    matrix = [[_at(m, point) for m in moved[i][:-1]] for i in iterates]
+    zero = flint.fmpq(0)
+    matrix, moved, start = [], [], 0
+    for basis, target in blocks:
+        pulled = {i: [f.pull(phi, i) for phi in (*basis, target)] for i in iterates}
+        moved.append((start, pulled))
+        for i in iterates:
+            matrix.append([zero] * start + [_at(m, point) for m in pulled[i][:-1]] +
+                          [zero] * (width - start - len(basis)))
+        start += len(basis)
     matrix += [[_at(c, point) for c in coefficients] for coefficients, _ in rows]
-    if flint.fmpq_mat(matrix).det() == 0:
-        raise _Refutation(f"{where}: the determinant of the system vanishes at the stated point")
+    if flint.fmpq_mat(matrix).rank() != width:
+        raise _Refutation(f"{where}: the system does not have full rank at the stated point")
     for n, a in zip(names, solution, strict=True):
         if not a.is_even_in(EPS):
             raise _Refutation(f"{where}: the component {n} is not even in eps")
-    for i in iterates:
-        if sum((a * m for a, m in zip(solution, moved[i][:-1], strict=True)), Frac(f.ring, 0)) != moved[i][-1]:
-            raise _Refutation(f"{where}: the row i = {i} is not satisfied by the solution")
+    for b, (start, pulled) in enumerate(moved, 1):
+        for i in iterates:
+            row = pulled[i]
+            part = solution[start:start + len(row) - 1]
+            if sum((a * m for a, m in zip(part, row[:-1], strict=True)), Frac(f.ring, 0)) != row[-1]:
+                raise _Refutation(f"{where}: the row i = {i} of block {b} is not satisfied by the solution")
     for k, (coefficients, rhs) in enumerate(rows, 1):
         if sum((c * a for c, a in zip(coefficients, solution, strict=True)), Frac(f.ring, 0)) != rhs:
             raise _Refutation(f"{where}: the relation {k} is not satisfied by the solution")

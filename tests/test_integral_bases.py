@@ -148,3 +148,28 @@ def test_a_failure_inside_the_stage_is_reported_not_raised(monkeypatch):
     report = discover("euler-top", 2)
     assert report.integrals == []
     assert any("stopped" in c and "det M = 0" in c for c in report.covered)
+
+
+def test_the_block_proof_is_a_certificate_the_checker_verifies_and_refutes_when_perturbed(split_ctx, first_group):
+    """The group's Prop. "prop: even" step (blocks) in a certificate file: `hkproof check` re-verifies it from the
+    file alone; one coefficient changed in the solution is refuted; without its relations the rows cannot determine
+    the unknowns and the file is malformed."""
+    import copy
+    import json
+    from hkproof.checker import check_document
+    from hkproof.proof.export import document
+    _, cert = prove_group(split_ctx, first_group, random.Random(2))
+    (step,) = [s for s in cert.checks if "blocks" in s]
+    doc = json.loads(json.dumps(document("group", "the coordinates are integrals", [], certificates=[cert])))
+    assert check_document(doc).verdict == "verified"
+    jsonschema = pytest.importorskip("jsonschema")
+    from pathlib import Path
+    schema = json.loads((Path(__file__).resolve().parents[1] / "docs" / "certificate.schema.json").read_text())
+    jsonschema.validate(doc, schema)
+    bad = copy.deepcopy(doc)
+    k = max(range(len(step["solution"])), key=lambda i: len(step["solution"][i]))
+    bad["steps"][-1]["solution"][k] = step["solution"][k].replace("b1", "2*b1", 1)
+    assert check_document(bad).verdict == "refuted"
+    short = copy.deepcopy(doc)
+    short["steps"][-1]["relations"] = []
+    assert check_document(short).verdict == "malformed"

@@ -108,11 +108,15 @@ def discover_document(report: DiscoveryReport) -> dict:
 
 
 def _as_ratio(found: FoundIntegral, cert: Certificate, names: Sequence[str]) -> str | None:
-    """'c2/c1', '-c2' or '-1/c1': the quotient of two coordinates (c_l = -1) that equals the integral, if any."""
+    """'c2', '(c2)/(c1)', '(c2)/(-1)' or '(-1)/(c1)': the coordinate or quotient of two coordinates (c_l = -1) that
+    equals the integral, if any."""
     assert found.frac is not None
     values = [(n, cert.values[n]) for n in names if n in cert.values]
     if len(values) != len(names) or values[0][1].ring != found.frac.ring:
         return None
+    for name, a in values:
+        if a == found.frac:
+            return name
     one = Frac(found.frac.ring, -1)
     for top, a in [*values, ("-1", one)]:
         for bottom, b in [*values, ("-1", one)]:

@@ -16,10 +16,10 @@ from hkproof.dynamics.field import QuadraticField
 from hkproof.proof.certificate import Certificate
 
 __all__ = ["CONVENTION", "Conclusion", "darboux_step", "degrees_step", "document", "field_data", "FORMAT",
-           "prop_even_step", "recipe_g_step", "relation_data", "substitution_step", "VERSION"]
+           "prop_even_blocks_step", "prop_even_step", "recipe_g_step", "relation_data", "substitution_step", "VERSION"]
 
 FORMAT = "hkproof-certificate"
-VERSION = 3                   # 2: darboux and recipe-g steps, densities; 3: degrees steps, cofactor "det Df"
+VERSION = 4                   # 2: darboux, recipe-g, densities; 3: degrees, cofactor "det Df"; 4: prop-even blocks
 Conclusion = tuple[str, Frac, str]      # (name, value, the value written in the step's own names)
 CONVENTION = "eps = h/2"      # x~ - x = 2 eps F(x, x~): hkproof's eps is half the time step h
 
@@ -54,6 +54,21 @@ def prop_even_step(field: QuadraticField, basis: Sequence[Frac], target: Frac, n
             "names": list(names), "solution": [str(a) for a in solution], "iterates": list(iterates),
             "relations": list(relations), "point": {k: str(to_fmpq(v)) for k, v in point.items()},
             "identity": "sum_k c_k phi_k(f^i(x)) = phi_l(f^i(x)) for i in iterates, and l.c = R for each relation",
+            "integrals": [{"name": n, "formula": str(a), "from": n} for n, a in zip(names, solution, strict=True)]}
+
+
+def prop_even_blocks_step(field: QuadraticField, blocks: Sequence[tuple[Sequence[Frac], Frac]], names: Sequence[str],
+                          solution: Sequence[Frac], iterates: Sequence[int], relations: Sequence[dict],
+                          point: Mapping[str, Rational]) -> dict:
+    """Prop. "prop: even" for several bases solved together (sec. 6.7): the unknowns of the blocks (basis, target)
+    form one vector, block after block; rows i in `iterates` of every block and relation rows over the whole vector;
+    det at `point` != 0, every component and relation even in eps, every row and relation satisfied exactly."""
+    return {"kind": "prop-even", "field": field_data(field),
+            "blocks": [{"basis": [str(b) for b in basis], "target": str(target)} for basis, target in blocks],
+            "names": list(names), "solution": [str(a) for a in solution], "iterates": list(iterates),
+            "relations": list(relations), "point": {k: str(to_fmpq(v)) for k, v in point.items()},
+            "identity": "for every block, sum_k c_k phi_k(f^i(x)) = phi_l(f^i(x)) for i in iterates; l.c = R for each "
+                        "relation over all the blocks' unknowns",
             "integrals": [{"name": n, "formula": str(a), "from": n} for n, a in zip(names, solution, strict=True)]}
 
 

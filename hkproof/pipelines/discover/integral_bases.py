@@ -43,10 +43,11 @@ from hkproof.pipelines.discover.report import FoundIntegral
 from hkproof.pipelines.discover.blackbox import KernelBlackBox
 from hkproof.pipelines.discover.symbolic import BATCH, PRIME_BITS, _primes, _restored
 from hkproof.proof.certificate import Certificate, ProofStopped
+from hkproof.proof.export import prop_even_blocks_step, relation_data
 from hkproof.proof.status import Status
 
-__all__ = ["Group", "IntegralBasis", "continuous_integral_circuits", "find_group", "group_coordinates", "integral_bases",
-           "lift_group_relations", "prove_group", "prove_with_integral_bases"]
+__all__ = ["Group", "IntegralBasis", "continuous_integral_circuits", "find_group", "group_coordinates",
+           "integral_bases", "lift_group_relations", "prove_group", "prove_with_integral_bases"]
 
 MAX_BASIS = 6        # functions in a basis (monomials and one integral circuit)
 MAX_GROUP = 4        # bases solved together
@@ -58,8 +59,8 @@ Weight = list[flint.fmpq]
 
 @dataclass
 class IntegralBasis:
-    """A basis of monomials and one integral circuit (the circuit last among the monomials' order is kept as given),
-    `new` when its coordinates carry an integral independent of those proven."""
+    """A basis: monomials, then one integral circuit (`names` says I<k> for the k-th circuit); `new` when its
+    coordinates carry an integral independent of those proven (gradients mod p)."""
 
     functions: list[Frac]
     names: list[str]
@@ -436,7 +437,8 @@ def prove_group(ctx: SearchContext, group: Group, rng: random.Random) -> tuple[l
                        "integrals", 'Prop. "prop: even" (block system)',
                        f"Each basis has a one-dimensional kernel; its coordinates, normalized by the last function "
                        "(-1), are integrals of the Kahan map. Functions I<k> are integrals of the continuous flow "
-                       "(circuits of the kernel of its Lie derivative).", fixed={k: str(v) for k, v in ctx.fixed.items()})
+                       "(circuits of the kernel of its Lie derivative).",
+                       fixed={k: str(v) for k, v in ctx.fixed.items()})
     with cert.step("basis functions", "monomials and integrals of the continuous flow (free of eps)",
                    ctx.kmap.ring) as s:
         for m in group.members:
@@ -447,8 +449,12 @@ def prove_group(ctx: SearchContext, group: Group, rng: random.Random) -> tuple[l
     candidate = group_coordinates(ctx, group, rng)
     system = BlockSystem(ctx.kmap, tuple(tuple(group.order(m)) for m in group.members), tuple(relations), (0, 1))
     names = [f"a{b + 1}_{k + 1}" for b, m in enumerate(group.members) for k in range(len(group.order(m)) - 1)]
+    point = sample_point(ctx.kmap.ring.names, 3)
     try:
-        verify_candidate(cert, system, names, candidate, sample_point(ctx.kmap.ring.names, 3))
+        verify_candidate(cert, system, names, candidate, point)
+        blocks = [(basis[:-1], basis[-1]) for basis in system.bases]
+        rows = [relation_data(r.coefficients, r.rhs) for r in relations]
+        cert.checks.append(prop_even_blocks_step(ctx.kmap.field, blocks, names, candidate, (0, 1), rows, point))
     except ProofStopped as exc:
         cert.error = str(exc)
     except HKProofError as exc:
@@ -496,6 +502,10 @@ def prove_with_integral_bases(ctx: SearchContext, monomials: Sequence[Exponents]
         cert.formula(name, candidate[k])
         out.append(FoundIntegral(name, candidate[k].to_ring(full.ring), cert.status, "kernel coordinate",
                                  labels, labels_flat[k], time.perf_counter() - start,
-                                 f"Prop. \"prop: even\" on {len(group.members)} bases solved together (monomials and "
+                                 f"Prop. \"prop: even\" on {_bases_text(len(group.members))} (monomials and "
                                  f"integrals of the continuous flow; {len(cert.steps)} steps)", certificate=cert))
     return out
+
+
+def _bases_text(count: int) -> str:
+    return "one basis" if count == 1 else f"{count} bases solved together"
