@@ -24,7 +24,7 @@ from hkproof.pipelines.discover.blackbox import KernelBlackBox
 from hkproof.pipelines.discover.screen import TangentOrbit
 
 __all__ = ["Candidate", "coordinate_gradients", "line_degrees", "modular_sampler", "normalizations",
-           "ratio_candidates", "recipe_b_mod_p"]
+           "ratio_candidates", "recipe_b_gradients", "recipe_b_mod_p"]
 
 
 @dataclass
@@ -49,33 +49,45 @@ class Candidate:
 
 def recipe_b_mod_p(orbit: TangentOrbit, basis: list[Exponents]) -> tuple[flint.nmod_mat, list[int]] | None:
     """(A, c) with A c = b: sum_k c_k phi_k(f^i x) = phi_l(f^i x), i = 0..l-2 (eq. "smaller system") mod p."""
-    p, l = orbit.p, len(basis)
-    a = flint.nmod_mat([[orbit.value(e, i) for e in basis[:-1]] for i in range(l - 1)], p)
-    b = flint.nmod_mat([[orbit.value(basis[-1], i)] for i in range(l - 1)], p)
+    l = len(basis)
+    return _solve_recipe_b([[orbit.value(e, i) for e in basis] for i in range(l - 1)], orbit.p)
+
+
+def _solve_recipe_b(values: list[list[int]], p: int) -> tuple[flint.nmod_mat, list[int]] | None:
+    """(A, c) from the values phi_k(f^i x), row i = 0..l-2, column k = 1..l: the last column is the right-hand side."""
+    a = flint.nmod_mat([row[:-1] for row in values], p)
+    b = flint.nmod_mat([[row[-1]] for row in values], p)
     try:
         c = a.solve(b)
     except ZeroDivisionError:
         return None
-    return a, [int(c[k, 0]) for k in range(l - 1)]
+    return a, [int(c[k, 0]) for k in range(len(values[0]) - 1)]
+
+
+def recipe_b_gradients(values: list[list[int]], gradient: Callable[[int, int], list[int]], p: int
+                       ) -> list[list[int]] | None:
+    """Gradients mod p of the coordinates c_1..c_(l-1) of recipe (B), from the values phi_k(f^i x) and the gradients
+    d/dx phi_k(f^i x) (`gradient(k, i)`, through the orbit's tangent maps): A dc = d(rhs) - sum_k c_k d(row_k)."""
+    solved = _solve_recipe_b(values, p)
+    if solved is None:
+        return None
+    a, cs = solved
+    l = len(values[0])
+    g = []
+    for i in range(l - 1):
+        row = gradient(l - 1, i)
+        for k, ck in enumerate(cs):
+            if ck:
+                row = [(r - ck * q) % p for r, q in zip(row, gradient(k, i), strict=True)]
+        g.append(row)
+    dc = a.solve(flint.nmod_mat(g, p))
+    return [[int(dc[k, j]) for j in range(dc.ncols())] for k in range(l - 1)]
 
 
 def coordinate_gradients(orbit: TangentOrbit, basis: list[Exponents]) -> list[list[int]] | None:
     """Gradients mod p of the kernel coordinates c_1..c_(l-1) of recipe (B), by the orbit's tangent maps."""
-    solved = recipe_b_mod_p(orbit, basis)
-    if solved is None:
-        return None
-    a, cs = solved
-    p = orbit.p
-    g = []
-    for i in range(len(basis) - 1):
-        row = orbit.gradient(basis[-1], i)
-        for ck, e in zip(cs, basis[:-1], strict=True):
-            if ck:
-                gk = orbit.gradient(e, i)
-                row = [(r - ck * q) % p for r, q in zip(row, gk, strict=True)]
-        g.append(row)
-    dc = a.solve(flint.nmod_mat(g, p))
-    return [[int(dc[k, j]) for j in range(dc.ncols())] for k in range(len(basis) - 1)]
+    values = [[orbit.value(e, i) for e in basis] for i in range(len(basis) - 1)]
+    return recipe_b_gradients(values, lambda k, i: orbit.gradient(basis[k], i), orbit.p)
 
 
 def ratio_candidates(orbit: TangentOrbit, basis: list[Exponents], j: int) -> list[Candidate]:

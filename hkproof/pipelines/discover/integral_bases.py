@@ -41,6 +41,7 @@ from hkproof.hk.reduced import Relation
 from hkproof.pipelines.discover.context import SearchContext
 from hkproof.pipelines.discover.report import FoundIntegral
 from hkproof.pipelines.discover.blackbox import KernelBlackBox
+from hkproof.pipelines.discover.candidates import recipe_b_gradients
 from hkproof.pipelines.discover.symbolic import BATCH, PRIME_BITS, _primes, _restored
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.export import prop_even_blocks_step, relation_data
@@ -216,31 +217,17 @@ def _occurs(monomial: Frac, circuit: Frac, phase: Sequence[int]) -> bool:
 
 def _coordinate_gradients(mod: _Modular, basis: Sequence[Frac], orbit: Sequence[Sequence[int]],
                           tangents: Sequence[flint.nmod_mat]) -> list[list[int]] | None:
-    """Gradients mod p of the coordinates a_k (sum_k a_k phi_k = phi_l on rows i = 0..l-2) by the tangent maps."""
-    p, l = mod.p, len(basis)
+    """Gradients mod p of the coordinates of recipe (B) for basis functions given as fractions (candidates'
+    `recipe_b_gradients`: grad phi at f^i(x), through the tangent map D(f^i)(x))."""
+    p, l, nphase = mod.p, len(basis), len(mod.phase)
     mods = [h.mod_p(p) for h in basis]
-    vals = [[int(mods[k](mod.ring_point(orbit[i])) or 0) for k in range(l)] for i in range(l - 1)]
-    a = flint.nmod_mat([row[:-1] for row in vals], p)
-    try:
-        coeffs = a.solve(flint.nmod_mat([[row[-1]] for row in vals], p))
-    except ZeroDivisionError:
-        return None
-    cs = [int(coeffs[k, 0]) for k in range(l - 1)]
-    nphase = len(mod.phase)
+    values = [[int(mods[k](mod.ring_point(orbit[i])) or 0) for k in range(l)] for i in range(l - 1)]
 
-    def grad(k: int, i: int) -> list[int]:
+    def gradient(k: int, i: int) -> list[int]:
         g = mods[k].gradient(mod.ring_point(orbit[i]), mod.phase) or [0] * nphase
-        t = tangents[i]
-        return [sum(g[r] * int(t[r, c]) for r in range(nphase)) % p for c in range(nphase)]
-    rhs = []
-    for i in range(l - 1):
-        row = grad(l - 1, i)
-        for k in range(l - 1):
-            if cs[k]:
-                row = [(r - cs[k] * q) % p for r, q in zip(row, grad(k, i), strict=True)]
-        rhs.append(row)
-    d = a.solve(flint.nmod_mat(rhs, p))
-    return [[int(d[k, c]) for c in range(nphase)] for k in range(l - 1)]
+        row = flint.nmod_mat([g], p) * tangents[i]
+        return [int(row[0, c]) for c in range(nphase)]
+    return recipe_b_gradients(values, gradient, p)
 
 
 Member = tuple[int, int]      # (basis index, the index of its normalized function)
