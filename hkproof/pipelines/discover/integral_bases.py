@@ -256,12 +256,11 @@ class Group:
         return sum(len(self.bases[b].functions) - 1 for b, _ in self.members)
 
 
-def _kernel_vector(mod: _Modular, basis: Sequence[Frac], x: Sequence[int]) -> list[int] | None:
-    """The kernel vector of recipe (B)'s rows i = 0..l-2 at x mod p (None where it is not one-dimensional)."""
+def _kernel_vector(mod: _Modular, basis: Sequence[Frac], orbit: Sequence[Sequence[int]]) -> list[int] | None:
+    """The kernel vector of recipe (B)'s rows i = 0..l-2 on an orbit mod p (None where it is not one-dimensional)."""
     try:
-        orbit = mod.map.orbit(list(x), len(basis) - 2)
         rows = mod.table(basis, orbit[:len(basis) - 1])
-    except (UnluckyPrimeError, ZeroDivisionError, HKProofError):
+    except HKProofError:
         return None
     kernel = kernel_mod_p(rows, mod.p)
     return kernel[0] if len(kernel) == 1 else None
@@ -274,9 +273,10 @@ class _Sampler:
     def __init__(self, mod: _Modular, bases: Sequence[IntegralBasis], count: int, rng: random.Random):
         self.mod, self.bases = mod, list(bases)
         self.vectors: list[list[list[int]]] = []
+        steps = max(len(b.functions) for b in self.bases) - 2
         while len(self.vectors) < count:
-            x = [rng.randrange(1, mod.p) for _ in mod.phase]
-            vs = [_kernel_vector(mod, b.functions, x) for b in self.bases]
+            orbit = mod.random_orbit(rng, steps)         # one orbit per point serves every basis
+            vs = [_kernel_vector(mod, b.functions, orbit) for b in self.bases]
             if all(v is not None for v in vs):
                 self.vectors.append(vs)            # type: ignore[arg-type]
         orbit = mod.random_orbit(rng, 1)
