@@ -26,6 +26,7 @@ from typing import Sequence
 
 import flint
 
+from hkproof import budget
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.functional_reconstruction import reconstruct_rational
 from hkproof.algebra.linalg import cramer, lcm
@@ -55,6 +56,7 @@ MAX_GROUP = 4        # bases solved together
 MAX_CIRCUITS = 16    # integral circuits tried (smallest support first)
 STARTS = 6           # bases (with each normalization) a group may start from
 SAMPLES_SPARE = 12   # sample points beyond the number of unknowns when relations are sought mod p
+SAMPLE_TRIES = 4     # random orbits tried per sample point wanted (a basis may be singular at some points)
 Weight = list[flint.fmpq]
 
 
@@ -274,11 +276,17 @@ class _Sampler:
         self.mod, self.bases = mod, list(bases)
         self.vectors: list[list[list[int]]] = []
         steps = max(len(b.functions) for b in self.bases) - 2
-        while len(self.vectors) < count:
+        for _ in range(SAMPLE_TRIES * count):
+            budget.check("sampling the coordinates of bases with integrals of the flow")
             orbit = mod.random_orbit(rng, steps)         # one orbit per point serves every basis
             vs = [_kernel_vector(mod, b.functions, orbit) for b in self.bases]
             if all(v is not None for v in vs):
                 self.vectors.append(vs)            # type: ignore[arg-type]
+                if len(self.vectors) == count:
+                    break
+        else:
+            raise HKProofError(f"fewer than {count} of {SAMPLE_TRIES * count} random orbits mod {mod.p} give every "
+                               "basis a one-dimensional kernel")
         orbit = mod.random_orbit(rng, 1)
         self.rows = [mod.table(b.functions, orbit) for b in self.bases]
 
