@@ -7,8 +7,9 @@ it rebuilds the Kahan map (and its equations, and det Df) from the field's right
 and every identity it reports as verified is an exact polynomial identity it computed. Step kinds: substitution
 (h o f = h), prop-even (Prop. "prop: even", one basis or several solved together), darboux (P o f = K P; integrals
 and invariant densities from Darboux polynomials; a cofactor "det Df" is computed here), recipe-g
-(D delta = sum lambda_i E_i) and degrees (deg f^n by exact iterates). What it cannot check, it refuses (malformed,
-exit 2).
+(D delta = sum lambda_i E_i), degrees (deg f^n by exact iterates) and reparametrization (integrals of another
+field carried by a substitution of its parameters that sends its right-hand sides to this field's). What it cannot
+check, it refuses (malformed, exit 2).
 
     verified   every step's identities hold exactly, and every claimed integral and density is concluded by a step
     refuted    a stated identity is false (h o f != h, a row not satisfied, a component not even, det = 0 at the point,
@@ -32,8 +33,8 @@ from hkproof.errors import CertificateError, HKProofError
 
 __all__ = ["check_document", "check_file", "CheckReport", "KahanData", "MAX_BYTES"]
 
-FORMAT, VERSIONS, CONVENTION = "hkproof-certificate", (1, 2, 3, 4), "eps = h/2"   # 2: darboux, recipe-g; 3: degrees;
-# 4: prop-even with blocks (several bases solved together)
+FORMAT, VERSIONS, CONVENTION = "hkproof-certificate", (1, 2, 3, 4, 5), "eps = h/2"   # 2: darboux, recipe-g;
+# 3: degrees; 4: prop-even with blocks (several bases solved together); 5: reparametrization
 EPS = "eps"
 DET_DF = "det Df"      # a darboux step's cofactor written as the Jacobian determinant the checker computes itself
 MAX_BYTES = 200_000_000
@@ -130,15 +131,23 @@ def _check(doc: Any, report: CheckReport) -> None:
         if key not in fields:
             raise CertificateError(f"{where}: no field {key!r} in 'fields'")
         kind = _get(step, "kind", str, where)
-        if kind not in _STEPS:
+        if kind not in _KINDS:
             raise CertificateError(f"{where}: cannot check this step kind {kind!r} (this checker knows "
-                                   f"{', '.join(sorted(_STEPS))})")
+                                   f"{', '.join(sorted(_KINDS))})")
         if "densities" in step and kind != "darboux":
             raise CertificateError(f"{where}: only a darboux step concludes densities")
         f = fields[key]
-        local = _STEPS[kind](f, step, {n: v for n, (g, v) in proven.items() if g == key}, where)
+        if kind == "reparametrization":
+            source = _get(step, "source", str, where)
+            if source not in fields or source == key:
+                raise CertificateError(f"{where}: the source {source!r} must be another field of 'fields'")
+            local = _reparametrization(f, fields[source], step, {n: v for n, (g, v) in proven.items() if g == source},
+                                       where)
+        else:
+            local = _STEPS[kind](f, step, {n: v for n, (g, v) in proven.items() if g == key}, where)
         for entry in _get(step, "integrals", list, where):
-            name, value = _conclude(f, entry, local, {**proven, **dict.fromkeys(densities)}, where)
+            name, value = _conclude(f, entry, local, {**proven, **dict.fromkeys(densities)}, where,
+                                    optional=kind == "reparametrization")
             proven[name] = (key, value)
         for entry in step.get("densities", []):
             name, _ = _conclude(f, entry, local, {**proven, **dict.fromkeys(densities)}, where)
@@ -155,13 +164,15 @@ def _check(doc: Any, report: CheckReport) -> None:
 
 
 def _conclude(f: KahanData, entry: Any, local: Mapping[str, Frac], proven: Mapping[str, object],
-              where: str) -> tuple[str, Frac]:
+              where: str, optional: bool = False) -> tuple[str, Frac]:
     """An integral (or density) concluded by a step: `from`, a formula in the step's proven quantities (and eps,
-    parameters), must equal `formula` exactly."""
+    parameters), must equal `formula` exactly; where `optional`, a missing formula means the value of `from`."""
     name = check_name(_get(entry, "name", str, where), "integral name")
     if name in proven or name in f.ring.names:
         raise CertificateError(f"{where}: the integral name {name!r} is already taken")
     value = f.parse_in(_get(entry, "from", str, where), local, where)
+    if optional and isinstance(entry, dict) and "formula" not in entry:
+        return name, value
     formula = f.parse(_get(entry, "formula", str, where), where)
     if value != formula:
         raise _Refutation(f"{where}: {name} = {entry['from']} is not the stated formula")
@@ -381,6 +392,40 @@ def _prop_even(f: KahanData, step: Any, known: Mapping[str, Frac], where: str) -
     return dict(zip(names, solution, strict=True))
 
 
+def _reparametrization(f: KahanData, source: KahanData, step: Any, known: Mapping[str, Frac],
+                       where: str) -> dict[str, Frac]:
+    """Integrals of the source field carried to this field by sigma: b -> b(a), the source parameters as polynomials
+    with integer coefficients in this field's parameters (x and eps fixed). If the images are algebraically
+    independent (a Jacobian of full rank at a rational point) sigma is an embedding of Q(x, eps, b) into Q(x, eps, a);
+    if it sends every source right-hand side to this field's, it sends the source's Kahan map to this one (Cramer's
+    rule commutes with it), so it sends each identity I(f(x)) = I(x) to sigma(I)(f(x)) = sigma(I)(x)."""
+    if source.variables != f.variables:
+        raise CertificateError(f"{where}: the source field has the variables {source.variables}, not {f.variables}")
+    images_text = _get(step, "parameters", dict, where)
+    if sorted(images_text) != sorted(source.parameters):
+        raise CertificateError(f"{where}: 'parameters' must give an image for each source parameter "
+                               f"{source.parameters}")
+    images = {b: f.parse(_get(images_text, b, str, where), where) for b in source.parameters}
+    for b, image in images.items():
+        if not image.den.is_one() or image.variables() - set(f.parameters):
+            raise CertificateError(f"{where}: the image of {b}, {image}, must be a polynomial with integer "
+                                   "coefficients in the parameters")
+    if images and not any(flint.fmpq_mat([[_at(images[b].derivative(a), point) for a in f.parameters]
+                                          for b in source.parameters]).rank() == len(images)
+                          for point in _trial_points(f)):
+        raise CertificateError(f"{where}: the images of the source parameters are not independent (Jacobian rank)")
+    sigma = {b: image.num for b, image in images.items()}
+    for v, g, h in zip(f.variables, source._rhs, f._rhs, strict=True):
+        if g.substitute(sigma, f.ring) != h:
+            raise _Refutation(f"{where}: the substitution does not carry the source's {v}' = {g} to {v}' = {h}")
+    return {n: h.substitute(sigma, f.ring) for n, h in known.items()}
+
+
+def _trial_points(f: KahanData) -> list[dict[str, flint.fmpq]]:
+    """A few rational points fixing every name of the field's ring."""
+    return [{n: flint.fmpq(k + j, 2 * j + 3) for j, n in enumerate(f.ring.names)} for k in range(1, 9)]
+
+
 def _at(q: Frac, point: Mapping[str, flint.fmpq]) -> flint.fmpq:
     try:
         return q.evaluate(point)
@@ -473,8 +518,7 @@ def _recipe_g(f: KahanData, step: Any, known: Mapping[str, Frac], where: str) ->
 
 def _nonzero_on_image(f: KahanData, q: Frac) -> bool:
     """q(f(x)) != 0 at one of a few rational points (which proves q o f is not identically 0)."""
-    for k in range(1, 9):
-        point = {n: flint.fmpq(k + j, 2 * j + 3) for j, n in enumerate(f.ring.names)}
+    for point in _trial_points(f):
         delta = Frac(f.ring, f.delta).evaluate(point)
         if delta != 0:
             image = {v: Frac(f.ring, n).evaluate(point) / delta for v, n in zip(f.variables, f.nums, strict=True)}
@@ -485,3 +529,4 @@ def _nonzero_on_image(f: KahanData, q: Frac) -> bool:
 
 _STEPS = {"substitution": _substitution, "prop-even": _prop_even, "darboux": _darboux, "recipe-g": _recipe_g,
           "degrees": _degrees}
+_KINDS = (*_STEPS, "reparametrization")      # a reparametrization step reads two fields (_reparametrization)

@@ -6,7 +6,7 @@ from pathlib import Path
 from typing import Sequence
 
 from hkproof.algebra.printing import to_json
-from hkproof.algebra.formula import tokens
+from hkproof.algebra.formula import LIMITS, tokens
 from hkproof.algebra.fraction import Frac
 from hkproof.checker import DET_DF
 from hkproof.commands.report import writable_target, write_atomically
@@ -17,7 +17,7 @@ from hkproof.hk.modified_hamiltonian import ModifiedHamiltonianResult
 from hkproof.pipelines.darboux import DarbouxSearch
 from hkproof.pipelines.discover.report import DiscoveryReport, FoundIntegral
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.export import Conclusion, darboux_step, document, substitution_step
+from hkproof.proof.export import Conclusion, darboux_step, document, field_data, substitution_step
 from hkproof.proof.status import Status
 
 
@@ -83,12 +83,15 @@ def _with_cited_integrals(step: dict, claim_id: str, cited: dict[tuple[str, str]
 
 def discover_document(report: DiscoveryReport) -> dict:
     """The steps that proved each verified integral of `discover`: its substitution, or the Prop. "prop: even" step
-    of its basis with the integral concluded as c_a / c_b (the coordinates, the normalized one -1)."""
+    of its basis with the integral concluded as c_a / c_b (the coordinates, the normalized one -1); after a search on
+    the slice of a parameter translation, these steps speak of the slice and one reparametrization step carries
+    their integrals to the system (the claim names those)."""
     steps: list[dict] = []
     seen: dict[int, dict] = {}
+    concluded: list[tuple[FoundIntegral, str]] = []         # (integral, its name in the step that concludes it)
     for found in report.verified:
-        cert = found.certificate
-        if cert is None or found.frac is None or not cert.checks:
+        cert, value = found.certificate, _searched(found)
+        if cert is None or value is None or not cert.checks:
             continue
         if id(cert) not in seen:
             fresh = [dict(s) for s in cert.checks]
@@ -99,28 +102,55 @@ def discover_document(report: DiscoveryReport) -> dict:
             steps += fresh
         step = seen[id(cert)]
         if step["kind"] == "prop-even":
-            ratio = _as_ratio(found, cert, step["names"])
+            ratio = _as_ratio(value, cert, step["names"])
             if ratio is not None:
-                step["integrals"].append({"name": found.name, "formula": str(found.frac), "from": ratio})
-    return document(f"integrals of the Kahan map of {report.system}",
-                    f"the integrals {', '.join(i for s in steps for i in (e['name'] for e in s['integrals']))} are "
-                    f"integrals of the Kahan map of {report.system}", steps, report.fixed)
+                step["integrals"].append({"name": found.name, "formula": str(value), "from": ratio})
+                concluded.append((found, found.name))
+        else:
+            concluded += [(found, e["name"]) for e in step["integrals"] if e["formula"] == str(value)]
+    where = report.on_slice
+    if where is not None and concluded:
+        ring = where.field.ring
+        steps.append({"kind": "reparametrization", "field": field_data(where.field),
+                      "source": field_data(where.searched),
+                      "parameters": {b: str(image) for b, image in where.images(ring).items()},
+                      "identity": "sigma(F_slice) = F: sigma sends each integral of the slice's Kahan map to one of "
+                                  "this map",
+                      "integrals": [_lifted(f, name) for f, name in concluded]})
+    doc = document(f"integrals of the Kahan map of {report.system}", "", steps, report.fixed)
+    final = [e["name"] for e in doc["steps"][-1]["integrals"]] if where is not None and concluded else \
+        doc["claim"]["integrals"]
+    doc["claim"]["integrals"] = final
+    doc["claim"]["statement"] = f"the integrals {', '.join(final)} are integrals of the Kahan map of {report.system}" \
+        + (f" ({where.describe()}; the steps before the last prove them on the slice)" if where is not None else "")
+    return doc
 
 
-def _as_ratio(found: FoundIntegral, cert: Certificate, names: Sequence[str]) -> str | None:
+def _lifted(found: FoundIntegral, name: str) -> dict:
+    """A reparametrization step's conclusion: the lifted formula, unless it is longer than a formula may be (the
+    value is then sigma of the slice's integral, which the step defines exactly)."""
+    text = str(found.frac)
+    return {"name": found.name, "from": name, **({"formula": text} if len(text) <= LIMITS.length else {})}
+
+
+def _searched(found: FoundIntegral) -> Frac | None:
+    """The integral as its proof steps speak of it: on the slice when the search ran on one."""
+    return found.searched if found.searched is not None else found.frac
+
+
+def _as_ratio(value: Frac, cert: Certificate, names: Sequence[str]) -> str | None:
     """'c2', '(c2)/(c1)', '(c2)/(-1)' or '(-1)/(c1)': the coordinate or quotient of two coordinates (c_l = -1) that
-    equals the integral, if any."""
-    assert found.frac is not None
+    equals the integral `value`, if any."""
     values = [(n, cert.values[n]) for n in names if n in cert.values]
-    if len(values) != len(names) or values[0][1].ring != found.frac.ring:
+    if len(values) != len(names) or values[0][1].ring != value.ring:
         return None
     for name, a in values:
-        if a == found.frac:
+        if a == value:
             return name
-    one = Frac(found.frac.ring, -1)
+    one = Frac(value.ring, -1)
     for top, a in [*values, ("-1", one)]:
         for bottom, b in [*values, ("-1", one)]:
-            if top != bottom and not b.is_zero() and a / b == found.frac:
+            if top != bottom and not b.is_zero() and a / b == value:
                 return f"({top})/({bottom})"
     return None
 

@@ -3,6 +3,7 @@ a reduced HK system on the slice w_pivot = 0 and lift the result, so that every 
 variable fewer in the work."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Mapping, Sequence
 
@@ -10,14 +11,17 @@ import flint
 
 from hkproof.algebra.formula import tokens
 from hkproof.algebra.fraction import Frac, normalize_sign
+from hkproof.algebra.linalg import nullspace_q
 from hkproof.algebra.ring import Rational, Ring
 from hkproof.dynamics.catalogue import kahan_map
+from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
 from hkproof.hk.reduced import Relation, check_solution, prove_by_evenness, verify_by_evenness
 from hkproof.proof.certificate import Certificate, StepRecorder
 
-__all__ = ["check_solution_on_slice", "ParameterTranslation", "prove_on_slice", "slice_decides", "verify_on_slice"]
+__all__ = ["check_solution_on_slice", "field_translations", "lift_through", "ParameterTranslation", "prove_on_slice",
+           "slice_decides", "verify_on_slice"]
 
 
 @dataclass(frozen=True)
@@ -88,6 +92,59 @@ class ParameterTranslation:
     def slice_map(self, kmap: KahanMap) -> KahanMap:
         """The Kahan map of the field with w_pivot = 0."""
         return kahan_map(kmap.field.specialize({self.pivot: 0}))
+
+    def field_is_invariant(self, field: QuadraticField) -> bool:
+        """Every right-hand side is invariant (exact); then so is the Kahan map, built from them by Cramer's rule."""
+        return all(self.is_invariant(f) for f in field.rhs)
+
+
+def field_translations(field: QuadraticField) -> list[ParameterTranslation]:
+    """Constant translations of the parameters leaving the field invariant, one per slice: the kernel of
+    c -> sum_j c_j dF/da_j over Q (exact), a direction with an entry +-1 taken as a shift with that pivot, then the
+    same on the slice a_pivot = 0, until no direction is left. A direction with no entry +-1 (after making it a
+    primitive integer vector) is not used: the lift n -> n - c_n a_pivot would not have integer coefficients."""
+    out: list[ParameterTranslation] = []
+    while field.parameters:
+        shift = _first_translation(field)
+        if shift is None:
+            break
+        out.append(shift)
+        field = field.specialize({shift.pivot: 0})
+    return out
+
+
+def _first_translation(field: QuadraticField) -> ParameterTranslation | None:
+    """One direction of the kernel of c -> D_c F, as a shift whose pivot is the last parameter with entry +-1."""
+    params = field.parameters
+    rows: dict[tuple[int, tuple[int, ...]], list[flint.fmpq]] = {}
+    for i, f in enumerate(field.rhs):
+        for j, a in enumerate(params):
+            d = f.derivative(a)
+            for m, coefficient in (d.num * (f.den ** 2 / d.den)).to_dict().items():
+                rows.setdefault((i, m), [flint.fmpq(0)] * len(params))[j] += coefficient
+    for direction in nullspace_q(list(rows.values())) if rows else [[flint.fmpq(1)] * len(params)]:
+        scale = math.lcm(*(int(x.q) for x in direction))
+        ints = [int(x * scale) for x in direction]
+        units = [j for j, c in enumerate(ints) if abs(c) == 1]
+        if units:
+            pivot = units[-1]
+            ints = [c * ints[pivot] for c in ints]
+            names = tuple(a for a, c in zip(params, ints, strict=True) if c == 1)
+            velocity = tuple((a, str(c)) for a, c in zip(params, ints, strict=True) if c not in (0, 1))
+            shift = ParameterTranslation(names, params[pivot], velocity)
+            if shift.field_is_invariant(field):
+                return shift
+    return None
+
+
+def lift_through(shifts: Sequence[ParameterTranslation], h: Frac, ring: Ring) -> Frac:
+    """The invariant function of `ring` whose restriction to the slices of `shifts` (applied in order) is h."""
+    rings = [ring]
+    for shift in shifts[:-1]:
+        rings.append(shift.slice_ring(rings[-1]))
+    for shift, target in zip(reversed(shifts), reversed(rings), strict=True):
+        h = shift.lift(h, target)
+    return h
 
 
 def verify_on_slice(cert: Certificate, kmap: KahanMap, shift: ParameterTranslation, basis: Sequence[Frac],

@@ -19,7 +19,8 @@ __all__ = ["CONVENTION", "Conclusion", "darboux_step", "degrees_step", "document
            "prop_even_blocks_step", "prop_even_step", "recipe_g_step", "relation_data", "substitution_step", "VERSION"]
 
 FORMAT = "hkproof-certificate"
-VERSION = 4                   # 2: darboux, recipe-g, densities; 3: degrees, cofactor "det Df"; 4: prop-even blocks
+VERSION = 5                   # 2: darboux, recipe-g, densities; 3: degrees, cofactor "det Df"; 4: prop-even blocks;
+# 5: reparametrization
 Conclusion = tuple[str, Frac, str]      # (name, value, the value written in the step's own names)
 CONVENTION = "eps = h/2"      # x~ - x = 2 eps F(x, x~): hkproof's eps is half the time step h
 
@@ -114,13 +115,17 @@ def document(title: str, statement: str, steps: Sequence[dict], fixed: Mapping[s
     fields: dict[str, dict] = {}
     out: list[dict] = []
     taken: set[str] = set()
-    for step in [*steps, *(s for c in certificates for s in c.checks)]:
-        step = dict(step)
-        data = step.pop("field")
+    def keyed(data: dict) -> str:
         key = next((k for k, v in fields.items() if v == data), None)
         if key is None:
             key = _fresh(data["name"], fields)
             fields[key] = data
+        return key
+    for step in [*steps, *(s for c in certificates for s in c.checks)]:
+        step = dict(step)
+        key = keyed(step.pop("field"))
+        if "source" in step:                   # a reparametrization step reads the integrals of another field
+            step["source"] = keyed(step["source"])
         for kind in ("integrals", "densities"):
             if kind in step or kind == "integrals":
                 step[kind] = [{**e, "name": _fresh(e["name"], taken)} for e in step.get(kind, [])]

@@ -16,6 +16,7 @@ from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 
 if TYPE_CHECKING:
+    from hkproof.pipelines.discover.slices import Slice
     from hkproof.pipelines.discover.solve import BasisProof
 
 __all__ = ["DiscoveryReport", "FoundIntegral", "SKIPPED_SHOWN"]
@@ -39,6 +40,7 @@ class FoundIntegral:
     independent: bool | None = None
     certificate: Certificate | None = None       # the proof (for a basis proven whole, the basis's certificate)
     proof: BasisProof | None = field(default=None, repr=False, compare=False)   # the basis's data (Prop. "prop: even")
+    searched: Frac | None = field(default=None, repr=False, compare=False)     # the integral on the slice, if lifted
 
     def latex(self) -> str:
         if self.frac is None:
@@ -74,6 +76,7 @@ class DiscoveryReport:
     stages: dict[str, float] = field(default_factory=dict)
     probes: list[dict] = field(default_factory=list)
     started: float = field(default_factory=time.perf_counter)
+    on_slice: Slice | None = field(default=None, repr=False)     # searched on the slice of parameter translations
 
     @property
     def independent(self) -> int:
@@ -92,12 +95,15 @@ class DiscoveryReport:
                 "skipped": self.skipped[:SKIPPED_SHOWN], "skipped_total": len(self.skipped),
                 "negative_result": self.negative or None, "covered": self.covered, "complete": self.complete,
                 "stages": {k: round(v, 3) for k, v in self.stages.items()}, "probes": self.probes,
+                "slice": None if self.on_slice is None else self.on_slice.describe(),
                 "seconds": round(time.perf_counter() - self.started, 3)}
 
     def text(self) -> str:
         """The integrals with their status, the kernels, the bases and what the search covered."""
         fixed = f" at {', '.join(f'{k}={v}' for k, v in self.fixed.items())}" if self.fixed else ""
         lines = [f"discover {self.system}{fixed}: monomials of degree <= {self.degree} in {', '.join(self.variables)}"]
+        if self.on_slice is not None:
+            lines.append(f"  {self.on_slice.describe()}")
         for k in self.kernels:
             lines.append(f"  degree {k['degree']}: {k['monomials']} monomials, kernel dimension {k['dimension']} "
                          f"({k['trivial']} trivial, {k['new']} new)")

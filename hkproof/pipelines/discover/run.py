@@ -1,5 +1,7 @@
 """`discover`: from a quadratic field to certified integrals, by the paper's method run end to end.
 
+0. Slice (slices): a translation of the parameters that leaves the field invariant lets the search run with
+   a_pivot = 0; what it finds is lifted at the end (one parameter fewer in every reconstruction).
 1. Screening (hkproof.pipelines.discover.screen): algorithm (N) mod p on all monomials of degree <= D.
 2. Minimal HK-bases (bases, circuits): the circuits of the new part of each kernel.
 3. Candidates (candidates): which kernel coordinates carry independent integrals, by gradients mod p.
@@ -33,6 +35,7 @@ from hkproof.pipelines.discover.integral_bases import prove_with_integral_bases
 from hkproof.pipelines.discover.reconstruct import reconstruct_candidates
 from hkproof.pipelines.discover.report import DiscoveryReport, FoundIntegral
 from hkproof.pipelines.discover.screen import screen, without_conserved
+from hkproof.pipelines.discover.slices import Slice, lift_integrals
 from hkproof.pipelines.stages import Progress, Stages
 from hkproof.proof.status import Status
 
@@ -45,10 +48,11 @@ INTEGRAL_BASIS_ROUNDS = 2    # groups of bases with integrals of the flow proven
 
 def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[str, Rational] | None = None,
              budget: Budget | None = None, seed: int = 0, progress: Progress | None = None, max_degree: int = 16,
-             max_unknowns: int = 2500, mapper: Mapper | None = None) -> DiscoveryReport:
+             max_unknowns: int = 2500, mapper: Mapper | None = None, translations: bool = True) -> DiscoveryReport:
     """Integrals of the Kahan map of `system` whose HK-bases are monomials of degree <= `degree`, certified; when the
     budget runs out, the report says what was covered ("complete": false). `mapper` runs the batches of probes of
-    the sparse reconstruction (e.g. on a process pool); the result does not depend on it."""
+    the sparse reconstruction (e.g. on a process pool); the result does not depend on it. `translations=False`
+    searches with every parameter instead of on the slice of the field's parameter translations (a comparison)."""
     if not 1 <= degree <= MAX_SEARCH_DEGREE:
         raise ParseError(f"the degree of the basis monomials must be between 1 and {MAX_SEARCH_DEGREE}, got {degree}")
     base = get_system(system) if isinstance(system, str) else system
@@ -62,18 +66,23 @@ def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[s
     stages = Stages("discover", progress)
     stages.started = report.started
     budget = budget or Budget(None)
-    full_map = kahan_map(original)
-    field, conserved = without_conserved(original)
+    where = Slice.of(original) if translations else Slice(original, original, ())
+    if where.shifts:
+        report.on_slice = where
+        report.covered.append(where.describe())
+    full_map = kahan_map(where.searched)
+    field, conserved = without_conserved(where.searched)
     kmap = kahan_map(field)
     ctx = SearchContext.for_maps(kmap, full_map, fixed=fixed, seed=seed, budget=budget, stages=stages,
                                  max_degree=max_degree, max_unknowns=max_unknowns, mapper=mapper)
     with budget.active():
-        _run(ctx, report, conserved)
+        _run(ctx, report, conserved, kahan_map(original) if where.shifts else full_map)
     return report
 
 
-def _run(ctx: SearchContext, report: DiscoveryReport, conserved: list[str]) -> None:
-    """The stages of discover, stopped cleanly by a limit (the report says what was covered)."""
+def _run(ctx: SearchContext, report: DiscoveryReport, conserved: list[str], target: KahanMap) -> None:
+    """The stages of discover, stopped cleanly by a limit (the report says what was covered); the integrals are
+    lifted from the slice (if the search ran on one) to `target`, the map of the system asked for."""
     try:
         report.integrals += _conserved(ctx.full_map, conserved, ctx.fixed)
         report.conserved += conserved
@@ -85,7 +94,9 @@ def _run(ctx: SearchContext, report: DiscoveryReport, conserved: list[str]) -> N
         report.complete = False
         report.covered.append(str(exc))
     finally:
-        _independence(report, ctx.full_map, ctx.stages)
+        if report.on_slice is not None:
+            lift_integrals(report, report.on_slice, target, ctx.stages)
+        _independence(report, target, ctx.stages)
         ctx.stages.stop()
         report.stages = ctx.stages.seconds
 
