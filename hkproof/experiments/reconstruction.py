@@ -20,18 +20,18 @@ import flint
 from hkproof import budget
 from hkproof.algebra.sampling import random_rational
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.modular import kernel_mod_p, residue_or_none
+from hkproof.algebra.modular import kernel_mod_p
 from hkproof.algebra.monomials import count_upto, exponents_upto, value
+from hkproof.algebra.multimodular_kernel import one_kernel_vector
 from hkproof.algebra.ring import Ring
 from hkproof.experiments.arithmetics import integer_rows
 
-__all__ = ["dense_size", "line_degrees", "Point", "PRIME", "reconstruct_rational", "Reconstruction", "Sampler",
+__all__ = ["dense_size", "line_degrees", "Point", "reconstruct_rational", "Reconstruction", "Sampler",
            "univariate_degrees"]
 
 Point = dict[str, flint.fmpq]
 # sample(outer values, inner points) -> the function's value at each point (None where it is undefined)
 Sampler = Callable[[Point, list[Point]], list["flint.fmpq | None"]]
-PRIME = 2**61 - 1
 
 
 @dataclass
@@ -159,12 +159,10 @@ def reconstruct_rational(ring: Ring, outer: Sequence[str], inner: Sequence[str],
     pvals = ([value(m, pt) for m in p_monos] for pt, _ in samples.rows)
     rows = [[h * v for v in qv] + [-v for v in pv] for h, qv, pv in zip(hs, vals, pvals, strict=True)]
     result.samples = len(samples.rows)
-    if not _has_kernel_mod_p(rows):
-        result.notes.append(f"no P/Q with degrees <= {degrees} fits the samples (rank mod p)")
-        return result
     vec = _integer_kernel_vector(rows)
     if vec is None:
-        result.notes.append(f"the ansatz with degrees <= {degrees} has no one-dimensional kernel")
+        result.notes.append(f"no P/Q with degrees <= {degrees} fits the samples: the ansatz has no one-dimensional "
+                            "kernel (kernels mod primes)")
         return result
     h = Frac(ring, _poly(ring, names, p_monos, vec[len(q_monos):]), _poly(ring, names, q_monos, vec[:len(q_monos)]))
     fresh = _Samples(sample, outer, inner, random.Random(seed + 7919), size)
@@ -177,24 +175,10 @@ def reconstruct_rational(ring: Ring, outer: Sequence[str], inner: Sequence[str],
     return result
 
 
-def _has_kernel_mod_p(rows: list[list[flint.fmpq]]) -> bool:
-    """False only when the matrix has full column rank mod p (then also over Q)."""
-    red: list[list[int]] = []
-    for row in rows:
-        r = [residue_or_none(v, PRIME) for v in row]
-        if any(v is None for v in r):
-            return True
-        red.append([v for v in r if v is not None])
-    m = flint.nmod_mat(red, PRIME)
-    return m.rank() < m.ncols()
-
-
 def _integer_kernel_vector(rows: list[list[flint.fmpq]]) -> list[flint.fmpz] | None:
-    """The one kernel vector over Q (fraction-free), or None when the kernel is not 1-dimensional."""
-    x, nullity = integer_rows(rows).nullspace()
-    if nullity != 1:
-        return None
-    return [x[i, 0] for i in range(x.nrows())]
+    """The one kernel vector over Q (integer, by kernels mod primes and an exact check), or None when the kernel is
+    not one-dimensional (hkproof.algebra.multimodular_kernel: the budget can stop it between primes)."""
+    return one_kernel_vector(integer_rows(rows), random.Random(len(rows)))
 
 
 def _exact_kernel_vector(vals: list[list[flint.fmpq]], hs: list[flint.fmpq]) -> list[flint.fmpz] | None:
