@@ -149,9 +149,10 @@ _register(Entry("lagrange-top", 2, (), 4), "Lagrange top",
 # the Manakov flow itself is searched in its chart so(3) + so(3) (below), where discover proves all 4
 _A_FIXED = (("a1", "1"), ("a2", "2"), ("a3", "3"), ("a4", "5"))
 _register(Entry("so4-euler-top-flow2", 2, _A_FIXED, 4, seconds=900.0), "Euler top on so(4), commuting Manakov flow",
-          "The orbits lie on 4 quadrics (kernel of the 28 quadratic monomials) whose coordinates carry 4 independent "
-          "integrals, what Liouville integrability needs (2 Casimirs + 2); one of them, a ratio of quadrics, is "
-          "reconstructed and proven", 1, "0,4", 4, slow=True)
+          "The Kahan map has 4 functionally independent rational integrals proven, what Liouville integrability "
+          "needs (2 Casimirs + 2): a ratio of quadrics by sparse reconstruction and substitution, and three from "
+          "three bases of monomials and integrals of the continuous flow solved together (Prop. \"prop: even\" on "
+          "the block system)", 4, "0,4", 4, slow=True)
 _SPLIT = Entry("so4-euler-top-split", 2, (), 4, seconds=900.0)
 _register(_SPLIT, "Euler top on so(4), Manakov case, in the chart so(3) + so(3)",
           "The Kahan map has 4 functionally independent rational integrals proven with b1, b2, b3 symbolic, what "
