@@ -86,6 +86,20 @@ def test_discover_certificate_round_trip(capsys, tmp_path):
     assert run(capsys, "check", str(target))[0] == 0
 
 
+def test_a_discover_certificate_with_a_conserved_coordinate_verifies(capsys, tmp_path):
+    """lagrange-top (m3' = 0): the conserved coordinate is concluded as conserved_m3 (not as the variable's name), the
+    bases proven with m3 as a parameter are checked on the field itself, their relations citing m3 as that integral;
+    all four integrals verify, and without the step proving conserved_m3 the file is malformed."""
+    target = tmp_path / "lagrange.json"
+    assert run(capsys, "discover", "lagrange-top", "--no-progress", "--certificate", str(target))[0] == 0
+    doc = json.loads(target.read_text())
+    assert doc["claim"]["integrals"][0] == "conserved_m3" and len(doc["claim"]["integrals"]) == 4
+    assert len(doc["fields"]) == 1
+    assert any("conserved_m3" in r["uses"] for s in doc["steps"] for r in s.get("relations", []))
+    assert run(capsys, "check", str(target))[0] == 0
+    assert check_document(_mutated(doc, lambda d: d["steps"].pop(0))).verdict == "malformed"
+
+
 def test_theorem_certificates_verify(theorems, capsys, tmp_path):
     assert [s["kind"] for s in theorems["steps"]] == ["prop-even"] * 3
     assert verdict(theorems) == "verified"

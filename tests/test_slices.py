@@ -76,7 +76,8 @@ def test_the_reparametrization_certificate_verifies(gyrostat_doc):
     last = doc["steps"][-1]
     assert doc["version"] == 5 and last["kind"] == "reparametrization" and last["source"] != last["field"]
     assert last["parameters"] == {"a1": "a1 - a3", "a2": "a2 - a3", "b1": "b1"}
-    assert doc["claim"]["integrals"] == [e["name"] for e in last["integrals"]]
+    assert doc["claim"]["integrals"] == [e["name"] for e in last["integrals"]] == ["I1", "I2"]
+    assert [e["from"] for e in last["integrals"]] == ["I1_slice", "I2_slice"]
     assert check_document(doc).verdict == "verified"
 
 

@@ -3,10 +3,10 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import Sequence
+from typing import Mapping, Sequence
 
 from hkproof.algebra.printing import to_json
-from hkproof.algebra.formula import LIMITS, tokens
+from hkproof.algebra.formula import LIMITS, rename, tokens
 from hkproof.algebra.fraction import Frac
 from hkproof.checker import DET_DF
 from hkproof.commands.report import writable_target, write_atomically
@@ -94,7 +94,7 @@ def discover_document(report: DiscoveryReport) -> dict:
         if cert is None or value is None or not cert.checks:
             continue
         if id(cert) not in seen:
-            fresh = [dict(s) for s in cert.checks]
+            fresh = [_on_searched_field(dict(s), report) for s in cert.checks]
             for s in fresh:
                 if s["kind"] == "prop-even":
                     s["integrals"] = []
@@ -108,29 +108,60 @@ def discover_document(report: DiscoveryReport) -> dict:
                 concluded.append((found, found.name))
         else:
             concluded += [(found, e["name"]) for e in step["integrals"] if e["formula"] == str(value)]
-    where = report.on_slice
-    if where is not None and concluded:
-        ring = where.field.ring
+    where = report.on_slice if concluded else None
+    if where is not None:
+        on_slice = {e["name"]: f"{e['name']}_slice" for s in steps for e in s["integrals"]}
+        steps = [_renamed(s, on_slice) for s in steps]
         steps.append({"kind": "reparametrization", "field": field_data(where.field),
                       "source": field_data(where.searched),
-                      "parameters": {b: str(image) for b, image in where.images(ring).items()},
+                      "parameters": {b: str(image) for b, image in where.images(where.field.ring).items()},
                       "identity": "sigma(F_slice) = F: sigma sends each integral of the slice's Kahan map to one of "
                                   "this map",
-                      "integrals": [_lifted(f, name) for f, name in concluded]})
+                      "integrals": [_lifted(f, name, on_slice[name]) for f, name in concluded]})
     doc = document(f"integrals of the Kahan map of {report.system}", "", steps, report.fixed)
-    final = [e["name"] for e in doc["steps"][-1]["integrals"]] if where is not None and concluded else \
-        doc["claim"]["integrals"]
-    doc["claim"]["integrals"] = final
-    doc["claim"]["statement"] = f"the integrals {', '.join(final)} are integrals of the Kahan map of {report.system}" \
-        + (f" ({where.describe()}; the steps before the last prove them on the slice)" if where is not None else "")
+    if where is not None:
+        doc["claim"]["integrals"] = [e["name"] for e in doc["steps"][-1]["integrals"]]
+    doc["claim"]["statement"] = (f"the integrals {', '.join(doc['claim']['integrals'])} are integrals of the Kahan "
+                                 f"map of {report.system}" + ("" if where is None else f" ({where.describe()}; the "
+                                 "steps before the last prove them, named <name>_slice, on the slice)"))
     return doc
 
 
-def _lifted(found: FoundIntegral, name: str) -> dict:
-    """A reparametrization step's conclusion: the lifted formula, unless it is longer than a formula may be (the
-    value is then sigma of the slice's integral, which the step defines exactly)."""
+def _renamed(step: dict, names: Mapping[str, str]) -> dict:
+    """The step with the integrals it concludes and cites renamed (whole names, by tokens)."""
+    return {**step, "integrals": [{**e, "name": names[e["name"]], "from": rename(e["from"], names)}
+                                  for e in step["integrals"]],
+            **({"relations": _renamed_relations(step["relations"], names)} if "relations" in step else {})}
+
+
+def _on_searched_field(step: dict, report: DiscoveryReport) -> dict:
+    """A step recorded on the field with the conserved coordinates made parameters, moved to the searched field: its
+    Kahan map is the restriction of that one (x~_i = x_i), and a conserved coordinate in a relation is the integral
+    conserved_<x_i> proven by the step before."""
+    if report.searched is None or not report.conserved or step["field"]["variables"] == list(report.searched.variables):
+        return step
+    names = {v: f"conserved_{v}" for v in report.conserved}
+    return {**step, "field": field_data(report.searched),
+            "relations": _renamed_relations(step.get("relations", []), names)}
+
+
+def _renamed_relations(relations: Sequence[dict], names: Mapping[str, str]) -> list[dict]:
+    """Relations with names replaced in their texts (by tokens) and in `uses`, which also gets each new name that a
+    text now cites."""
+    out = []
+    for rel in relations:
+        cited = {t.text for text in [*rel["coefficients"], rel["rhs"]] for t in tokens(text) if t.kind == "name"}
+        uses = [names.get(u, u) for u in rel["uses"]] + [new for old, new in names.items() if old in cited]
+        out.append({"coefficients": [rename(c, names) for c in rel["coefficients"]], "rhs": rename(rel["rhs"], names),
+                    "uses": list(dict.fromkeys(uses))})
+    return out
+
+
+def _lifted(found: FoundIntegral, name: str, source: str) -> dict:
+    """A reparametrization step's conclusion `name` from the slice's `source`: the lifted formula, unless it is
+    longer than a formula may be (the value is then sigma of the slice's integral, which the step defines exactly)."""
     text = str(found.frac)
-    return {"name": found.name, "from": name, **({"formula": text} if len(text) <= LIMITS.length else {})}
+    return {"name": name, "from": source, **({"formula": text} if len(text) <= LIMITS.length else {})}
 
 
 def _searched(found: FoundIntegral) -> Frac | None:
@@ -142,8 +173,9 @@ def _as_ratio(value: Frac, cert: Certificate, names: Sequence[str]) -> str | Non
     """'c2', '(c2)/(c1)', '(c2)/(-1)' or '(-1)/(c1)': the coordinate or quotient of two coordinates (c_l = -1) that
     equals the integral `value`, if any."""
     values = [(n, cert.values[n]) for n in names if n in cert.values]
-    if len(values) != len(names) or values[0][1].ring != value.ring:
+    if len(values) != len(names) or set(values[0][1].ring.names) != set(value.ring.names):
         return None
+    values = [(n, a.to_ring(value.ring)) for n, a in values]
     for name, a in values:
         if a == value:
             return name

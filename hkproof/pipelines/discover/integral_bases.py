@@ -306,7 +306,7 @@ class _Sampler:
     def deficit(self, members: Sequence[Member]) -> int:
         """Unknowns minus the rank of the rows i = 0, 1 of every member and the relations among them."""
         relations = self.relations(members)
-        width = sum(len(self.bases[b].functions) - 1 for b, _ in members)
+        width = Group(list(members), list(self.bases)).width
         if relations is None:
             return width
         system, start = [], 0

@@ -16,6 +16,7 @@ from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 
 if TYPE_CHECKING:
+    from hkproof.dynamics.field import QuadraticField
     from hkproof.pipelines.discover.slices import Slice
     from hkproof.pipelines.discover.solve import BasisProof
 
@@ -77,6 +78,7 @@ class DiscoveryReport:
     probes: list[dict] = field(default_factory=list)
     started: float = field(default_factory=time.perf_counter)
     on_slice: Slice | None = field(default=None, repr=False)     # searched on the slice of parameter translations
+    searched: QuadraticField | None = field(default=None, repr=False)   # the field the proof steps speak of
 
     @property
     def independent(self) -> int:

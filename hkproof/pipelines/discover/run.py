@@ -70,6 +70,7 @@ def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[s
     if where.shifts:
         report.on_slice = where
         report.covered.append(where.describe())
+    report.searched = where.searched
     full_map = kahan_map(where.searched)
     field, conserved = without_conserved(where.searched)
     kmap = kahan_map(field)
@@ -102,12 +103,13 @@ def _run(ctx: SearchContext, report: DiscoveryReport, conserved: list[str], targ
 
 
 def _conserved(kmap: KahanMap, conserved: list[str], fixed: Mapping[str, flint.fmpq]) -> list[FoundIntegral]:
-    """Conserved coordinates (x_i' = 0) are integrals, proven by the same substitution."""
+    """Conserved coordinates (x_i' = 0) are integrals, proven by the same substitution (named conserved_<x_i> in
+    their certificates: a conclusion cannot take a variable's name)."""
     out = []
     for v in conserved:
         start = time.perf_counter()
         h = Frac.parse(kmap.ring, v)
-        cert = certify(kmap, h, fixed, v)
+        cert = certify(kmap, h, fixed, f"conserved_{v}")
         out.append(FoundIntegral(v, h, cert.status, "conserved coordinate", [], v, time.perf_counter() - start,
                                  cert.steps[-1].detail or cert.error, certificate=cert))
     return out
