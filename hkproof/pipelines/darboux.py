@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import random
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Callable, Mapping, Sequence
 
 import flint
@@ -26,6 +26,7 @@ from hkproof.algebra.ring import Rational, Ring, get_ring
 from hkproof.algebra.rational_lifting import CoefficientLifter
 from hkproof.algebra.vector_reconstruction import reconstruct_vector
 from hkproof.dynamics.field import EPS, STEP_CONVENTION
+from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.dynamics.modular_map import ModularKahanMap
 from hkproof.experiments.weights import Weights, scaling_weights
@@ -33,6 +34,7 @@ from hkproof.errors import BudgetExhausted, HKProofError, SingularSystemError
 from hkproof.hk.darboux import (Atom, Cofactor, DarbouxPolynomial, candidate_cofactors, check_at_points,
                                 check_darboux, cofactor_value, darboux_certificate, jacobian_atoms)
 from hkproof.hk.jacobian import matrix_identity_holds
+from hkproof.pipelines.discover.slices import Slice
 from hkproof.proof.status import Status, specialized_label
 
 __all__ = ["DarbouxSearch", "JACOBIAN", "MAX_DARBOUX_DEGREE", "ModularScene", "search_darboux"]
@@ -59,6 +61,7 @@ class DarbouxSearch:
     symbolic: bool = True
     fixed: dict[str, flint.fmpq] = field(default_factory=dict)     # parameters the user fixed (specialized map)
     stopped: str = ""       # why the search stopped early (a budget ran out); "" when it covered everything
+    slice: str = ""         # the slice of a parameter translation searched, if any (the results are lifted)
 
     @property
     def complete(self) -> bool:
@@ -101,12 +104,13 @@ class DarbouxSearch:
                 "integrals": [{"expr": e, "status": label(st)} for e, st in self.integrals()],
                 "search": {"values": {k: str(v) for k, v in self.values.items()}, "prime": self.prime,
                            "symbolic": self.symbolic},
-                "unverified": self.unverified, "complete": self.complete, "stopped": self.stopped or None}
+                "unverified": self.unverified, "complete": self.complete, "stopped": self.stopped or None,
+                "slice": self.slice or None}
 
     def text(self) -> str:
         """The report for a person."""
         payload = self.to_dict()
-        lines = [f"Kahan map of {self.system} ({STEP_CONVENTION})",
+        lines = [f"Kahan map of {self.system} ({STEP_CONVENTION})", *([self.slice] if self.slice else []),
                  f"{JACOBIAN}: identity {payload['jacobian']['identity']} (exact, in Q(x, eps, parameters not fixed))",
                  f"det Df = {self.jacobian.text(self.atoms)} with"]
         lines += [f"  {k} = {v}" for k, v in payload["atoms"].items()]
@@ -346,6 +350,11 @@ def search_darboux(kmap: KahanMap, degree: int = 4, *, seed: int = 0, symbolic_l
     if not 1 <= degree <= MAX_DARBOUX_DEGREE:
         raise HKProofError(f"the degree of the Darboux polynomials must be between 1 and {MAX_DARBOUX_DEGREE}, got "
                            f"{degree}")
+    where = Slice.of(kmap.field) if len(kmap.variables) <= symbolic_limit else None
+    if where is not None and where.shifts:           # step 0 of discover: the slice of a parameter translation
+        found = search_darboux(kahan_map(where.searched), degree, seed=seed, symbolic_limit=symbolic_limit,
+                               fixed=fixed)
+        return _lifted(found, where, kmap, progress)
     rng = random.Random(seed)
     atoms, jac = jacobian_atoms(kmap, expand_limit=min(symbolic_limit, EXPAND_LIMIT))
     cofactors = candidate_cofactors(jac)
@@ -365,6 +374,21 @@ def search_darboux(kmap: KahanMap, degree: int = 4, *, seed: int = 0, symbolic_l
     except BudgetExhausted as exc:
         result.stopped = f"{exc}; the polynomials listed were found before it ran out"
     return result
+
+
+def _lifted(found: DarbouxSearch, where: Slice, kmap: KahanMap,
+            progress: Callable[[DarbouxPolynomial], None] | None) -> DarbouxSearch:
+    """The search on the slice, lifted to `kmap`: the factors of det Df and the Darboux polynomials (an identity
+    P o f = K P of invariant functions holds iff it holds on the slice; each certificate records the invariance)."""
+    ring = kmap.ring
+    out = replace(found, system=kmap.field.name, slice=where.describe(),
+                  atoms=[replace(a, poly=where.lift_poly(a.poly, ring)) for a in found.atoms], darboux=[])
+    for d in found.darboux:
+        where.record_lift(d.certificate, ring)
+        out.darboux.append(DarbouxPolynomial(where.lift_poly(d.poly, ring), d.cofactor, d.certificate))
+        if progress:
+            progress(out.darboux[-1])
+    return out
 
 
 def _search(kmap: KahanMap, result: DarbouxSearch, cofactors: Sequence[Cofactor], monos: Sequence[Exponents],

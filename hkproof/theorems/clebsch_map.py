@@ -227,7 +227,8 @@ def prove_invariant_measures(cert: Certificate, claimed: Mapping[str, str]) -> N
     degree = int(claimed["degree"])
     with cert.step(f"the Darboux polynomials of degree <= {degree} with cofactor det Df",
                    "kernels mod p at random eps, w; coefficients rebuilt from kernels mod primes (docs/geometry.md); "
-                   "P(N/Delta) = det Df P exactly, det M(x, -eps) o f composed unexpanded", r) as s:
+                   "P(N/Delta) = det Df P exactly, det M(x, -eps) o f composed unexpanded, on the slice w3 = 0 of the "
+                   "translation w -> w + c and lifted (each P's certificate checks the invariance)", r) as s:
         found = search_darboux(f, degree)
         s.require(found.complete and not found.unverified, "the search did not reconstruct and prove every "
                   f"Darboux polynomial it found mod p: {found.unverified or found.stopped}")

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import flint
+
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Ring
 from hkproof.dynamics.field import QuadraticField
@@ -16,6 +18,7 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.translation import ParameterTranslation, field_translations, lift_through
 from hkproof.pipelines.discover.report import DiscoveryReport
 from hkproof.pipelines.stages import Stages
+from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 
 __all__ = ["lift_integrals", "Slice"]
@@ -47,6 +50,21 @@ class Slice:
         small = self.searched.ring
         return {b: self.lift(Frac(small, small.gen(b)), ring) for b in self.searched.parameters}
 
+    def lift_poly(self, p: flint.fmpz_mpoly, ring: Ring) -> flint.fmpz_mpoly:
+        """A polynomial of the slice's ring lifted to `ring` (the substitution a_j -> a_j - c_j a_pivot)."""
+        return self.lift(Frac(self.searched.ring, p), ring).num
+
+    def record_lift(self, cert: Certificate, ring: Ring) -> None:
+        """The step that licenses a lift in `cert`: the field's invariance under each translation, checked again."""
+        with cert.step("lifted from the slice", "the field is invariant under each translation (its derivative along "
+                       "the shift is 0, exact): so is the Kahan map, and an identity of invariant functions that holds "
+                       "on the slice holds everywhere", ring) as s:
+            field = self.field
+            for shift in self.shifts:
+                s.require(shift.field_is_invariant(field), f"{field.name} is not invariant under {shift}")
+                field = field.specialize({shift.pivot: 0})
+            s.note(self.describe())
+
     def pivots(self) -> str:
         return ", ".join(f"{s.pivot} = 0" for s in self.shifts)
 
@@ -70,13 +88,6 @@ def lift_integrals(report: DiscoveryReport, where: Slice, target: KahanMap, stag
         if cert is None:
             continue
         if id(cert) not in done:
-            with cert.step("lifted from the slice", "the field is invariant under each translation (its derivative "
-                           "along the shift is 0, exact): so is the Kahan map, and an integral on the slice lifts to "
-                           "the invariant function equal to it there", target.ring) as s:
-                field = where.field
-                for shift in where.shifts:
-                    s.require(shift.field_is_invariant(field), f"{field.name} is not invariant under {shift}")
-                    field = field.specialize({shift.pivot: 0})
-                s.note(where.describe())
+            where.record_lift(cert, target.ring)
             done[id(cert)] = cert.status
         found.status = min(found.status, done[id(cert)])
