@@ -1,5 +1,5 @@
 """Parameter translations found in the field (hkproof.hk.translation.field_translations), discover's search on their
-slice and the lift of what it finds (hkproof.pipelines.discover.slices), and the certificate step that carries the
+slice and the lift of what it finds (hkproof.pipelines.slices), and the certificate step that carries the
 slice's integrals to the whole field (kind "reparametrization", version 5). Each piece is checked against sympy or
 refused when its data is perturbed."""
 from __future__ import annotations

@@ -34,7 +34,7 @@ from hkproof.errors import BudgetExhausted, HKProofError, SingularSystemError
 from hkproof.hk.darboux import (Atom, Cofactor, DarbouxPolynomial, candidate_cofactors, check_at_points,
                                 check_darboux, cofactor_value, darboux_certificate, jacobian_atoms)
 from hkproof.hk.jacobian import matrix_identity_holds
-from hkproof.pipelines.discover.slices import Slice
+from hkproof.pipelines.slices import Slice
 from hkproof.proof.status import Status, specialized_label
 
 __all__ = ["DarbouxSearch", "JACOBIAN", "MAX_DARBOUX_DEGREE", "ModularScene", "search_darboux"]

@@ -17,7 +17,7 @@ from hkproof.proof.status import Status
 
 if TYPE_CHECKING:
     from hkproof.dynamics.field import QuadraticField
-    from hkproof.pipelines.discover.slices import Slice
+    from hkproof.pipelines.slices import Slice
     from hkproof.pipelines.discover.solve import BasisProof
 
 __all__ = ["DiscoveryReport", "FoundIntegral", "SKIPPED_SHOWN"]

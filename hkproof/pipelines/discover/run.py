@@ -35,7 +35,7 @@ from hkproof.pipelines.discover.integral_bases import prove_with_integral_bases
 from hkproof.pipelines.discover.reconstruct import reconstruct_candidates
 from hkproof.pipelines.discover.report import DiscoveryReport, FoundIntegral
 from hkproof.pipelines.discover.screen import screen, without_conserved
-from hkproof.pipelines.discover.slices import Slice, lift_integrals
+from hkproof.pipelines.slices import Slice, lift_integrals
 from hkproof.pipelines.stages import Progress, Stages
 from hkproof.proof.status import Status
 

@@ -1,13 +1,15 @@
-"""The slice of a parameter translation: `discover` searches where a_pivot = 0 and lifts what it finds.
+"""The slice of a parameter translation: `discover` and `measure` search where a_pivot = 0 and lift what they find.
 
 If the field is invariant under a translation of its parameters (hkproof.hk.translation.field_translations, exact),
 so is its Kahan map, and an integral h0 of the map on the slice a_pivot = 0 lifts to the invariant function h with
-h = h0 on the slice: h o f - h is invariant and vanishes on the slice, so it vanishes. The kernel coordinates on the
-slice have one parameter fewer (so(4) in m_ij: coordinates in eps, a2, a3 instead of eps, a2, a3, a4).
+h = h0 on the slice: h o f - h is invariant and vanishes on the slice, so it vanishes (the same for P o f = K P with
+P and K lifted). The kernel coordinates on the slice have one parameter fewer (so(4) in m_ij: coordinates in eps,
+a2, a3 instead of eps, a2, a3, a4).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import flint
 
@@ -16,10 +18,12 @@ from hkproof.algebra.ring import Ring
 from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.translation import ParameterTranslation, field_translations, lift_through
-from hkproof.pipelines.discover.report import DiscoveryReport
 from hkproof.pipelines.stages import Stages
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
+
+if TYPE_CHECKING:
+    from hkproof.pipelines.discover.report import DiscoveryReport
 
 __all__ = ["lift_integrals", "Slice"]
 
@@ -70,7 +74,7 @@ class Slice:
 
     def describe(self) -> str:
         return (f"searched on the slice {self.pivots()}: the field is invariant under {'; '.join(map(str, self.shifts))} "
-                "(exact), so the integrals found there are lifted to every parameter symbolic")
+                "(exact), so what is found there is lifted to every parameter symbolic")
 
 
 def lift_integrals(report: DiscoveryReport, where: Slice, target: KahanMap, stages: Stages) -> None:
