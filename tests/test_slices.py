@@ -166,7 +166,7 @@ def test_measure_searches_the_slice_and_its_lifts_are_darboux_polynomials_of_the
     from hkproof.pipelines.darboux import search_darboux
     kmap = kahan_map("zhukovsky-volterra-1")
     found = search_darboux(kmap, 2)
-    assert found.slice and found.darboux and all(d.status is Status.VERIFIED for d in found.darboux)
+    assert found.on_slice and found.darboux and all(d.status is Status.VERIFIED for d in found.darboux)
     assert all("a3" in Frac(kmap.ring, d.poly).variables() for d in found.darboux)
     for d in found.darboux:
         value = cofactor_value(kmap, found.atoms, d.cofactor)

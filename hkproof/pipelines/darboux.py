@@ -61,7 +61,7 @@ class DarbouxSearch:
     symbolic: bool = True
     fixed: dict[str, flint.fmpq] = field(default_factory=dict)     # parameters the user fixed (specialized map)
     stopped: str = ""       # why the search stopped early (a budget ran out); "" when it covered everything
-    slice: str = ""         # the slice of a parameter translation searched, if any (the results are lifted)
+    on_slice: str = ""      # the slice of a parameter translation searched, if any (the results are lifted)
 
     @property
     def complete(self) -> bool:
@@ -105,12 +105,12 @@ class DarbouxSearch:
                 "search": {"values": {k: str(v) for k, v in self.values.items()}, "prime": self.prime,
                            "symbolic": self.symbolic},
                 "unverified": self.unverified, "complete": self.complete, "stopped": self.stopped or None,
-                "slice": self.slice or None}
+                "slice": self.on_slice or None}
 
     def text(self) -> str:
         """The report for a person."""
         payload = self.to_dict()
-        lines = [f"Kahan map of {self.system} ({STEP_CONVENTION})", *([self.slice] if self.slice else []),
+        lines = [f"Kahan map of {self.system} ({STEP_CONVENTION})", *([self.on_slice] if self.on_slice else []),
                  f"{JACOBIAN}: identity {payload['jacobian']['identity']} (exact, in Q(x, eps, parameters not fixed))",
                  f"det Df = {self.jacobian.text(self.atoms)} with"]
         lines += [f"  {k} = {v}" for k, v in payload["atoms"].items()]
@@ -381,7 +381,7 @@ def _lifted(found: DarbouxSearch, where: Slice, kmap: KahanMap,
     """The search on the slice, lifted to `kmap`: the factors of det Df and the Darboux polynomials (an identity
     P o f = K P of invariant functions holds iff it holds on the slice; each certificate records the invariance)."""
     ring = kmap.ring
-    out = replace(found, system=kmap.field.name, slice=where.describe(),
+    out = replace(found, system=kmap.field.name, on_slice=where.describe(),
                   atoms=[replace(a, poly=where.lift_poly(a.poly, ring)) for a in found.atoms], darboux=[])
     for d in found.darboux:
         where.record_lift(d.certificate, ring)
