@@ -11,7 +11,7 @@ from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.errors import ShapeError, SingularSystemError
 
 __all__ = ["clear_row_denominators", "cleared_system", "cramer", "cramer_polynomials", "det", "LAPLACE_MAX", "lcm",
-           "maximal_minors", "nullspace_q", "pivots_at", "PolyMatrix", "q_matrix", "rank_over_fraction_field", "rank_q",
+           "maximal_minors", "nullspace_q", "pivots_at", "PolyMatrix", "primitive_vector", "q_matrix", "rank_over_fraction_field", "rank_q",
            "solve_by_inverse", "solve_cleared", "solve_overdetermined"]
 
 PolyMatrix = Sequence[Sequence[flint.fmpz_mpoly]]
@@ -289,6 +289,27 @@ def nullspace_q(rows: Sequence[Sequence[Rational]]) -> list[list[flint.fmpq]]:
             v[pj] = -r[i, free]
         basis.append(v)
     return basis
+
+
+def primitive_vector(values: Sequence[Rational]) -> list[flint.fmpz]:
+    """The rationals times the lcm of their denominators, divided by the gcd of the results, the first non-zero entry
+    positive: the primitive integer vector on the same line (zeros stay zeros).
+
+    >>> primitive_vector([flint.fmpq(-1, 2), 3, 0])
+    [1, -6, 0]
+    """
+    qs = [to_fmpq(v) for v in values]
+    den = flint.fmpz(1)
+    for q in qs:
+        den = den.lcm(q.q)
+    ints = [flint.fmpz(q.p * (den // q.q)) for q in qs]
+    g = flint.fmpz(0)
+    for n in ints:
+        g = g.gcd(n)
+    if g == 0:
+        return ints
+    sign = 1 if next(n for n in ints if n) > 0 else -1
+    return [sign * (n // g) for n in ints]
 
 
 def solve_overdetermined(system: flint.fmpq_mat, values: Sequence[Rational]) -> list[flint.fmpq]:

@@ -15,6 +15,7 @@ import random
 
 import flint
 
+from hkproof.algebra.linalg import primitive_vector
 from hkproof.algebra.modular import random_prime
 from hkproof.algebra.rational_lifting import CoefficientLifter
 from hkproof.budget import check
@@ -52,23 +53,10 @@ def one_kernel_vector(m: flint.fmpz_mat, rng: random.Random) -> list[flint.fmpz]
         inverse = pow(column[pivot], -1, p)
         lifter.add({i: v * inverse % p for i, v in enumerate(column)}, p)
         if len(lifter.rationals) == len(column) and lifter.changed == 0:
-            vector = _primitive([lifter.rationals[i] for i in range(len(column))])
+            vector = primitive_vector([lifter.rationals[i] for i in range(len(column))])
             if _is_kernel_vector(m, vector):
                 return vector
     return None
-
-
-def _primitive(values: list[flint.fmpq]) -> list[flint.fmpz]:
-    """The rationals times the lcm of their denominators, divided by the gcd of the results, first non-zero > 0."""
-    den = flint.fmpz(1)
-    for q in values:
-        den = den.lcm(q.q)
-    ints = [flint.fmpz(q.p * (den // q.q)) for q in values]
-    g = flint.fmpz(0)
-    for n in ints:
-        g = g.gcd(n)
-    sign = 1 if next(n for n in ints if n) > 0 else -1
-    return [sign * (n // g) for n in ints]
 
 
 def _is_kernel_vector(m: flint.fmpz_mat, vector: list[flint.fmpz]) -> bool:

@@ -175,7 +175,8 @@ def _as_ratio(value: Frac, cert: Certificate, names: Sequence[str]) -> str | Non
     values = [(n, cert.values[n]) for n in names if n in cert.values]
     if len(values) != len(names) or set(values[0][1].ring.names) != set(value.ring.names):
         return None
-    values = [(n, a.to_ring(value.ring)) for n, a in values]
+    if values[0][1].ring != value.ring:         # proven with a conserved coordinate as a parameter
+        values = [(n, a.to_ring(value.ring)) for n, a in values]
     for name, a in values:
         if a == value:
             return name

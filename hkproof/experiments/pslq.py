@@ -12,7 +12,7 @@ import flint
 import mpmath
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.linalg import rank_q
+from hkproof.algebra.linalg import primitive_vector, rank_q
 from hkproof.algebra.ring import Rational
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.experiments.profiles import ProfileProblem, kernel_vectors, parse_basis
@@ -93,7 +93,7 @@ def pslq_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], values
                         for s in samples]
                 if rels[0] is None or any(r is None for r in rels):
                     continue
-                vecs = {tuple(_primitive(r)) for r in rels}
+                vecs = {tuple(int(a) for a in primitive_vector(r)) for r in rels}
                 if len(vecs) != 1:
                     search.rejected += 1
                     continue
@@ -105,16 +105,6 @@ def pslq_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], values
     search.relations = found
     search.seconds = time.perf_counter() - start
     return search
-
-
-def _primitive(v: Sequence[int]) -> list[int]:
-    """The integer vector divided by its content, first non-zero entry positive."""
-    g = flint.fmpz(0)
-    for a in v:
-        g = g.gcd(a)
-    v = [int(a) // int(g) for a in v]
-    first = next(a for a in v if a)
-    return [-a for a in v] if first < 0 else v
 
 
 def agreement(pslq: PSLQSearch, exact: Sequence[FoundRelation], values: Mapping[str, Rational]) -> tuple[int, int]:

@@ -3,7 +3,6 @@ a reduced HK system on the slice w_pivot = 0 and lift the result, so that every 
 variable fewer in the work."""
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Mapping, Sequence
 
@@ -11,7 +10,7 @@ import flint
 
 from hkproof.algebra.formula import tokens
 from hkproof.algebra.fraction import Frac, normalize_sign
-from hkproof.algebra.linalg import nullspace_q
+from hkproof.algebra.linalg import nullspace_q, primitive_vector
 from hkproof.algebra.ring import Rational, Ring
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import QuadraticField
@@ -123,8 +122,7 @@ def _first_translation(field: QuadraticField) -> ParameterTranslation | None:
             for m, coefficient in (d.num * (f.den ** 2 / d.den)).to_dict().items():
                 rows.setdefault((i, m), [flint.fmpq(0)] * len(params))[j] += coefficient
     for direction in nullspace_q(list(rows.values())) if rows else [[flint.fmpq(1)] * len(params)]:
-        scale = math.lcm(*(int(x.q) for x in direction))
-        ints = [int(x * scale) for x in direction]
+        ints = [int(n) for n in primitive_vector(direction)]
         units = [j for j, c in enumerate(ints) if abs(c) == 1]
         if units:
             pivot = units[-1]
