@@ -32,7 +32,7 @@ from hkproof.errors import HKProofError, UnluckyPrimeError
 from hkproof.pipelines.discover.candidates import coordinate_gradients, recipe_b_mod_p
 from hkproof.pipelines.discover.screen import TangentOrbit
 
-__all__ = ["DEGREES", "ModularPlan", "ModularRelation", "evaluate_plan", "plan_mod_p"]
+__all__ = ["DEGREES", "ModularPlan", "ModularRelation", "evaluate_plan", "plan_mod_p", "SamplePool"]
 
 DEGREES = ((0, 0), (1, 0), (0, 1), (1, 1), (2, 0), (2, 1), (1, 2), (2, 2))   # (deg N, deg D) tried, in this order
 
@@ -82,46 +82,85 @@ class ModularPlan:
         return (self.rank, tuple(r.shape for r in self.relations))
 
 
-class _Samples:
-    """Kernel coordinates (c_l = -1) of the basis, the proven integrals and (on demand) gradients, at random points."""
+class SamplePool:
+    """Random points mod p with their tangent orbits and the proven integrals' values and gradients, drawn once and
+    shared by the normalizations of one basis (only the order of the basis differs between them, and the orbits,
+    the integrals and their gradients do not depend on it)."""
 
-    def __init__(self, kmap: KahanMap, basis: Sequence[Exponents], known: Mapping[str, Frac], p: int,
-                 controls: Mapping[str, int], rng: random.Random):
-        self.kmap, self.basis, self.p, self.rng = kmap, list(basis), p, rng
+    def __init__(self, kmap: KahanMap, known: Mapping[str, Frac], p: int, controls: Mapping[str, int],
+                 rng: random.Random, length: int):
+        self.kmap, self.p, self.rng, self.length = kmap, p, rng, length
         self.modular = kmap.mod(p, controls)
         self.controls = [controls[n] for n in kmap.field.control_names]
         self.known = {k: h.mod_p(p) for k, h in known.items()}
         self.phase = [kmap.ring.index(v) for v in kmap.variables]
+        self.points: list[tuple[list[int], TangentOrbit]] = []
+        self._values: dict[tuple[int, ...], dict[str, int] | None] = {}
+        self._gradients: dict[tuple[int, ...], list[list[int]] | None] = {}
 
-    def point(self) -> tuple[list[int], TangentOrbit]:
+    def point(self, index: int) -> tuple[list[int], TangentOrbit]:
+        """The index-th random point and its tangent orbit of `length` steps (drawn when first asked for)."""
+        while len(self.points) <= index:
+            self.points.append(self._draw())
+        return self.points[index]
+
+    def _draw(self) -> tuple[list[int], TangentOrbit]:
         for _ in range(20):
             budget.check("sampling kernel coordinates mod p")
             x = [self.rng.randrange(1, self.p) for _ in self.kmap.variables]
             try:
-                return x, TangentOrbit(self.modular, x, len(self.basis) - 2)
+                return x, TangentOrbit(self.modular, x, self.length)
             except UnluckyPrimeError:
                 continue
         raise HKProofError(f"twenty random orbits mod {self.p} met det M = 0: the map looks singular")
 
-    def ring_point(self, x: Sequence[int]) -> list[int]:
+    def _ring_point(self, x: Sequence[int]) -> list[int]:
         """x and the control values in the order of the ring's names (for Frac.residue_at)."""
         values = dict(zip(self.kmap.variables, x, strict=True))
         values.update(zip(self.kmap.field.control_names, self.controls, strict=True))
         return [values[n] for n in self.kmap.ring.names]
+
+    def known_values(self, x: Sequence[int]) -> dict[str, int] | None:
+        key = tuple(x)
+        if key not in self._values:
+            at = self._ring_point(x)
+            out = {k: h(at) for k, h in self.known.items()}
+            self._values[key] = None if any(v is None for v in out.values()) else \
+                {k: int(v or 0) for k, v in out.items()}
+        return self._values[key]
+
+    def known_gradients(self, x: Sequence[int]) -> list[list[int]] | None:
+        key = tuple(x)
+        if key not in self._gradients:
+            at = self._ring_point(x)
+            rows = [h.gradient(at, self.phase) for h in self.known.values()]
+            self._gradients[key] = None if any(r is None for r in rows) else rows  # type: ignore[assignment]
+        return self._gradients[key]
+
+
+class _Samples:
+    """Kernel coordinates (c_l = -1) of the basis in its order, at the points of a pool, one after another."""
+
+    def __init__(self, basis: Sequence[Exponents], pool: SamplePool):
+        if pool.length != len(basis) - 2:
+            raise HKProofError(f"a pool of orbits of {pool.length} steps for a basis of {len(basis)} functions")
+        self.basis, self.pool, self.p, self.kmap = list(basis), pool, pool.p, pool.kmap
+        self.known = pool.known
+        self._next = 0
+
+    def point(self) -> tuple[list[int], TangentOrbit]:
+        self._next += 1
+        return self.pool.point(self._next - 1)
 
     def coordinates(self, orbit: TangentOrbit) -> list[int] | None:
         solved = recipe_b_mod_p(orbit, self.basis)
         return None if solved is None else solved[1]
 
     def known_values(self, x: Sequence[int]) -> dict[str, int] | None:
-        at = self.ring_point(x)
-        out = {k: h(at) for k, h in self.known.items()}
-        return None if any(v is None for v in out.values()) else {k: int(v or 0) for k, v in out.items()}
+        return self.pool.known_values(x)
 
     def known_gradients(self, x: Sequence[int]) -> list[list[int]] | None:
-        at = self.ring_point(x)
-        rows = [h.gradient(at, self.phase) for h in self.known.values()]
-        return None if any(r is None for r in rows) else rows  # type: ignore[return-value]
+        return self.pool.known_gradients(x)
 
 
 def _dependent_space(samples: _Samples, points: int) -> list[list[int]]:
@@ -176,22 +215,28 @@ def _choose(rows01: list[list[int]], space: list[list[int]], p: int, width: int)
 
 @dataclass
 class _Point:
-    """One sample: the coordinates c, their gradients, the proven integrals and their gradients (mod p)."""
+    """One sample: the coordinates c and the proven integrals k (mod p); the gradients dc, dk only at the first
+    sample (where the independent subsets of the knowns are read off)."""
 
     c: list[int]
-    dc: list[list[int]]
     k: list[int]
-    dk: list[list[int]]
+    dc: list[list[int]] = field(default_factory=list)
+    dk: list[list[int]] = field(default_factory=list)
 
 
 def _data(samples: _Samples, count: int) -> list[_Point]:
     out: list[_Point] = []
     while len(out) < count:
         x, orbit = samples.point()
-        c, dc = samples.coordinates(orbit), coordinate_gradients(orbit, samples.basis)
-        k, dk = samples.known_values(x), samples.known_gradients(x)
-        if c is not None and dc is not None and k is not None and dk is not None:
-            out.append(_Point(c, dc, list(k.values()), dk))
+        c, k = samples.coordinates(orbit), samples.known_values(x)
+        if c is None or k is None:
+            continue
+        if out:
+            out.append(_Point(c, list(k.values())))
+            continue
+        dc, dk = coordinate_gradients(orbit, samples.basis), samples.known_gradients(x)
+        if dc is not None and dk is not None:
+            out.append(_Point(c, list(k.values()), dc, dk))
     return out
 
 
@@ -211,6 +256,20 @@ def _independent_subsets(gradients: list[list[int]], p: int) -> list[tuple[int, 
     return out
 
 
+def _subsets_for(gradients: list[list[int]], target: list[int], p: int) -> list[tuple[int, ...]]:
+    """The subsets of the knowns a function R with d(l.c) = dR(K') may depend on. When the knowns' gradients are
+    independent at the point, d(l.c) has one expression through them and R depends on exactly the knowns that enter
+    it (and a reduced N/D over more knowns has no lower degrees): one subset, or none when d(l.c) is outside their
+    span. Otherwise every independent subset, smallest first."""
+    if rank_mod_p(gradients, p) < len(gradients):
+        return _independent_subsets(gradients, p)
+    columns = [list(col) for col in zip(*gradients, target, strict=True)]
+    kernel = [v for v in kernel_mod_p(columns, p) if v[-1] % p]
+    if not kernel:
+        return []
+    return [tuple(j for j, c in enumerate(kernel[0][:-1]) if c % p)]
+
+
 def _express(samples: _Samples, rows: list[list[int]], names: list[str], max_degree: int,
              extra: int = 6) -> list[ModularRelation] | None:
     """R for each chosen row in turn, over functionally independent knowns (the proven integrals and the
@@ -224,10 +283,11 @@ def _express(samples: _Samples, rows: list[list[int]], names: list[str], max_deg
         budget.check("expressing a combination of kernel coordinates through proven integrals")
         knowns = list(names) + [f"_l{j}" for j in range(i)]
         values = [pt.k + [_combine(prev, [[v] for v in pt.c], p)[0] for prev in rows[:i]] for pt in data]
-        grads = [pt.dk + [_combine(prev, pt.dc, p) for prev in rows[:i]] for pt in data]
+        first = data[0]
+        grads = first.dk + [_combine(prev, first.dc, p) for prev in rows[:i]]
         ys = [_combine(row, [[v] for v in pt.c], p)[0] for pt in data]
         found = None
-        subsets = _independent_subsets(grads[0], p) if knowns else [()]
+        subsets = _subsets_for(grads, _combine(row, first.dc, p), p) if knowns else [()]
         trials = sorted(((len(exponents_upto(len(sub), dn)) + len(exponents_upto(len(sub), dd)), sub, (dn, dd))
                          for sub in subsets for dn, dd in DEGREES if max(dn, dd) <= max_degree),
                         key=lambda t: t[0])
@@ -252,11 +312,11 @@ def _holds(fit: tuple[dict[Exponents, int], dict[Exponents, int]], ys: Sequence[
 
 def plan_mod_p(kmap: KahanMap, basis: Sequence[Exponents], known: Mapping[str, Frac], p: int,
                controls: Mapping[str, int], rng: random.Random, *, max_degree: int = 2,
-               gradient_points: int | None = None) -> ModularPlan:
+               gradient_points: int | None = None, pool: SamplePool | None = None) -> ModularPlan:
     """The relations l.c = R(K') that make the reduced system of `basis` square, found mod p at the given residues
     of eps and the parameters (the plan says how far it got: rank < width when the proven integrals do not
-    suffice)."""
-    samples = _Samples(kmap, basis, known, p, controls, rng)
+    suffice). The normalizations of one basis share a `pool` of points (the same p, residues and integrals)."""
+    samples = _Samples(basis, pool or SamplePool(kmap, known, p, controls, rng, len(basis) - 2))
     width = len(basis) - 1
     space = _dependent_space(samples, gradient_points or width + 4)
     rows01 = _rows_01(samples)
@@ -277,7 +337,7 @@ def evaluate_plan(kmap: KahanMap, basis: Sequence[Exponents], known: Mapping[str
     """The relations of `plan` (its supports, knowns and degrees) at other residues of eps and the parameters and
     another prime: the combinations (only those of several coordinates need the gradients) and the functions R.
     None when the shape differs there (a special value or an unlucky prime)."""
-    samples = _Samples(kmap, basis, known, p, controls, rng)
+    samples = _Samples(basis, SamplePool(kmap, known, p, controls, rng, len(basis) - 2))
     space: list[list[int]] | None = None
     rows = []
     for rel in plan.relations:

@@ -30,7 +30,7 @@ from hkproof.hk.row_check import check_solution_by_rows
 from hkproof.experiments.reconstruction import dense_size
 from hkproof.pipelines.discover.candidates import line_degrees
 from hkproof.pipelines.discover.context import SearchContext
-from hkproof.pipelines.discover.dependence import ModularPlan, plan_mod_p
+from hkproof.pipelines.discover.dependence import ModularPlan, SamplePool, plan_mod_p
 from hkproof.pipelines.discover.symbolic import PRIME_BITS, SymbolicRelation, coordinates, lift_relations
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
@@ -82,24 +82,26 @@ def prove_basis(ctx: SearchContext, basis: Sequence[Exponents], known: Mapping[s
     even = {n: h for n, h in known.items() if h.is_even_in(EPS)}
     p = random_prime(rng, PRIME_BITS)
     controls = {n: rng.randrange(1, p) for n in kmap.field.control_names} | {n: 1 for n in ctx.weights.normalized}
+    complete, best_rank = [], 0
+    pool = SamplePool(kmap, even, p, controls, rng, len(basis) - 2)
+    for last in range(len(basis)):           # the normalization: which function's coefficient is -1
+        order = [e for k, e in enumerate(basis) if k != last] + [basis[last]]
+        plan = plan_mod_p(kmap, order, even, p, controls, rng, pool=pool)
+        best_rank = max(best_rank, plan.rank)
+        if plan.complete:
+            complete.append((last, order, plan))
+    if not complete:
+        return Postponed(f"the rows i = 0, 1 and the relations with the {len(even)} proven integrals have rank "
+                         f"at most {best_rank} of {len(basis) - 1} (mod p, every normalization tried)")
     degrees = line_degrees(kmap, list(basis), ctx.weights, ctx.free, rng)
     nvars = len(ctx.free) + len(kmap.variables)
 
     def cost(last: int) -> int:                  # the size of the dense ansatzes of the coordinates (an estimate)
         sizes = [degrees[(k, last)] for k in range(len(basis)) if k != last]
         return sum(10**12 if d is None else dense_size(nvars, d) for d in sizes)
-    complete, best_rank = [], 0
-    for last in sorted(range(len(basis)), key=cost):     # the normalization: which function's coefficient is -1
-        order = [e for k, e in enumerate(basis) if k != last] + [basis[last]]
-        plan = plan_mod_p(kmap, order, even, p, controls, rng)
-        best_rank = max(best_rank, plan.rank)
-        if plan.complete:
-            complete.append((order, plan))
-    if not complete:
-        return Postponed(f"the rows i = 0, 1 and the relations with the {len(even)} proven integrals have rank "
-                         f"at most {best_rank} of {len(basis) - 1} (mod p, every normalization tried)")
-    order, _, coords = _race(ctx, complete, rng)
-    basis, plan, candidate = _smallest(order, coords, complete)
+    ordered = [(order, plan) for last, order, plan in sorted(complete, key=lambda t: cost(t[0]))]
+    order, _, coords = _race(ctx, ordered, rng)
+    basis, plan, candidate = _smallest(order, coords, ordered)
     texts = [text(kmap.variables, e) for e in basis]
     ctx.stages.say(f"({', '.join(texts)}): {len(plan.relations)} relations with proven integrals; lifting them")
     relations = lift_relations(ctx, basis, even, plan, rng)
