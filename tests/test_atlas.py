@@ -84,3 +84,23 @@ def test_negative_results_are_evidence_not_verified():
 
 def test_the_script_certifies_the_group(monkeypatch, capsys):
     assert_group_certified("atlas", monkeypatch, capsys)
+
+
+def test_commuting_flow_integrals_at_fixed_a_are_constant_along_a_sympy_orbit():
+    """The four integrals of the commuting so(4) flow at a = (1, 2, 3, 5) (claim atlas-so4-euler-top-flow2-integrals),
+    by an independent route: constant along an orbit sympy computes from the printed field at those values; a
+    perturbed one is not."""
+    from types import SimpleNamespace
+
+    from hkproof.budget import Budget
+    from hkproof.pipelines.discover import discover
+    from hkproof.theorems.atlas import _A_FIXED
+    from tests.sympy_bridge import constant_along_sympy_orbit
+    fixed = dict(_A_FIXED)
+    report = discover(FLOW2, 2, params=fixed, budget=Budget(600))
+    proven = [i for i in report.integrals if i.frac is not None and i.status >= Status.VERIFIED_SPECIALIZED]
+    assert len([i for i in proven if i.independent]) == 4
+    field = get_system(FLOW2).specialize(fixed)
+    assert constant_along_sympy_orbit(field, proven) == []
+    bad = SimpleNamespace(name="bad", frac=proven[-1].frac + Frac.parse(proven[-1].frac.ring, "eps**2*m12"))
+    assert constant_along_sympy_orbit(field, [bad]) == ["bad"]
