@@ -360,7 +360,11 @@ class _Engine:
     def _shift(self, p: int, degrees: tuple[int, int]) -> list[int]:
         """The sparsest shift s with Q(s) != 0 among: none, one variable, two, all (random integer values). One
         probe at each candidate s of a group screens them (f is defined at s only if Q(s) != 0); a defined one is
-        confirmed by a line through s with the full degrees and no pole at t = 0."""
+        confirmed by a line through s with the full degrees and no pole at t = 0. A black box may fail at s where f
+        is defined (an orbit through a point with many zero coordinates degenerates), so the one- and two-variable
+        shifts that fail the probe are tried by their line too, before the full shift: a line costs about
+        2 deg + 3 probes, the expansions of a full shift's contributions far more (Cuyt-Lee; a term of P_k gives up
+        to binom(k + n, n) terms)."""
         n = self.n
         groups: list[list[tuple[int, ...]]] = [[()], list(itertools.combinations(range(n), 1)),
                   list(itertools.combinations(range(n), 2)) if n > 2 else [], [tuple(range(n))]]
@@ -368,9 +372,10 @@ class _Engine:
             candidates = [[self.rng.randrange(1, 2 ** 31) if i in subset else 0 for i in range(n)]
                           for subset in group]
             screened = self._probe(p, [[v % p for v in s] for s in candidates], "shift")
-            for shift, value in zip(candidates, screened):
-                if value is None and len(group[0]) < n:     # the full random shift is tried even so
-                    continue
+            lines = [s for s, value in zip(candidates, screened) if value is not None or len(group[0]) == n]
+            if 0 < len(group[0]) < n:
+                lines += [s for s, value in zip(candidates, screened) if value is None]
+            for shift in lines:
                 num, den = self._thiele_line(p, shift, "shift", expected=2 * max(degrees) + 1 + THIELE_AGREEMENTS)
                 if den[0] == 1 and (len(num) - 1, len(den) - 1) == degrees:
                     return shift
