@@ -259,6 +259,22 @@ def test_reduced_form_cross_checked_with_sympy_cancel():
     assert_exact(result, *primitive(to_dict(num), to_dict(den)))
 
 
+def test_a_sparse_shift_where_the_black_box_fails_at_the_shift_point():
+    """Q(0) = 0, Q(s) != 0 for s on x1 and x3 alone, and a black box undefined wherever a coordinate is 0 (as an orbit
+    through a point with zero coordinates degenerates): the engine still takes a shift of at most two variables,
+    by lines through the candidates that failed their probe, and rebuilds f exactly."""
+    num = {(1, 0, 0, 0): 1, (0, 1, 1, 0): 3, (0, 0, 0, 2): -2}
+    den = {(2, 0, 0, 0): 1, (0, 1, 0, 1): 5, (0, 0, 2, 0): 7}
+    exact = RationalBox(4, [num], [den])
+
+    def box(p: int, points):
+        values = exact(p, points)
+        return [None if any(v % p == 0 for v in x) else value for x, value in zip(points, values)]
+    result = reconstruct_rational(box, 4, rng=random.Random(5))
+    assert_exact(result, *primitive(num, den))
+    assert 0 < sum(1 for s in result.stats.shift if s) <= 2
+
+
 def test_medium_target_with_shift_and_two_primes():
     """Q(0) = 0 forces a shift; coefficients of height ~2^45 need a second prime."""
     rng = random.Random(14)
