@@ -275,6 +275,17 @@ def test_a_sparse_shift_where_the_black_box_fails_at_the_shift_point():
     assert 0 < sum(1 for s in result.stats.shift if s) <= 2
 
 
+def test_a_monomial_factor_of_the_denominator_is_cleared_before_the_shift():
+    """Q = x0 x1^2 x2 (x3^2 + x0 x2) vanishes at every shift of at most two variables; the engine finds the pole
+    orders along each x_i = 0, rebuilds x0 x1^2 x2 f with a one-variable shift, and returns f exactly."""
+    num = {(1, 0, 0, 0): 1, (0, 1, 1, 0): 3, (0, 0, 0, 2): 1}
+    den = {(1, 2, 1, 2): 1, (2, 2, 2, 0): 1}
+    result = reconstruct_rational(RationalBox(4, [num], [den]), 4, rng=random.Random(1))
+    assert_exact(result, *primitive(num, den))
+    assert result.stats.cleared == (1, 2, 1, 0)
+    assert sum(1 for s in result.stats.shift if s) == 1
+
+
 def test_medium_target_with_shift_and_two_primes():
     """Q(0) = 0 forces a shift; coefficients of height ~2^45 need a second prime."""
     rng = random.Random(14)

@@ -75,6 +75,7 @@ class ReconstructionStats:
     degree_numerator: int = 0
     degree_denominator: int = 0
     shift: tuple[int, ...] = ()
+    cleared: tuple[int, ...] = ()       # x^cleared: a monomial factor of the denominator, cleared before the shift
     seconds: dict[str, float] = field(default_factory=lambda: dict.fromkeys(
         ("probes", "univariate", "sparse", "crt", "check"), 0.0))
 
@@ -115,6 +116,25 @@ class _BatchCall:
 
     def __call__(self, job: tuple[int, list[list[int]]]) -> list[int | None]:
         return self.black_box(*job)
+
+
+class _TimesMonomial:
+    """x^k f(x): the black box with the monomial factor x^k of f's denominator cleared (picklable when f's is)."""
+
+    def __init__(self, black_box: ProbeBatch, exponents: Sequence[int]):
+        self.black_box, self.exponents = black_box, tuple(exponents)
+
+    def __call__(self, p: int, points: Sequence[Sequence[int]]) -> list[int | None]:
+        out: list[int | None] = []
+        for x, v in zip(points, self.black_box(p, points)):
+            if v is None:
+                out.append(None)
+                continue
+            for xi, e in zip(x, self.exponents):
+                if e:
+                    v = v * pow(int(xi), e, p) % p
+            out.append(v)
+        return out
 
 
 class _Primes:
@@ -265,6 +285,7 @@ class _Engine:
         self._nested: list[float] = []      # seconds spent in stages nested in each open stage
         self._throughput = 0.0
         self._last_report = 0.0
+        self.pole: tuple[int, ...] | None = None     # x^pole divides f's denominator (cleared from the black box)
 
     # -- bookkeeping ---------------------------------------------------------------------------------------------
     @contextmanager
@@ -321,9 +342,11 @@ class _Engine:
         return out
 
     # -- univariate stages ---------------------------------------------------------------------------------------
-    def _thiele_line(self, p: int, shift: Sequence[int], stage: str, expected: int = 8) -> tuple[list[int], list[int]]:
-        """The reduced N/D (coefficient lists) of t -> f(t z + s) for a random z, by Thiele with early termination."""
-        z = [self.rng.randrange(1, p) for _ in range(self.n)]
+    def _thiele_line(self, p: int, shift: Sequence[int], stage: str, expected: int = 8,
+                     direction: Sequence[int] | None = None) -> tuple[list[int], list[int]]:
+        """The reduced N/D (coefficient lists) of t -> f(t z + s) for a random z (or the given direction), by Thiele
+        with early termination."""
+        z = list(direction) if direction is not None else [self.rng.randrange(1, p) for _ in range(self.n)]
         thiele = ThieleInterpolator(p)
         limit = 2 * self.max_degree + 2
         defined = undefined = 0
@@ -356,6 +379,19 @@ class _Engine:
         """deg P, deg Q from a random line with a random shift (-1 for f = 0)."""
         num, den = self._thiele_line(p, [self.rng.randrange(1, p) for _ in range(self.n)], "degrees")
         return (-1 if num == [0] else len(num) - 1), len(den) - 1
+
+    def _poles(self, p: int) -> tuple[int, ...]:
+        """For each variable x_i, the order k_i of the pole of f along x_i = 0 (the others at random values): the
+        power of x_i dividing the denominator of f in lowest terms. Clearing x^k lets a sparse shift s, with
+        Q(s) != 0, exist where the denominator has a monomial factor (then the full shift's expansions are avoided)."""
+        out = []
+        for i in range(self.n):
+            base = [self.rng.randrange(1, p) for _ in range(self.n)]
+            base[i] = 0
+            num, den = self._thiele_line(p, base, "shift", direction=[int(j == i) for j in range(self.n)])
+            order = next(k for k, c in enumerate(den) if c) - next((k for k, c in enumerate(num) if c), 0)
+            out.append(max(0, order))
+        return tuple(out)
 
     def _shift(self, p: int, degrees: tuple[int, int]) -> list[int]:
         """The sparsest shift s with Q(s) != 0 among: none, one variable, two, all (random integer values). One
@@ -466,6 +502,12 @@ class _Engine:
             raise ResourceLimitError(f"f has degrees {degrees} along a line, above max_degree = {self.max_degree}"
                                      f" (raise max_degree)")
         shift = self._shift(p, degrees)
+        if all(shift) and self.n > 1 and self.pole is None:
+            self.pole = self._poles(p)
+            if any(self.pole):
+                self.black_box = _TimesMonomial(self.black_box, self.pole)
+                degrees = (degrees[0], degrees[1] - sum(self.pole))
+                shift = self._shift(p, degrees)
         with self._stage("sparse"):
             grid = GeometricPoints.kronecker(p, self.n - 1, max(degrees) + 1, self.rng)
         chains = (_Chain(degrees[0], shift, p, grid, False), _Chain(degrees[1], shift, p, grid, True))
@@ -630,11 +672,14 @@ class _Engine:
             return num, den
 
     def _result(self, numerator: Polynomial, denominator: Polynomial, support: _Support) -> RationalReconstruction:
+        if self.pole and any(self.pole):           # f = (x^k f) / x^k
+            denominator = {tuple(a + b for a, b in zip(m, self.pole)): c for m, c in denominator.items()}
         s = self.stats
         s.terms_numerator, s.terms_denominator = len(numerator), len(denominator)
         s.degree_numerator = max((sum(m) for m in numerator), default=-1)
         s.degree_denominator = max(sum(m) for m in denominator)
         s.shift = tuple(support.shift)
+        s.cleared = self.pole if self.pole and any(self.pole) else ()
         self._progress(force=True, stage="done", terms=s.terms_numerator + s.terms_denominator)
         return RationalReconstruction(numerator, denominator, s)
 
