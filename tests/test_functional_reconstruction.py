@@ -286,6 +286,19 @@ def test_a_monomial_factor_of_the_denominator_is_cleared_before_the_shift():
     assert sum(1 for s in result.stats.shift if s) == 1
 
 
+def test_a_pole_order_read_too_high_still_gives_lowest_terms(monkeypatch):
+    """Should the pole orders along x_i = 0 come out too high (an unlucky line), x^k f has x_i in its numerator; the
+    engine cancels it again and returns f in lowest terms."""
+    from hkproof.algebra import functional_reconstruction as fr
+    honest = fr._Engine._poles
+    monkeypatch.setattr(fr._Engine, "_poles", lambda self, p: tuple(k + 1 for k in honest(self, p)))
+    num = {(1, 0, 0, 0): 1, (0, 1, 1, 0): 3, (0, 0, 0, 2): 1}
+    den = {(1, 2, 1, 2): 1, (2, 2, 2, 0): 1}
+    result = reconstruct_rational(RationalBox(4, [num], [den]), 4, rng=random.Random(1))
+    assert result.stats.cleared == (2, 3, 2, 1)
+    assert_exact(result, *primitive(num, den))
+
+
 def test_medium_target_with_shift_and_two_primes():
     """Q(0) = 0 forces a shift; coefficients of height ~2^45 need a second prime."""
     rng = random.Random(14)

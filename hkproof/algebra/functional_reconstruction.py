@@ -672,8 +672,11 @@ class _Engine:
             return num, den
 
     def _result(self, numerator: Polynomial, denominator: Polynomial, support: _Support) -> RationalReconstruction:
-        if self.pole and any(self.pole):           # f = (x^k f) / x^k
-            denominator = {tuple(a + b for a, b in zip(m, self.pole)): c for m, c in denominator.items()}
+        if self.pole and any(self.pole):           # f = (x^k f) / x^k, in lowest terms should k have been too large
+            common = [min(e) for e in zip(*numerator)] if numerator else [0] * self.n
+            lower = [min(c, k) for c, k in zip(common, self.pole)]
+            numerator = {tuple(a - b for a, b in zip(m, lower)): c for m, c in numerator.items()}
+            denominator = {tuple(a + k - b for a, k, b in zip(m, self.pole, lower)): c for m, c in denominator.items()}
         s = self.stats
         s.terms_numerator, s.terms_denominator = len(numerator), len(denominator)
         s.degree_numerator = max((sum(m) for m in numerator), default=-1)
