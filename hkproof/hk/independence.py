@@ -6,15 +6,15 @@ from typing import Mapping, Sequence
 import flint
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.ring import Rational
-from hkproof.errors import SingularPointError
+from hkproof.algebra.ring import Rational, to_fmpq
+from hkproof.errors import ParseError, SingularPointError
 
-__all__ = ["derivative_at", "jacobian_rank_at", "max_jacobian_rank", "sample_point"]
+__all__ = ["derivative_at", "gradient_at", "jacobian_rank_at", "max_jacobian_rank", "sample_point"]
 
 
 def jacobian_rank_at(functions: Sequence[Frac], variables: Sequence[str], point: Mapping[str, Rational]) -> int:
     """Rank over Q of (d h_i / d x_j) at a point fixing every variable of the ring."""
-    rows = [[derivative_at(h, v, point) for v in variables] for h in functions]
+    rows = [gradient_at(h, variables, point) for h in functions]
     return flint.fmpq_mat(rows).rank()
 
 
@@ -31,14 +31,28 @@ def max_jacobian_rank(functions: Sequence[Frac], variables: Sequence[str],
     return best
 
 
-def derivative_at(h: Frac, name: str, point: Mapping[str, Rational]) -> flint.fmpq:
-    """d h / d name at a point, by the quotient rule on values (no symbolic gcd; fast for big fractions)."""
-    i = h.ring.index(name)
-    num, den = h.ring.evaluate(h.num, point), h.ring.evaluate(h.den, point)
+def gradient_at(h: Frac, variables: Sequence[str], point: Mapping[str, Rational]) -> list[flint.fmpq]:
+    """(d h / d x for x in variables) at a point, by the quotient rule on values (no symbolic gcd; fast for big
+    fractions): num and den are converted to Q once and evaluated once, then their derivatives."""
+    ring = h.ring
+    missing = [n for n in ring.names if n not in point]
+    if missing:
+        raise ParseError(f"no value given for {missing}")
+    at = [to_fmpq(point[n]) for n in ring.names]
+    num_q, den_q = ring.to_q(h.num), ring.to_q(h.den)
+    num, den = num_q(*at), den_q(*at)
     if den == 0:
         raise SingularPointError(f"the denominator of {h} vanishes at {dict(point)}")
-    dnum, dden = h.ring.evaluate(h.num.derivative(i), point), h.ring.evaluate(h.den.derivative(i), point)
-    return (dnum * den - num * dden) / (den * den)
+    out = []
+    for name in variables:
+        i = ring.index(name)
+        out.append((num_q.derivative(i)(*at) * den - num * den_q.derivative(i)(*at)) / (den * den))
+    return out
+
+
+def derivative_at(h: Frac, name: str, point: Mapping[str, Rational]) -> flint.fmpq:
+    """d h / d name at a point (`gradient_at` for one variable)."""
+    return gradient_at(h, [name], point)[0]
 
 
 def sample_point(names: Sequence[str], seed: int = 1) -> dict[str, flint.fmpq]:
