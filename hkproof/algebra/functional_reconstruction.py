@@ -205,7 +205,7 @@ class _Chain:
         self.degree, self.shift, self.p, self.grid, self.denominator = degree, list(shift), p, grid, denominator
         self.shifted = any(shift)
         self.pieces: dict[int, Polynomial] = {}
-        self.expansions: dict[int, dict[int, Polynomial]] = {}
+        self.below: dict[int, Polynomial] = {}     # r -> sum over solved k > r of [t^r] P_k(t z + s), mod p
         self.raw: dict[int, list[int]] = {r: [] for r in range(degree + 1)}
         self._sums: dict[int, ExponentialSum] = {}
         self._higher: dict[int, ExponentialSum] = {}
@@ -231,11 +231,13 @@ class _Chain:
         return ExponentialSum(weights, bases, p)
 
     def _contributions(self, r: int, lowest: int) -> Polynomial:
-        """sum over solved pieces k >= lowest of [t^r] P_k(t z + s)."""
-        out: Polynomial = {}
-        for k in range(max(r, lowest), self.degree + 1):
-            for m, c in self.expansions.get(k, {}).get(r, {}).items():
-                out[m] = (out.get(m, 0) + c) % self.p
+        """sum over solved pieces k >= lowest (lowest = r or r + 1) of [t^r] P_k(t z + s)."""
+        higher = self.below.get(r, {})
+        if lowest > r or r not in self.pieces:
+            return higher
+        out = dict(higher)
+        for m, c in self.pieces[r].items():          # [t^r] P_r(t z + s) = P_r(z)
+            out[m] = (out.get(m, 0) + c) % self.p
         return out
 
     def values(self, r: int, start: int, stop: int) -> list[int]:
@@ -262,7 +264,13 @@ class _Chain:
 
     def set_piece(self, r: int, poly: Polynomial) -> None:
         self.pieces[r] = poly
-        self.expansions[r] = shifted_coefficients(poly, r, self.shift, self.p) if self.shifted else {r: poly}
+        if not self.shifted:
+            return
+        for k, terms in shifted_coefficients(poly, r, self.shift, self.p).items():
+            if k < r:                                # folded at once: one dict per r, not one per (piece, r)
+                acc = self.below.setdefault(k, {})
+                for m, c in terms.items():
+                    acc[m] = (acc.get(m, 0) + c) % self.p
 
 
 def _leading(poly: Polynomial) -> tuple[int, ...]:
