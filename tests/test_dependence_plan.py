@@ -73,3 +73,28 @@ def test_the_shortcuts_lose_no_plan(pairs_integral, monkeypatch) -> None:
     assert any(complete for _, complete in fast)
     monkeypatch.setattr(dependence, "_subsets_for", lambda g, target, p: dependence._independent_subsets(g, p))
     assert _plans(ctx, known, shared=False) == fast
+
+
+def test_a_normalization_over_a_size_limit_gives_way_to_the_next(monkeypatch):
+    """_race: a normalization whose reconstruction hits a size limit (memory) is dropped and the next one is used;
+    when every one does, the limit propagates (prove_basis then postpones the basis)."""
+    from types import SimpleNamespace
+
+    from hkproof.budget import Budget
+    from hkproof.errors import ResourceLimitError
+    from hkproof.pipelines.discover import solve
+    ctx = SimpleNamespace(budget=Budget(60), stages=SimpleNamespace(say=lambda text: None),
+                          kmap=SimpleNamespace(variables=("x", "y")))
+    orders = [([(1, 0), (0, 1)], "plan a"), ([(0, 1), (1, 0)], "plan b")]
+    tried = []
+
+    def coordinates(ctx_, order, rng, budget):
+        tried.append(order)
+        if order == orders[0][0]:
+            raise ResourceLimitError("too many shifted terms")
+        return ["coords"]
+    monkeypatch.setattr(solve, "coordinates", coordinates)
+    assert solve._race(ctx, orders, random.Random(1)) == (orders[1][0], "plan b", ["coords"])
+    monkeypatch.setattr(solve, "coordinates", lambda *a, **k: (_ for _ in ()).throw(ResourceLimitError("limit")))
+    with pytest.raises(ResourceLimitError):
+        solve._race(ctx, orders, random.Random(1))

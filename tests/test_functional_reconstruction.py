@@ -434,3 +434,16 @@ def test_a_process_pool_runs_the_batches():
 def test_large_sparse_targets(n, terms):
     box, num, den = random_target(random.Random(n), n, 12, terms, terms // 10)
     assert_exact(reconstruct_rational(box, n, rng=random.Random(n)), num, den)
+
+
+def test_a_shift_too_large_for_memory_is_a_clean_limit(monkeypatch):
+    """The shifted contributions are counted; above SHIFTED_TERMS_LIMIT the engine raises ResourceLimitError (what
+    discover reports as a stage stopped by a limit), never an allocation failure that aborts the process."""
+    from hkproof.algebra import functional_reconstruction as fr
+    from hkproof.errors import ResourceLimitError
+    monkeypatch.setattr(fr, "SHIFTED_TERMS_LIMIT", 0)
+    num = {(1, 0, 0, 0): 1, (0, 1, 1, 0): 3, (0, 0, 0, 4): 1}
+    den = {(1, 2, 1, 2): 1, (2, 2, 2, 0): 1}
+    with pytest.raises(ResourceLimitError, match="shifted terms|shift's contributions") as info:
+        reconstruct_rational(RationalBox(4, [num], [den]), 4, rng=random.Random(1))
+    assert info.value.limit == "0 shifted terms per reconstruction"

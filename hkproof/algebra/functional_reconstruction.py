@@ -57,6 +57,9 @@ SPARE_NODES = 16
 """Extra values of t a line may use where f is undefined at the usual ones."""
 MAX_SUPPORT_RESTARTS = 4
 """Support primes given up (unlucky) before the engine reports failure."""
+SHIFTED_TERMS_LIMIT = 20_000_000
+"""Terms of a shift's contributions one chain keeps (about 4 GB in Python dicts): above it a clean
+ResourceLimitError, not an allocation failure that aborts the process."""
 
 
 @dataclass
@@ -206,6 +209,7 @@ class _Chain:
         self.shifted = any(shift)
         self.pieces: dict[int, Polynomial] = {}
         self.below: dict[int, Polynomial] = {}     # r -> sum over solved k > r of [t^r] P_k(t z + s), mod p
+        self.stored = 0                            # terms kept in `below`
         self.raw: dict[int, list[int]] = {r: [] for r in range(degree + 1)}
         self._sums: dict[int, ExponentialSum] = {}
         self._higher: dict[int, ExponentialSum] = {}
@@ -269,8 +273,16 @@ class _Chain:
         for k, terms in shifted_coefficients(poly, r, self.shift, self.p).items():
             if k < r:                                # folded at once: one dict per r, not one per (piece, r)
                 acc = self.below.setdefault(k, {})
+                before = len(acc)
                 for m, c in terms.items():
                     acc[m] = (acc.get(m, 0) + c) % self.p
+                self.stored += len(acc) - before
+        if self.stored > SHIFTED_TERMS_LIMIT:
+            raise ResourceLimitError(
+                f"the shift's contributions to the lower t-coefficients reached {self.stored} terms (limit "
+                f"{SHIFTED_TERMS_LIMIT}): the function is too large for this machine's memory with this shift",
+                limit=f"{SHIFTED_TERMS_LIMIT} shifted terms per reconstruction",
+                raise_with="no option raises it; fixing parameters (--param) makes the reconstruction smaller")
 
 
 def _leading(poly: Polynomial) -> tuple[int, ...]:

@@ -23,7 +23,7 @@ from hkproof.algebra.modular import random_prime
 from hkproof.algebra.monomials import Exponents, text
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import BudgetExhausted, HKProofError
+from hkproof.errors import BudgetExhausted, HKProofError, ResourceLimitError
 from hkproof.hk.independence import sample_point
 from hkproof.hk.reduced import Relation, verify_by_evenness
 from hkproof.hk.row_check import check_solution_by_rows
@@ -100,7 +100,12 @@ def prove_basis(ctx: SearchContext, basis: Sequence[Exponents], known: Mapping[s
         sizes = [degrees[(k, last)] for k in range(len(basis)) if k != last]
         return sum(10**12 if d is None else dense_size(nvars, d) for d in sizes)
     ordered = [(order, plan) for last, order, plan in sorted(complete, key=lambda t: cost(t[0]))]
-    order, _, coords = _race(ctx, ordered, rng)
+    try:
+        order, _, coords = _race(ctx, ordered, rng)
+    except BudgetExhausted:
+        raise
+    except ResourceLimitError as exc:
+        return Postponed(f"the sparse reconstruction of every normalization exceeded a size limit ({exc})")
     basis, plan, candidate = _smallest(order, coords, ordered)
     texts = [text(kmap.variables, e) for e in basis]
     ctx.stages.say(f"({', '.join(texts)}): {len(plan.relations)} relations with proven integrals; lifting them")
@@ -135,9 +140,9 @@ def _race(ctx: SearchContext, complete: list[tuple[list[Exponents], ModularPlan]
     """The coordinates in the first normalization whose sparse reconstruction finishes: the sizes of the coordinates
     differ by orders of magnitude from one normalization to another, and degrees along a line do not show it. Each
     normalization gets a share of time, which grows (times four) until one finishes or the budget runs out."""
-    seconds = FIRST_ATTEMPT
+    seconds, left = FIRST_ATTEMPT, list(complete)
     while True:
-        for order, plan in complete:
+        for order, plan in list(left):
             attempt = ctx.budget.child(seconds)
             texts = ", ".join(text(ctx.kmap.variables, e) for e in order)
             ctx.stages.say(f"({texts}): sparse reconstruction of {len(order) - 1} coordinates (at most {seconds:g} s)")
@@ -145,6 +150,10 @@ def _race(ctx: SearchContext, complete: list[tuple[list[Exponents], ModularPlan]
                 return order, plan, coordinates(ctx, order, rng, budget=attempt)
             except BudgetExhausted:
                 ctx.budget.check("reconstructing the coordinates of a basis")     # the whole budget, or the next try
+            except ResourceLimitError:          # a size limit (memory), not time: this normalization is out
+                left.remove((order, plan))
+                if not left:
+                    raise
         seconds *= 4
 
 
