@@ -122,12 +122,16 @@ class Ring:
         q = q * den
         return target.ctx.from_dict({m: int(c.p) for m, c in q.to_dict().items()}), den
 
-    def evaluate(self, p: flint.fmpz_mpoly, values: Mapping[str, Rational]) -> flint.fmpq:
-        """p at a point that fixes every variable (exact rational)."""
+    def point(self, values: Mapping[str, Rational]) -> list[flint.fmpq]:
+        """The values of every variable, in the ring's order (exact rationals); ParseError for a missing one."""
         missing = [n for n in self.names if n not in values]
         if missing:
             raise ParseError(f"no value given for {missing}")
-        return self.to_q(p)(*[to_fmpq(values[n]) for n in self.names])
+        return [to_fmpq(values[n]) for n in self.names]
+
+    def evaluate(self, p: flint.fmpz_mpoly, values: Mapping[str, Rational]) -> flint.fmpq:
+        """p at a point that fixes every variable (exact rational)."""
+        return self.to_q(p)(*self.point(values))
 
 
 @lru_cache(maxsize=None)

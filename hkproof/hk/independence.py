@@ -6,8 +6,8 @@ from typing import Mapping, Sequence
 import flint
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.ring import Rational, to_fmpq
-from hkproof.errors import ParseError, SingularPointError
+from hkproof.algebra.ring import Rational
+from hkproof.errors import SingularPointError
 
 __all__ = ["derivative_at", "gradient_at", "jacobian_rank_at", "max_jacobian_rank", "sample_point"]
 
@@ -35,10 +35,7 @@ def gradient_at(h: Frac, variables: Sequence[str], point: Mapping[str, Rational]
     """(d h / d x for x in variables) at a point, by the quotient rule on values (no symbolic gcd; fast for big
     fractions): num and den are converted to Q once and evaluated once, then their derivatives."""
     ring = h.ring
-    missing = [n for n in ring.names if n not in point]
-    if missing:
-        raise ParseError(f"no value given for {missing}")
-    at = [to_fmpq(point[n]) for n in ring.names]
+    at = ring.point(point)
     num_q, den_q = ring.to_q(h.num), ring.to_q(h.den)
     num, den = num_q(*at), den_q(*at)
     if den == 0:
