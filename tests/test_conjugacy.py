@@ -60,8 +60,9 @@ def test_a_perturbed_integral_is_refuted_in_both_charts():
 
 @pytest.mark.slow
 def test_split_integrals_are_constant_along_sympy_orbits_in_both_charts():
-    """Independent route: the three integrals discover proves in the split chart are constant along an orbit sympy
-    computes from the split field, and pulled back, along one it computes from the so(4) field in m_ij."""
+    """Independent route: the four integrals discover proves in the split chart (the fourth by step 5d) are constant
+    along an orbit sympy computes from the split field, and pulled back, along one it computes from the so(4) field
+    in m_ij."""
     from types import SimpleNamespace
 
     from hkproof.budget import Budget
@@ -70,7 +71,7 @@ def test_split_integrals_are_constant_along_sympy_orbits_in_both_charts():
     from tests.sympy_bridge import constant_along_sympy_orbit
     report = discover("so4-euler-top-split", 2, budget=Budget(900))
     proven = [i for i in report.integrals if i.status is Status.VERIFIED and i.frac is not None and i.independent]
-    assert len(proven) == 3
+    assert len(proven) == 4
     assert not constant_along_sympy_orbit(get_system("so4-euler-top-split"), proven)
     pulled = pull_back(_chart(), [i.frac for i in proven])
     assert not constant_along_sympy_orbit(get_system("so4-euler-top"),
