@@ -121,6 +121,7 @@ class SamplePool:
         return [values[n] for n in self.kmap.ring.names]
 
     def known_values(self, x: Sequence[int]) -> dict[str, int] | None:
+        """The proven integrals at x mod p (None where a denominator vanishes), computed once per point."""
         key = tuple(x)
         if key not in self._values:
             at = self._ring_point(x)
@@ -130,6 +131,7 @@ class SamplePool:
         return self._values[key]
 
     def known_gradients(self, x: Sequence[int]) -> list[list[int]] | None:
+        """The proven integrals' gradients in the phase variables at x mod p (None at a pole), once per point."""
         key = tuple(x)
         if key not in self._gradients:
             at = self._ring_point(x)
