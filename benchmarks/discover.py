@@ -192,7 +192,8 @@ def markdown(rows: list[dict], ratios: list[tuple[str, float, float]], routes: l
             "terms. In the coordinates m_ij step 5d finds the analogous group; with a1..a4 its coordinates have "
             "10 000-56 000 terms and the budget runs out, on the slice a4 = 0 of the translation a -> a + c (step 0) "
             "all four are proven and lifted (the slice table). The commuting flow with a symbolic: none in either "
-            "chart (no square group of bases).",
+            "chart (in m step 5d finds the group, and its reconstruction runs out of memory; in the split chart no "
+            "square group of bases).",
             "- Step 0 removes one parameter from every reconstruction wherever the field is invariant under a "
             "translation of its parameters; the gyrostat with two moments goes from failing dense fits (the budget) "
             "to a dense fit that succeeds.",
