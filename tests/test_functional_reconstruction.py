@@ -13,7 +13,7 @@ import pytest
 import sympy
 
 from hkproof.algebra.functional_reconstruction import RationalReconstruction, reconstruct_rational
-from hkproof.algebra.homogeneous_shift import shifted_coefficients
+from hkproof.algebra.homogeneous_shift import ShiftedPieces
 from hkproof.algebra.modular import random_prime
 from hkproof.algebra.rational_lifting import CoefficientLifter, crt, rational_reconstruction
 from hkproof.algebra.sparse_interpolation import (EARLY_TERMINATION, ExponentialSum, GeometricPoints, ben_or_tiwari,
@@ -192,8 +192,22 @@ def test_transposed_vandermonde_and_exponential_sums():
     rng, p = random.Random(11), random_prime(random.Random(11))
     bases, weights = [rng.randrange(1, p) for _ in range(30)], [rng.randrange(p) for _ in range(30)]
     values = [sum(w * pow(b, j, p) for w, b in zip(weights, bases)) % p for j in range(45)]
-    assert ExponentialSum(weights, bases, p).values(0, 45) == values
-    assert ExponentialSum(weights, bases, p).values(40, 45) == values[40:]
+    assert ExponentialSum(zip(weights, bases), p).values(0, 45) == values
+    assert ExponentialSum(zip(weights, bases), p).values(40, 45) == values[40:]
+    assert transposed_vandermonde(bases, values, p) == weights
+
+
+def test_exponential_sums_over_many_chunks(monkeypatch):
+    """The product tree works chunk by chunk (a generator is read once); every chunk size gives the same values."""
+    from hkproof.algebra import sparse_interpolation as si
+    rng, p = random.Random(12), random_prime(random.Random(12))
+    bases, weights = [rng.randrange(1, p) for _ in range(37)], [rng.randrange(p) for _ in range(37)]
+    values = [sum(w * pow(b, j, p) for w, b in zip(weights, bases)) % p for j in range(50)]
+    for leaves in (1, 2, 3, 5, 64):
+        monkeypatch.setattr(si, "LEAVES", leaves)
+        summed = ExponentialSum(((w, b) for w, b in zip(weights, bases)), p)
+        assert summed.terms == 37 and summed.values(0, 50) == values
+    assert ExponentialSum(iter(()), p).values(0, 3) == [0, 0, 0]
     assert transposed_vandermonde(bases, values, p) == weights
 
 
@@ -212,7 +226,8 @@ def test_distinct_roots_refuses_what_does_not_split():
 
 # -- the homogeneous subtraction (Cuyt–Lee) --------------------------------------------------------------------------
 def test_shift_contributions_match_sympy_expansion():
-    """sum_k [t^r] P_k(t z + s) over the homogeneous pieces P_k is [t^r] P(t z + s), for a sparse shift."""
+    """The degree-r part of sum_k P_k(z + s) over the homogeneous pieces P_k is [t^r] P(t z + s), for a sparse
+    shift (sympy's expansion)."""
     rng, p, n = random.Random(13), 1000003, 3
     poly = random_sparse_polynomial(rng, n, 5, 12, height=50)
     shift = [0, 4, 9]
@@ -221,18 +236,20 @@ def test_shift_contributions_match_sympy_expansion():
                                            for m, c in poly.items())), t, *zs)
     expected: dict[int, dict] = {}
     for (k, *m), c in expanded.terms():
-        expected.setdefault(k, {})[tuple(m)] = int(c) % p
-    got: dict[int, dict] = {}
+        if int(c) % p:
+            expected.setdefault(k, {})[tuple(m)] = int(c) % p
+    moved = ShiftedPieces(n, shift, p)
     for k in range(6):
-        piece = {m: c % p for m, c in poly.items() if sum(m) == k}
-        for r, terms in shifted_coefficients(piece, k, shift, p).items():
-            for m, c in terms.items():
-                got.setdefault(r, {})[m] = (got.get(r, {}).get(m, 0) + c) % p
-    assert {r: {m: c for m, c in d.items() if c} for r, d in got.items()} == expected
+        moved.add({m: c % p for m, c in poly.items() if sum(m) == k})
+    got = {r: dict(moved.part(r)) for r in range(6)}
+    assert {r: d for r, d in got.items() if d} == expected
+    assert all(sum(m) == r for r, d in got.items() for m in d)
 
 
 def test_no_shift_leaves_a_piece_alone():
-    assert shifted_coefficients({(1, 2): 5}, 3, [0, 0], 101) == {3: {(1, 2): 5}}
+    moved = ShiftedPieces(2, [0, 0], 101)
+    moved.add({(1, 2): 5})
+    assert [list(moved.part(r)) for r in range(4)] == [[], [], [], [((1, 2), 5)]]
 
 
 # -- end to end ------------------------------------------------------------------------------------------------------
@@ -402,6 +419,44 @@ def test_the_budget_stops_a_long_reconstruction_promptly():
     with pytest.raises(BudgetExhausted):
         reconstruct_rational(box, 8, rng=random.Random(1), budget=Budget(0.5))
     assert time.monotonic() - start < 10          # a hang guard, not a timing claim
+
+
+class _CountingBudget(Budget):
+    """A budget without a deadline that records, at each check, the lines fitted since the previous check."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.fitted = 0
+        self.between: list[int] = []
+
+    def check(self, doing: str) -> None:
+        self.between.append(self.fitted)
+        self.fitted = 0
+
+
+def test_lines_are_probed_and_fitted_in_waves_between_budget_checks(monkeypatch):
+    """No batch of lines runs unchecked: at most LINES_PER_WAVE lines are fitted between two budget checks (a
+    structural test: the first so(4) flow's batches of thousands of lines once overran a 100 s budget by 90 s)."""
+    from hkproof.algebra import functional_reconstruction as fr
+    budget = _CountingBudget()
+    original = fr.fit_lines
+
+    def counted(nodes, *args):
+        budget.fitted += len(nodes)
+        return original(nodes, *args)
+    monkeypatch.setattr(fr, "fit_lines", counted)
+    monkeypatch.setattr(fr, "LINES_PER_WAVE", 8)
+    box, num, den = random_target(random.Random(22), 4, 7, 150, 20)
+    assert_exact(reconstruct_rational(box, 4, rng=random.Random(2), budget=budget), num, den)
+    assert max(budget.between) <= 8 and sum(budget.between) + budget.fitted > 40
+
+
+def test_a_large_exponential_sum_checks_the_budget_between_chunks(monkeypatch):
+    from hkproof.algebra import sparse_interpolation as si
+    monkeypatch.setattr(si, "LEAVES", 4)
+    calls: list[str] = []
+    ExponentialSum(((1, b) for b in range(1, 18)), 101, calls.append)
+    assert len(calls) == 4                       # five chunks of at most 4 terms, a check before each later one
 
 
 # -- mapper and progress ---------------------------------------------------------------------------------------------

@@ -32,7 +32,7 @@ from typing import Any
 
 import flint
 
-from hkproof.algebra.homogeneous_shift import shifted_coefficients
+from hkproof.algebra.homogeneous_shift import ShiftedPieces
 from hkproof.algebra.modular import random_prime
 from hkproof.algebra.rational_lifting import CoefficientLifter
 from hkproof.algebra.sparse_interpolation import (EARLY_TERMINATION, ExponentialSum, GeometricPoints, ben_or_tiwari,
@@ -55,10 +55,12 @@ CHECK_POINTS = 4
 """The final check compares the candidate with f at this many random points modulo a fresh prime."""
 SPARE_NODES = 16
 """Extra values of t a line may use where f is undefined at the usual ones."""
+LINES_PER_WAVE = 256
+"""Lines probed and fitted between two budget checks (a few seconds for the largest kernel coordinates)."""
 MAX_SUPPORT_RESTARTS = 4
 """Support primes given up (unlucky) before the engine reports failure."""
-SHIFTED_TERMS_LIMIT = 20_000_000
-"""Terms of a shift's contributions one chain keeps (about 4 GB in Python dicts): above it a clean
+SHIFTED_TERMS_LIMIT = 100_000_000
+"""Terms of a shift's contributions one chain keeps (about 2.4 GB in FLINT's packed form): above it a clean
 ResourceLimitError, not an allocation failure that aborts the process."""
 
 
@@ -204,12 +206,13 @@ class _Chain:
     """The t-coefficients c_0..c_d of the numerator (or the denominator) along the lines, for one prime: values
     measured while unknown, homogeneous pieces once solved, and the known coefficients' values as exponential sums."""
 
-    def __init__(self, degree: int, shift: Sequence[int], p: int, grid: GeometricPoints, denominator: bool):
+    def __init__(self, degree: int, shift: Sequence[int], p: int, grid: GeometricPoints, denominator: bool,
+                 check: Callable[[str], None]):
         self.degree, self.shift, self.p, self.grid, self.denominator = degree, list(shift), p, grid, denominator
+        self.check = check
         self.shifted = any(shift)
         self.pieces: dict[int, Polynomial] = {}
-        self.below: dict[int, Polynomial] = {}     # r -> sum over solved k > r of [t^r] P_k(t z + s), mod p
-        self.stored = 0                            # terms kept in `below`
+        self.moved = ShiftedPieces(len(shift), shift, p)     # sum of the solved P_k(z + s) (shifted chains)
         self.raw: dict[int, list[int]] = {r: [] for r in range(degree + 1)}
         self._sums: dict[int, ExponentialSum] = {}
         self._higher: dict[int, ExponentialSum] = {}
@@ -228,28 +231,32 @@ class _Chain:
         return [r for r in range(self.degree, -1, -1) if r not in self.pieces
                 and (not self.shifted or all(k in self.pieces for k in range(r + 1, self.degree + 1)))]
 
-    def _exponential_sum(self, poly: Polynomial) -> ExponentialSum:
+    def _exponential_sum(self, terms: Iterable[tuple[tuple[int, ...], int]]) -> ExponentialSum:
+        """The values along the lines of a polynomial in the n coordinates (the first one is 1 on every line)."""
         grid, p = self.grid, self.p
-        bases = [grid.base_of(m[1:]) for m in poly]
-        weights = [c * grid.scale_of(m[1:]) % p for m, c in poly.items()]
-        return ExponentialSum(weights, bases, p)
+        powers = [[pow(w, e, p) for e in range(self.degree + 1)] for w in grid.ratios]
+        scales = [[pow(c, e, p) for e in range(self.degree + 1)] for c in grid.scales]
 
-    def _contributions(self, r: int, lowest: int) -> Polynomial:
-        """sum over solved pieces k >= lowest (lowest = r or r + 1) of [t^r] P_k(t z + s)."""
-        higher = self.below.get(r, {})
-        if lowest > r or r not in self.pieces:
-            return higher
-        out = dict(higher)
-        for m, c in self.pieces[r].items():          # [t^r] P_r(t z + s) = P_r(z)
-            out[m] = (out.get(m, 0) + c) % self.p
-        return out
+        def pairs() -> Iterator[tuple[int, int]]:
+            for m, c in terms:
+                base, weight = 1, c
+                for e, pw, sc in zip(m[1:], powers, scales):
+                    if e:
+                        base, weight = base * pw[e] % p, weight * sc[e] % p
+                yield weight, base
+        return ExponentialSum(pairs(), p, self.check)
+
+    def _contributions(self, r: int) -> ExponentialSum:
+        """sum over the solved pieces k >= r of [t^r] P_k(t z + s) on the lines: the higher pieces' contributions
+        while P_r is unsolved (cleaned), the whole c_r once it is known (values); no later piece adds to degree r."""
+        return self._exponential_sum(self.moved.part(r))
 
     def values(self, r: int, start: int, stop: int) -> list[int]:
         """c_r on the lines start <= j < stop (c_r known)."""
         if self.denominator and r == 0:
             return [1] * (stop - start)
         if r not in self._sums:
-            self._sums[r] = self._exponential_sum(self._contributions(r, r))
+            self._sums[r] = self._contributions(r) if self.shifted else self._exponential_sum(self.pieces[r].items())
         return self._sums[r].values(start, stop)
 
     def cleaned(self, r: int, length: int) -> list[int]:
@@ -258,7 +265,7 @@ class _Chain:
         if not self.shifted:
             return raw
         if r not in self._higher:
-            self._higher[r] = self._exponential_sum(self._contributions(r, r + 1))
+            self._higher[r] = self._contributions(r)
         higher = self._higher[r].values(0, length)
         return [(a - b) % self.p for a, b in zip(raw, higher)]
 
@@ -270,16 +277,10 @@ class _Chain:
         self.pieces[r] = poly
         if not self.shifted:
             return
-        for k, terms in shifted_coefficients(poly, r, self.shift, self.p).items():
-            if k < r:                                # folded at once: one dict per r, not one per (piece, r)
-                acc = self.below.setdefault(k, {})
-                before = len(acc)
-                for m, c in terms.items():
-                    acc[m] = (acc.get(m, 0) + c) % self.p
-                self.stored += len(acc) - before
-        if self.stored > SHIFTED_TERMS_LIMIT:
+        self.moved.add(poly)
+        if len(self.moved) > SHIFTED_TERMS_LIMIT:
             raise ResourceLimitError(
-                f"the shift's contributions to the lower t-coefficients reached {self.stored} terms (limit "
+                f"the shift's contributions to the lower t-coefficients reached {len(self.moved)} terms (limit "
                 f"{SHIFTED_TERMS_LIMIT}): the function is too large for this machine's memory with this shift",
                 limit=f"{SHIFTED_TERMS_LIMIT} shifted terms per reconstruction",
                 raise_with="no option raises it; fixing parameters (--param) makes the reconstruction smaller")
@@ -467,7 +468,8 @@ class _Engine:
             if not unknown:      # every coefficient known but a piece still waits for its own values
                 raise UnluckyPrimeError(f"a homogeneous piece could not be solved mod p = {p}")
             count = batch(lines, unknown)
-            self._probe_lines(p, grid, chains, nodes, lines, lines + count, stage)
+            for start in range(lines, lines + count, LINES_PER_WAVE):      # budget checks between waves
+                self._probe_lines(p, grid, chains, nodes, start, min(start + LINES_PER_WAVE, lines + count), stage)
             lines += count
             self.stats.lines += count
             self._progress(stage=stage, prime=p, pieces_solved=sum(len(c.pieces) for c in chains),
@@ -476,6 +478,7 @@ class _Engine:
     def _probe_lines(self, p: int, grid: GeometricPoints, chains: tuple[_Chain, _Chain], nodes: list[int],
                      start: int, stop: int, stage: str) -> None:
         """Measure the unknown t-coefficients of both chains on the lines start <= j < stop."""
+        self.budget.check(f"reconstructing homogeneous pieces mod p ({stage})")
         num, den = chains
         unknown_num, unknown_den = num.unknown(), den.unknown()
         width = len(unknown_num) + len(unknown_den)
@@ -530,7 +533,8 @@ class _Engine:
                 shift = self._shift(p, degrees)
         with self._stage("sparse"):
             grid = GeometricPoints.kronecker(p, self.n - 1, max(degrees) + 1, self.rng)
-        chains = (_Chain(degrees[0], shift, p, grid, False), _Chain(degrees[1], shift, p, grid, True))
+        chains = (_Chain(degrees[0], shift, p, grid, False, self.budget.check),
+                  _Chain(degrees[1], shift, p, grid, True, self.budget.check))
 
         def solve(chain: _Chain, r: int) -> Polynomial | None:
             # the denominator's constant piece is 1 - (the higher pieces' contributions): a constant, 4 values do
@@ -555,8 +559,8 @@ class _Engine:
                     bases = [grid.base_of(m[1:]) for m in poly]
                     if len(set(bases)) < len(bases):
                         raise UnluckyPrimeError(f"two monomials have the same value at the points mod p = {p}")
-        chains = (_Chain(support.degree_num, support.shift, p, grid, False),
-                  _Chain(support.degree_den, support.shift, p, grid, True))
+        chains = (_Chain(support.degree_num, support.shift, p, grid, False, self.budget.check),
+                  _Chain(support.degree_den, support.shift, p, grid, True, self.budget.check))
         size = {id(chains[0]): {r: len(support.num[r]) for r in support.num},
                 id(chains[1]): {r: len(support.den[r]) for r in support.den}}
 
@@ -568,7 +572,7 @@ class _Engine:
                 values = chain.cleaned(r, len(monomials) + 1)
                 bases = [grid.base_of(m[1:]) for m in monomials]
                 weights = transposed_vandermonde(bases, values, p)
-                extra = ExponentialSum(weights, bases, p).values(len(monomials), len(monomials) + 1)
+                extra = ExponentialSum(zip(weights, bases), p).values(len(monomials), len(monomials) + 1)
             if extra[0] != values[-1]:
                 raise UnluckyPrimeError(f"the values mod p = {p} do not fit the support of the degree-{r} piece of "
                                         f"the {'denominator' if chain.denominator else 'numerator'}")

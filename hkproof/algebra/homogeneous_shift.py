@@ -1,35 +1,56 @@
-"""What a shift does to a homogeneous piece along a line (Cuyt–Lee): the t-coefficients of P_k(t z + s).
+"""What a shift does to the homogeneous pieces along a line (Cuyt–Lee): the t-coefficients of P_k(t z + s).
 
 Along x = t z + s the coefficient of t^r of a rational function's numerator is sum_{k >= r} [t^r] P_k(t z + s): the
 homogeneous piece P_r itself plus contributions of the higher pieces. Once those are known, their contributions are
-subtracted and P_r is interpolated on its own sparse support. A sparse shift (few non-zero s_i) keeps the
-contributions sparse: a term x^e gives one term for each way to lower the exponents of the shifted variables.
+subtracted and P_r is interpolated on its own sparse support. [t^r] P_k(t z + s) is the homogeneous part of degree r
+of P_k(z + s), so one FLINT polynomial, the sum of P_k(z + s) over the pieces solved so far, holds every contribution
+(compact, in C: FLINT packs a term in a few machine words, where a Python dict of exponent tuples takes about 250
+bytes), and a graded monomial order keeps each degree's terms together.
 
->>> sorted(shifted_coefficients({(2, 1): 1}, 3, [0, 5], 101).items())
-[(2, {(2, 0): 5}), (3, {(2, 1): 1})]
+>>> moved = ShiftedPieces(2, [0, 5], 101)
+>>> moved.add({(2, 1): 1})
+>>> sorted(moved.part(2)), sorted(moved.part(3))
+([((2, 0), 5)], [((2, 1), 1)])
 """
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 
 import flint
 
-__all__ = ["shifted_coefficients"]
+__all__ = ["ShiftedPieces"]
 
 
-def shifted_coefficients(piece: Mapping[tuple[int, ...], int], degree: int, shift: Sequence[int], p: int
-                         ) -> dict[int, dict[tuple[int, ...], int]]:
-    """[t^r] P(t z + s) mod p for each r <= degree, as polynomials in z (homogeneous of degree r), for a homogeneous
-    P of that degree given as {exponents: coefficient} (Cuyt–Lee's shift contributions): the homogeneous parts of
-    P(z + s), by one FLINT composition mod p."""
-    if not piece:
-        return {}
-    n = len(shift)
-    ctx = flint.nmod_mpoly_ctx.get(tuple(f"z{i}" for i in range(n)), p, "degrevlex")  # type: ignore[call-arg, arg-type]  # flint's stubs lag the API
-    poly = ctx.from_dict({e: c % p for e, c in piece.items() if c % p})
-    moved = poly.compose(*[g + (s % p) if s % p else g for g, s in zip(ctx.gens(), shift, strict=True)])
-    out: dict[int, dict[tuple[int, ...], int]] = {}
-    for m, c in moved.to_dict().items():
-        if int(c):
-            out.setdefault(sum(m), {})[tuple(m)] = int(c)
-    return out
+class ShiftedPieces:
+    """sum_k P_k(z + s) mod p over the homogeneous pieces added; its degree-r part is sum_k [t^r] P_k(t z + s)."""
+
+    def __init__(self, n: int, shift: Sequence[int], p: int):
+        self.p = p
+        self.ctx = flint.nmod_mpoly_ctx.get(tuple(f"z{i}" for i in range(n)), p, "deglex")  # type: ignore[call-arg, arg-type]  # flint's stubs lag the API
+        self._moved = [g + (s % p) if s % p else g for g, s in zip(self.ctx.gens(), shift, strict=True)]
+        self.total = self.ctx.from_dict({})
+
+    def __len__(self) -> int:
+        return len(self.total)
+
+    def add(self, piece: Mapping[tuple[int, ...], int]) -> None:
+        """Add P(z + s) for a piece P given as {exponents: coefficient} (one FLINT composition mod p)."""
+        poly = self.ctx.from_dict({e: c % self.p for e, c in piece.items() if c % self.p})
+        self.total += poly.compose(*self._moved)
+
+    def part(self, r: int) -> Iterator[tuple[tuple[int, ...], int]]:
+        """The terms of total degree r, as (exponents, coefficient): a run of the graded order, found by bisection."""
+        total = self.total
+        for i in range(self._first_below(r + 1), self._first_below(r)):
+            yield total.monomial(i), int(total.coefficient(i))
+
+    def _first_below(self, r: int) -> int:
+        """The first index whose term has total degree < r (terms are in descending graded order)."""
+        lo, hi = 0, len(self.total)
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if sum(self.total.monomial(mid)) >= r:
+                lo = mid + 1
+            else:
+                hi = mid
+        return lo

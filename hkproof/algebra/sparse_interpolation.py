@@ -16,8 +16,9 @@ True
 """
 from __future__ import annotations
 
+import itertools
 import random
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -146,12 +147,12 @@ class GeometricPoints:
         return out
 
 
-def _product_tree_fraction(ctx: flint.fmpz_mod_poly_ctx, weights: Sequence[int], bases: Sequence[int]
-                           ) -> tuple[flint.fmpz_mod_poly, flint.fmpz_mod_poly]:
-    """U/V = sum_m w_m / (1 - b_m x) by a product tree."""
-    pairs = [(ctx([w]), ctx([1, -b])) for w, b in zip(weights, bases)]
-    if not pairs:
-        return ctx([]), ctx([1])
+LEAVES = 4096
+"""Terms of an exponential sum turned into Python polynomials at a time (the product tree works chunk by chunk)."""
+
+
+def _merged(pairs: list[tuple[flint.nmod_poly, flint.nmod_poly]]) -> tuple[flint.nmod_poly, flint.nmod_poly]:
+    """u/v = the sum of the fractions u_i/v_i, by pairing neighbours (a balanced tree)."""
     while len(pairs) > 1:
         nxt = [(u1 * v2 + u2 * v1, v1 * v2) for (u1, v1), (u2, v2) in zip(pairs[0::2], pairs[1::2])]
         if len(pairs) % 2:
@@ -160,21 +161,44 @@ def _product_tree_fraction(ctx: flint.fmpz_mod_poly_ctx, weights: Sequence[int],
     return pairs[0]
 
 
+def _product_tree_fraction(terms: Iterable[tuple[int, int]], p: int, check: Callable[[str], None] | None
+                           ) -> tuple[flint.nmod_poly, flint.nmod_poly, int]:
+    """U/V = sum_m w_m / (1 - b_m x) for (w_m, b_m) in terms, and their number: a product tree over chunks of LEAVES
+    terms, the chunks' fractions merged like a binary counter (at most one chunk of Python leaves alive at a time);
+    `check` is called between chunks."""
+    stack: list[tuple[int, flint.nmod_poly, flint.nmod_poly]] = []
+    count = 0
+    it = iter(terms)
+    while chunk := list(itertools.islice(it, LEAVES)):
+        if check is not None and count:
+            check("summing the known pieces' values along the lines")
+        count += len(chunk)
+        u, v = _merged([(flint.nmod_poly([w % p], p), flint.nmod_poly([1, (-b) % p], p)) for w, b in chunk])
+        level = 0
+        while stack and stack[-1][0] == level:
+            _, u2, v2 = stack.pop()
+            u, v, level = u2 * v + u * v2, v2 * v, level + 1
+        stack.append((level, u, v))
+    if not stack:
+        return flint.nmod_poly([], p), flint.nmod_poly([1], p), 0
+    return (*_merged([(u, v) for _, u, v in stack]), count)
+
+
 class ExponentialSum:
     """The sequence s_j = sum_m w_m b_m^j mod p, evaluated for a range of j as a power series U/V (product tree)."""
 
-    def __init__(self, weights: Sequence[int], bases: Sequence[int], p: int):
+    def __init__(self, terms: Iterable[tuple[int, int]], p: int, check: Callable[[str], None] | None = None):
+        """From the pairs (weight w_m, base b_m), read once (a generator keeps memory to one chunk of leaves);
+        `check` (a budget's) is called between chunks."""
         self.p = p
-        self.terms = len(bases)
-        self._ctx = flint.fmpz_mod_poly_ctx(p)
-        self._u, self._v = _product_tree_fraction(self._ctx, weights, bases)
+        self._u, self._v, self.terms = _product_tree_fraction(terms, p, check)
         self._cache: list[int] = []
 
     def values(self, start: int, stop: int) -> list[int]:
         """s_j for start <= j < stop."""
         if stop > len(self._cache):
             n = max(stop, 2 * len(self._cache), 16)
-            series = (self._u * self._v.inverse_series_trunc(n)).truncate(n)
+            series = self._u.mul_low(self._v.inverse_series_trunc(n), n)
             coeffs = [int(c) for c in series.coeffs()]
             self._cache = coeffs + [0] * (n - len(coeffs))
         return self._cache[start:stop]
