@@ -15,15 +15,18 @@ True
 from __future__ import annotations
 
 import math
+import multiprocessing
 import os
 import time
 from contextlib import contextmanager
 from contextvars import ContextVar
-from typing import Iterator
+from typing import Any, Callable, Iterator, TypeVar
 
 from hkproof.errors import BudgetExhausted, HKProofError
 
 __all__ = ["Budget", "UNLIMITED", "check", "current"]
+
+T = TypeVar("T")
 
 _PAGE_MB = os.sysconf("SC_PAGE_SIZE") / 2**20 if hasattr(os, "sysconf") else 4 / 1024
 
@@ -97,6 +100,38 @@ class Budget:
         return Budget(total, memory_mb=self.memory_mb, raise_with=self.raise_with, _deadline=limit)
 
 
+    def call(self, doing: str, fn: Callable[..., T], *args: Any) -> T:
+        """fn(*args), stopped at the deadline even inside one long FLINT call that no check can interrupt: with a
+        deadline it runs in a forked child (which shares this process's memory, so big arguments are not copied)
+        killed when the deadline passes (BudgetExhausted); the result, and any exception, must be picklable."""
+        if not math.isfinite(self.deadline):
+            return fn(*args)
+        self.check(doing)
+        context = multiprocessing.get_context("fork")
+        receive, send = context.Pipe(duplex=False)
+        child = context.Process(target=_call_and_send, args=(send, fn, args), daemon=True)
+        child.start()
+        send.close()
+        try:
+            if not receive.poll(self.remaining()):
+                child.kill()
+                self.check(doing)
+                raise BudgetExhausted(f"the time budget of {self.seconds:g} s ran out while {doing}",
+                                      limit=f"a time budget of {self.seconds:g} s", raise_with=self.raise_with)
+            try:
+                ok, value = receive.recv()
+            except EOFError:
+                raise HKProofError(f"the process {doing} died without an answer (exit code {child.exitcode}; "
+                                   "out of memory?)") from None
+        finally:
+            child.join(1)
+            if child.is_alive():
+                child.kill()
+            receive.close()
+        if ok:
+            return value
+        raise value
+
     @contextmanager
     def active(self) -> Iterator["Budget"]:
         """Make this the budget that `check` consults in this thread (nested budgets: the innermost wins)."""
@@ -105,6 +140,19 @@ class Budget:
             yield self
         finally:
             _ACTIVE.reset(token)
+
+
+def _call_and_send(send: Any, fn: Callable[..., Any], args: tuple) -> None:
+    """The child of `Budget.call`: fn(*args) sent back as (True, result) or (False, exception)."""
+    try:
+        message: tuple[bool, Any] = (True, fn(*args))
+    except BaseException as exc:         # noqa: BLE001 - the parent re-raises it
+        message = (False, exc)
+    try:
+        send.send(message)
+    except Exception as exc:             # noqa: BLE001 - an unpicklable result or exception
+        send.send((False, HKProofError(f"the answer could not be sent back: {type(exc).__name__}: {exc}")))
+    send.close()
 
 
 UNLIMITED = Budget(None)

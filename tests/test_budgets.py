@@ -64,3 +64,40 @@ def test_a_budget_must_be_a_positive_number(value, capsys):
 def test_measure_degree_is_bounded(capsys):
     assert main(["measure", "lotka-volterra", "--degree", "9"]) == 2
     assert "at most 8" in capsys.readouterr().err
+
+
+# -- Budget.call: one long call that no check can interrupt ---------------------------------------------------------
+def _slow(seconds: float) -> str:
+    time.sleep(seconds)
+    return "finished"
+
+
+def _fails() -> None:
+    raise ValueError("a refusal inside the call")
+
+
+def test_budget_call_returns_raises_and_stops_at_the_deadline():
+    from hkproof.budget import Budget
+    from hkproof.errors import BudgetExhausted
+    assert Budget(30).call("adding", sum, [1, 2, 3]) == 6
+    assert Budget(None).call("adding", sum, [1, 2]) == 3               # no deadline: inline
+    with pytest.raises(ValueError, match="a refusal inside"):
+        Budget(30).call("failing", _fails)
+    start = time.perf_counter()
+    with pytest.raises(BudgetExhausted, match="ran out while sleeping"):
+        Budget(0.5).call("sleeping", _slow, 30)
+    assert time.perf_counter() - start < STOPPED_WITHIN
+
+
+def test_measure_stops_an_exact_check_at_the_deadline(capsys, monkeypatch):
+    """The exact check P o f = K P is one FLINT computation; made to hang, measure still returns near its budget,
+    lists the polynomial as evidence(exact) (checked at exact points only) and says the exact check was stopped."""
+    from hkproof.pipelines import darboux
+    monkeypatch.setattr(darboux, "darboux_identities_hold", lambda *args: _slow(60))
+    start = time.perf_counter()
+    code = main(["measure", "lotka-volterra", "--seconds", "3", "--json"])
+    payload = json.loads(capsys.readouterr().out)
+    assert code == 0 and payload["complete"] is False and "not checked exactly" in payload["stopped"]
+    assert [d["status"] for d in payload["darboux"]] == ["evidence(exact)"]
+    assert "stopped by the time budget" in payload["darboux"][0]["method"]
+    assert time.perf_counter() - start < 3 + STOPPED_WITHIN

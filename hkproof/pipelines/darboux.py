@@ -10,6 +10,7 @@ hkproof.hk.darboux.
 """
 from __future__ import annotations
 
+import itertools
 import random
 import time
 from dataclasses import dataclass, field, replace
@@ -30,9 +31,10 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.dynamics.modular_map import ModularKahanMap
 from hkproof.experiments.weights import Weights, scaling_weights
+from hkproof.budget import current
 from hkproof.errors import BudgetExhausted, HKProofError, SingularSystemError
-from hkproof.hk.darboux import (Atom, Cofactor, DarbouxPolynomial, candidate_cofactors, check_at_points,
-                                check_darboux, cofactor_value, darboux_certificate, jacobian_atoms)
+from hkproof.hk.darboux import (IDENTITY, Atom, Cofactor, DarbouxPolynomial, candidate_cofactors, check_at_points,
+                                check_darboux, darboux_certificate, darboux_identities_hold, jacobian_atoms)
 from hkproof.hk.jacobian import matrix_identity_holds
 from hkproof.pipelines.slices import Slice
 from hkproof.proof.status import Status, specialized_label
@@ -393,7 +395,8 @@ def _lifted(found: DarbouxSearch, where: Slice, kmap: KahanMap,
 
 def _search(kmap: KahanMap, result: DarbouxSearch, cofactors: Sequence[Cofactor], monos: Sequence[Exponents],
             rng: random.Random, row_rng: random.Random, progress: Callable[[DarbouxPolynomial], None] | None) -> None:
-    """The modular kernels per cofactor, then each kernel vector reconstructed and checked (filling `result`)."""
+    """The modular kernels per cofactor, then per cofactor each kernel vector reconstructed and all of them checked
+    (filling `result`)."""
     atoms, symbolic, values = result.atoms, result.symbolic, result.values
     scene = ModularScene(kmap, atoms, values, result.prime)
     kernels = modular_kernels(scene, cofactors, monos, rng)
@@ -401,42 +404,82 @@ def _search(kmap: KahanMap, result: DarbouxSearch, cofactors: Sequence[Cofactor]
     weights = scaling_weights(kmap) if symbolic else None
     tasks = [(cofactors[k], free, vec) for k, basis in kernels.items() for free, vec in basis
              if cofactors[k].exponents != one or sum(monos[free]) > 0]          # not P = 1 with K = 1
-    values_of: dict[tuple[int, ...], tuple[Frac | None, Weights | None]] = {}
-    for done, (cof, free, vec) in enumerate(tasks):
+    done = 0
+    for cof, group in itertools.groupby(tasks, key=lambda task: task[0].exponents):
+        members = list(group)
+        cof = members[0][0]
+        homogeneous = weights if weights is not None and _weight_zero(kmap, weights, atoms, cof) else None
+        built: list[tuple[flint.fmpz_mpoly, float]] = []
+        for _, free, vec in members:
+            start = time.perf_counter()
+            try:
+                built.append((reconstruct(kmap, atoms, cof, monos, free, vec, row_rng, homogeneous) if symbolic else
+                              reconstruct_at_values(kmap, atoms, cof, values, monos, free, vec, rng),
+                              time.perf_counter() - start))
+            except BudgetExhausted as exc:
+                raise _not_covered(exc, atoms, monos, tasks[done:], "reconstructed") from None
+            except (HKProofError, ZeroDivisionError) as exc:
+                result.unverified.append(f"K = {cof.text(atoms)}: reconstruction failed ({exc})")
+            done += 1
         start = time.perf_counter()
-        if cof.exponents not in values_of:
-            cvalue = cofactor_value(kmap, atoms, cof) if symbolic else None
-            values_of[cof.exponents] = (cvalue, weights if weights is not None and cvalue is not None
-                                        and not any(weights.of_frac(cvalue)) else None)
-        cvalue, homogeneous = values_of[cof.exponents]
-        try:
-            if symbolic:
-                p = reconstruct(kmap, atoms, cof, monos, free, vec, row_rng, homogeneous)
-            else:
-                p = reconstruct_at_values(kmap, atoms, cof, values, monos, free, vec, rng)
-        except BudgetExhausted as exc:
-            left = tasks[done:]
-            degrees = sorted({max(sum(m) for m, c in zip(monos, v, strict=True) if c) for _, _, v in left})
-            raise BudgetExhausted(f"{exc}; {len(left)} Darboux polynomial(s) found mod p were not reconstructed "
-                                  f"(degrees {', '.join(map(str, degrees))}; cofactors "
-                                  f"{', '.join(sorted({c.text(atoms) for c, _, _ in left}))}): give more time, "
-                                  "a smaller --degree, or fix parameters with --param", limit=exc.limit,
-                                  raise_with=exc.raise_with) from None
-        except (HKProofError, ZeroDivisionError) as exc:
-            result.unverified.append(f"K = {cof.text(atoms)}: reconstruction failed ({exc})")
-            continue
-        if symbolic:
-            status, how = check_darboux(kmap, atoms, cof, p, cvalue, rng)
-        else:
-            ok = check_at_points(kmap, atoms, cof, p, rng, fixed=values)
-            status = Status.EVIDENCE_EXACT if ok else Status.REFUTED
-            how = (f"at {', '.join(f'{k} = {v}' for k, v in values.items())} only: P(f(x)) = K(x) P(x) at 3 "
-                   "random exact points x")
-        if status is Status.REFUTED:
-            result.unverified.append(f"K = {cof.text(atoms)}: the reconstructed {p} fails the exact check")
-            continue
-        cert = darboux_certificate(kmap, p, cof.text(atoms), status, how, time.perf_counter() - start,
-                                   values if not symbolic else result.fixed)
-        result.darboux.append(DarbouxPolynomial(p, cof, cert))
-        if progress:
-            progress(result.darboux[-1])
+        checks = [check_darboux(kmap, atoms, cof, p, exact=False, rng=rng) if symbolic else
+                  _checked_at_values(kmap, atoms, cof, p, values, rng) for p, _ in built]
+        stopped = None
+        if symbolic:          # exact where the points did not refute; evidence(exact) if the budget stops it
+            try:
+                exact = iter(current().call(f"checking P o f = K P exactly for K = {cof.text(atoms)}",
+                                            _checked_exactly, kmap, atoms, cof,
+                                            [p for (p, _), (s, _) in zip(built, checks) if s is not Status.REFUTED]))
+                checks = [c if c[0] is Status.REFUTED else next(exact) for c in checks]
+            except BudgetExhausted as exc:
+                stopped = _not_covered(exc, atoms, monos, members, "checked exactly (listed as evidence)")
+                checks = [(s, f"{how}; the exact check was stopped by the time budget") for s, how in checks]
+        share = (time.perf_counter() - start) / max(1, len(built))
+        for (p, seconds), (status, how) in zip(built, checks, strict=True):
+            if status is Status.REFUTED:
+                result.unverified.append(f"K = {cof.text(atoms)}: the reconstructed {p} fails the exact check")
+                continue
+            cert = darboux_certificate(kmap, p, cof.text(atoms), status, how, seconds + share,
+                                       values if not symbolic else result.fixed)
+            result.darboux.append(DarbouxPolynomial(p, cof, cert))
+            if progress:
+                progress(result.darboux[-1])
+        if stopped is not None:
+            raise stopped
+
+
+def _weight_zero(kmap: KahanMap, weights: Weights, atoms: Sequence[Atom], cofactor: Cofactor) -> bool:
+    """Whether K has weight 0 under every scaling of the field, read from its atoms (a pulled atom q o f has the
+    weight of q, since f commutes with the scalings): no composition with f."""
+    total = [flint.fmpq(0)] * len(weights.basis)
+    for a, e in zip(atoms, cofactor.exponents, strict=True):
+        if e:
+            total = [t + e * w for t, w in zip(total, weights.of_frac(Frac(kmap.ring, a.poly)), strict=True)]
+    return not any(total)
+
+
+def _checked_exactly(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, polys: Sequence[flint.fmpz_mpoly]
+                     ) -> list[tuple[Status, str]]:
+    """P o f = K P exactly for each P (polynomial identities; a pulled atom composed with f once)."""
+    return [(Status.VERIFIED if ok else Status.REFUTED, IDENTITY)
+            for ok in darboux_identities_hold(kmap, atoms, cofactor, polys)]
+
+
+def _checked_at_values(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, p: flint.fmpz_mpoly,
+                       values: Mapping[str, flint.fmpq], rng: random.Random) -> tuple[Status, str]:
+    """P o f = K P at three random exact points, at the search's eps and parameters (evidence there)."""
+    ok = check_at_points(kmap, atoms, cofactor, p, rng, fixed=dict(values))
+    return (Status.EVIDENCE_EXACT if ok else Status.REFUTED,
+            f"at {', '.join(f'{k} = {v}' for k, v in values.items())} only: P(f(x)) = K(x) P(x) at 3 random exact "
+            "points x")
+
+
+def _not_covered(exc: BudgetExhausted, atoms: Sequence[Atom], monos: Sequence[Exponents],
+                 left: Sequence[tuple[Cofactor, int, Any]], what: str) -> BudgetExhausted:
+    """The budget's message and what it left: the Darboux polynomials found mod p, their degrees and cofactors."""
+    degrees = sorted({max(sum(m) for m, c in zip(monos, v, strict=True) if c) for _, _, v in left})
+    cofactors = ", ".join(sorted({c.text(atoms) for c, _, _ in left}))
+    return BudgetExhausted(f"{exc}; {len(left)} Darboux polynomial(s) found mod p were not {what} (degrees "
+                           f"{', '.join(map(str, degrees))}; cofactors {cofactors}): give more time, a smaller "
+                           "--degree, or fix parameters with --param", limit=exc.limit, raise_with=exc.raise_with)
+
