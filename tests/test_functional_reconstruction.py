@@ -246,6 +246,23 @@ def test_shift_contributions_match_sympy_expansion():
     assert all(sum(m) == r for r, d in got.items() for m in d)
 
 
+def test_a_piece_is_expanded_in_chunks_with_checks_and_refused_above_the_limit(monkeypatch):
+    from hkproof.algebra import homogeneous_shift as hs
+    rng, p = random.Random(14), 1000003
+    piece = {m: c % p for m, c in random_sparse_polynomial(rng, 4, 6, 40, height=50).items() if sum(m) == 6}
+    whole = ShiftedPieces(4, [3, 0, 5, 0], p)
+    whole.add(piece)
+    monkeypatch.setattr(hs, "CHUNK_TERMS", 10)
+    checks: list[str] = []
+    chunked = ShiftedPieces(4, [3, 0, 5, 0], p, check=checks.append)
+    chunked.add(piece)
+    assert chunked.total == whole.total and len(checks) >= 3
+    bound = min(sum((m[0] + 1) * (m[2] + 1) for m in piece), math.comb(6 + 4, 4))   # x0, x2 shifted; dense cap
+    with pytest.raises(ResourceLimitError, match="could reach"):
+        ShiftedPieces(4, [3, 0, 5, 0], p, limit=bound - 1).add(piece)
+    ShiftedPieces(4, [3, 0, 5, 0], p, limit=bound).add(piece)
+
+
 def test_no_shift_leaves_a_piece_alone():
     moved = ShiftedPieces(2, [0, 0], 101)
     moved.add({(1, 2): 5})
@@ -290,6 +307,17 @@ def test_a_sparse_shift_where_the_black_box_fails_at_the_shift_point():
     result = reconstruct_rational(box, 4, rng=random.Random(5))
     assert_exact(result, *primitive(num, den))
     assert 0 < sum(1 for s in result.stats.shift if s) <= 2
+
+
+def test_a_denominator_whose_monomials_each_involve_three_variables_gets_a_three_or_four_variable_shift():
+    """Q = x0 x1 x2 + x3 x4 x5 + x0 x3 x5 + x1 x2 x4 vanishes at every shift of at most two variables and has no
+    monomial factor to clear; a shift of three (or, if the random subsets miss, four) variables is found before the
+    full shift of six, and f is rebuilt exactly."""
+    num = {(1, 0, 0, 0, 0, 0): 1, (0, 1, 1, 0, 0, 0): 3, (0, 0, 0, 0, 1, 1): -2}
+    den = {(1, 1, 1, 0, 0, 0): 1, (0, 0, 0, 1, 1, 1): 5, (1, 0, 0, 1, 0, 1): 7, (0, 1, 1, 0, 1, 0): 2}
+    result = reconstruct_rational(RationalBox(6, [num], [den]), 6, rng=random.Random(3))
+    assert_exact(result, *primitive(num, den))
+    assert not any(result.stats.cleared) and 3 <= sum(1 for s in result.stats.shift if s) <= 4
 
 
 def test_a_monomial_factor_of_the_denominator_is_cleared_before_the_shift():

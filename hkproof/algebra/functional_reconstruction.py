@@ -55,13 +55,16 @@ CHECK_POINTS = 4
 """The final check compares the candidate with f at this many random points modulo a fresh prime."""
 SPARE_NODES = 16
 """Extra values of t a line may use where f is undefined at the usual ones."""
+SHIFT_SUBSETS = 12
+"""Random subsets of each size from three variables to n - 1 whose shifts are tried before the full shift."""
 LINES_PER_WAVE = 256
 """Lines probed and fitted between two budget checks (a few seconds for the largest kernel coordinates)."""
 MAX_SUPPORT_RESTARTS = 4
 """Support primes given up (unlucky) before the engine reports failure."""
-SHIFTED_TERMS_LIMIT = 100_000_000
-"""Terms of a shift's contributions one chain keeps (about 2.4 GB in FLINT's packed form): above it a clean
-ResourceLimitError, not an allocation failure that aborts the process."""
+SHIFTED_TERMS_LIMIT = 50_000_000
+"""Terms of a shift's contributions one chain may keep (about 1.2 GB in FLINT's packed form): a piece whose
+expansion could pass it is a clean ResourceLimitError before it is composed, not an allocation failure that aborts
+the process."""
 
 
 @dataclass
@@ -212,7 +215,7 @@ class _Chain:
         self.check = check
         self.shifted = any(shift)
         self.pieces: dict[int, Polynomial] = {}
-        self.moved = ShiftedPieces(len(shift), shift, p)     # sum of the solved P_k(z + s) (shifted chains)
+        self.moved = ShiftedPieces(len(shift), shift, p, SHIFTED_TERMS_LIMIT, check)  # sum of the solved P_k(z + s)
         self.raw: dict[int, list[int]] = {r: [] for r in range(degree + 1)}
         self._sums: dict[int, ExponentialSum] = {}
         self._higher: dict[int, ExponentialSum] = {}
@@ -278,12 +281,6 @@ class _Chain:
         if not self.shifted:
             return
         self.moved.add(poly)
-        if len(self.moved) > SHIFTED_TERMS_LIMIT:
-            raise ResourceLimitError(
-                f"the shift's contributions to the lower t-coefficients reached {len(self.moved)} terms (limit "
-                f"{SHIFTED_TERMS_LIMIT}): the function is too large for this machine's memory with this shift",
-                limit=f"{SHIFTED_TERMS_LIMIT} shifted terms per reconstruction",
-                raise_with="no option raises it; fixing parameters (--param) makes the reconstruction smaller")
 
 
 def _leading(poly: Polynomial) -> tuple[int, ...]:
@@ -415,16 +412,25 @@ class _Engine:
         return tuple(out)
 
     def _shift(self, p: int, degrees: tuple[int, int]) -> list[int]:
-        """The sparsest shift s with Q(s) != 0 among: none, one variable, two, all (random integer values). One
-        probe at each candidate s of a group screens them (f is defined at s only if Q(s) != 0); a defined one is
-        confirmed by a line through s with the full degrees and no pole at t = 0. A black box may fail at s where f
-        is defined (an orbit through a point with many zero coordinates degenerates), so the one- and two-variable
-        shifts that fail the probe are tried by their line too, before the full shift: a line costs about
-        2 deg + 3 probes, the expansions of a full shift's contributions far more (Cuyt-Lee; a term of P_k gives up
-        to binom(k + n, n) terms)."""
+        """The sparsest shift s with Q(s) != 0 among: none, one variable, two, then SHIFT_SUBSETS random subsets of
+        each size from three to n - 1, then all (random integer values). One probe at each candidate s of a group
+        screens them (f is defined at s only if Q(s) != 0); a defined one is confirmed by a line through s with the
+        full degrees and no pole at t = 0. A black box may fail at s where f is defined (an orbit through a point with
+        many zero coordinates degenerates), so the sparse shifts that fail the probe are tried by their line too,
+        before the full shift: a line costs about 2 deg + 3 probes, the expansions of a full shift's contributions
+        far more (Cuyt-Lee; a term of P_k gives up to binom(k + n, n) terms, against prod (e_i + 1) over the shifted
+        variables). Q needs a shift of k variables when its monomials each involve at least k of them."""
         n = self.n
-        groups: list[list[tuple[int, ...]]] = [[()], list(itertools.combinations(range(n), 1)),
-                  list(itertools.combinations(range(n), 2)) if n > 2 else [], [tuple(range(n))]]
+        groups: list[list[tuple[int, ...]]] = [[()]]
+        for k in range(1, n):
+            if k <= 2 or math.comb(n, k) <= SHIFT_SUBSETS:
+                groups.append(list(itertools.combinations(range(n), k)))
+            else:
+                chosen: set[tuple[int, ...]] = set()
+                while len(chosen) < SHIFT_SUBSETS:
+                    chosen.add(tuple(sorted(self.rng.sample(range(n), k))))
+                groups.append(sorted(chosen))
+        groups.append([tuple(range(n))])
         for group in groups:
             candidates = [[self.rng.randrange(1, 2 ** 31) if i in subset else 0 for i in range(n)]
                           for subset in group]
@@ -525,7 +531,7 @@ class _Engine:
             raise ResourceLimitError(f"f has degrees {degrees} along a line, above max_degree = {self.max_degree}"
                                      f" (raise max_degree)")
         shift = self._shift(p, degrees)
-        if all(shift) and self.n > 1 and self.pole is None:
+        if sum(1 for s in shift if s) > 2 and self.pole is None:      # no shift of at most two variables
             self.pole = self._poles(p)
             if any(self.pole):
                 self.black_box = _TimesMonomial(self.black_box, self.pole)

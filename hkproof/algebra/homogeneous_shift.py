@@ -14,19 +14,33 @@ bytes), and a graded monomial order keeps each degree's terms together.
 """
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping, Sequence
+import math
+import sys
+from collections.abc import Callable, Iterator, Mapping, Sequence
 
 import flint
+
+from hkproof.errors import ResourceLimitError
 
 __all__ = ["ShiftedPieces"]
 
 
-class ShiftedPieces:
-    """sum_k P_k(z + s) mod p over the homogeneous pieces added; its degree-r part is sum_k [t^r] P_k(t z + s)."""
+CHUNK_TERMS = 1 << 21
+"""Terms of expansion composed at a time (a budget check between chunks)."""
 
-    def __init__(self, n: int, shift: Sequence[int], p: int):
-        self.p = p
+
+class ShiftedPieces:
+    """sum_k P_k(z + s) mod p over the homogeneous pieces added; its degree-r part is sum_k [t^r] P_k(t z + s).
+
+    `limit` bounds the terms kept: a piece whose expansion could pass it raises ResourceLimitError before it is
+    composed (the bound: sum over its terms of prod (e_i + 1) over the shifted variables, at most the number of
+    monomials of its degree); `check` (a budget's) is called between chunks of the composition."""
+
+    def __init__(self, n: int, shift: Sequence[int], p: int, limit: int = sys.maxsize,
+                 check: Callable[[str], None] | None = None):
+        self.p, self.limit, self.check = p, limit, check
         self.ctx = flint.nmod_mpoly_ctx.get(tuple(f"z{i}" for i in range(n)), p, "deglex")  # type: ignore[call-arg, arg-type]  # flint's stubs lag the API
+        self._shifted = [i for i, s in enumerate(shift) if s % p]
         self._moved = [g + (s % p) if s % p else g for g, s in zip(self.ctx.gens(), shift, strict=True)]
         self.total = self.ctx.from_dict({})
 
@@ -34,9 +48,27 @@ class ShiftedPieces:
         return len(self.total)
 
     def add(self, piece: Mapping[tuple[int, ...], int]) -> None:
-        """Add P(z + s) for a piece P given as {exponents: coefficient} (one FLINT composition mod p)."""
-        poly = self.ctx.from_dict({e: c % self.p for e, c in piece.items() if c % self.p})
-        self.total += poly.compose(*self._moved)
+        """Add P(z + s) for a piece P given as {exponents: coefficient} (FLINT compositions mod p, by chunks)."""
+        terms = [(e, c % self.p) for e, c in piece.items() if c % self.p]
+        if not terms:
+            return
+        sizes = [math.prod(e[i] + 1 for i in self._shifted) for e, _ in terms]
+        degree = sum(terms[0][0])
+        bound = min(sum(sizes), math.comb(degree + len(self._moved), degree))
+        if len(self.total) + bound > self.limit:
+            raise ResourceLimitError(
+                f"the shift's contributions to the lower t-coefficients could reach {len(self.total) + bound} terms "
+                f"(limit {self.limit}): the function is too large for this machine's memory with this shift",
+                limit=f"{self.limit} shifted terms per reconstruction",
+                raise_with="no option raises it; fixing parameters (--param) makes the reconstruction smaller")
+        start = done = 0
+        for stop in range(1, len(terms) + 1):
+            done += sizes[stop - 1]
+            if done >= CHUNK_TERMS or stop == len(terms):
+                if self.check is not None and start:
+                    self.check("expanding a shifted homogeneous piece")
+                self.total += self.ctx.from_dict(dict(terms[start:stop])).compose(*self._moved)
+                start, done = stop, 0
 
     def part(self, r: int) -> Iterator[tuple[tuple[int, ...], int]]:
         """The terms of total degree r, as (exponents, coefficient): a run of the graded order, found by bisection."""
