@@ -10,6 +10,7 @@ import flint
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import lcm
 from hkproof.algebra.ring import flint_threads
+from hkproof.budget import current
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals
 
@@ -43,8 +44,7 @@ def row_holds(kmap: KahanMap, basis: Sequence[Frac], target: Frac, i: int, solut
     top = max(sum(mu) for mu in coefficients)
     common = lcm([c.den for c in coefficients.values()])
     terms = {(*mu, top - sum(mu)): c.num * (common / c.den) for mu, c in coefficients.items()}
-    with flint_threads():
-        return _horner(terms, [*nums, delta]).is_zero()
+    return current().call(f"checking row i = {i} by Horner's scheme", _vanishes, terms, [*nums, delta])
 
 
 def check_solution_by_rows(kmap: KahanMap, basis: Sequence[Frac], target: Frac, iterates: Sequence[int],
@@ -68,6 +68,12 @@ def _x_coefficients(kmap: KahanMap, phi: Frac) -> dict[Monomial, Frac]:
             rest[k] = 0
         parts.setdefault(mu, {})[tuple(rest)] = c
     return {mu: Frac(ring, ring.ctx.from_dict(d), phi.den) for mu, d in parts.items()}
+
+
+def _vanishes(terms: dict[Monomial, flint.fmpz_mpoly], factors: Sequence[flint.fmpz_mpoly]) -> bool:
+    """Whether sum_mu terms[mu] prod_j factors[j]^mu_j is zero (FLINT's threads on the big products)."""
+    with flint_threads():
+        return _horner(terms, factors).is_zero()
 
 
 def _horner(terms: dict[Monomial, flint.fmpz_mpoly], factors: Sequence[flint.fmpz_mpoly]) -> flint.fmpz_mpoly:
