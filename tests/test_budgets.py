@@ -101,3 +101,20 @@ def test_measure_stops_an_exact_check_at_the_deadline(capsys, monkeypatch):
     assert [d["status"] for d in payload["darboux"]] == ["evidence(exact)"]
     assert "stopped by the time budget" in payload["darboux"][0]["method"]
     assert time.perf_counter() - start < 3 + STOPPED_WITHIN
+
+
+def test_a_row_check_by_horner_stops_at_the_deadline(monkeypatch):
+    """The row check with an iterate is one long FLINT computation (24 s on so(4)); made to hang, it still stops at
+    the active budget's deadline."""
+    from hkproof.algebra.fraction import Frac
+    from hkproof.budget import Budget
+    from hkproof.dynamics.catalogue import kahan_map
+    from hkproof.errors import BudgetExhausted
+    from hkproof.hk import row_check
+    monkeypatch.setattr(row_check, "_vanishes", lambda *args: _slow(60))
+    f = kahan_map("euler-top")
+    basis = [Frac.parse(f.ring, t) for t in ("x1**2", "x2**2")]
+    start = time.perf_counter()
+    with pytest.raises(BudgetExhausted, match="row i = 1"), Budget(1).active():
+        row_check.row_holds(f, basis, Frac.parse(f.ring, "x3**2"), 1, [Frac(f.ring, 1), Frac(f.ring, 1)])
+    assert time.perf_counter() - start < STOPPED_WITHIN
