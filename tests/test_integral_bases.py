@@ -174,3 +174,22 @@ def test_the_block_proof_is_a_certificate_the_checker_verifies_and_refutes_when_
     short = copy.deepcopy(doc)
     short["steps"][-1]["relations"] = []
     assert check_document(short).verdict == "malformed"
+
+
+def test_a_budget_that_runs_out_in_step_5d_says_how_far_it_got(monkeypatch, capsys):
+    """The budget running out inside the group's reconstruction is reported with the coordinates already rebuilt
+    (here the second reconstruction is stopped: 1 of the group's 14), not only with the stage it stopped in."""
+    from hkproof.cli import main
+    from hkproof.errors import BudgetExhausted
+    from hkproof.pipelines.discover import integral_bases as ib
+    calls: list[int] = []
+    honest = ib.reconstruct_rational
+
+    def stopped_at_the_second(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 2:
+            raise BudgetExhausted("the time budget of 1 s ran out while testing", limit="1 s", raise_with="more")
+        return honest(*args, **kwargs)
+    monkeypatch.setattr(ib, "reconstruct_rational", stopped_at_the_second)
+    main(["discover", "so4-euler-top-split", "--no-progress"])
+    assert "step 5d had reconstructed 1 of the 14 coordinates of the bases (" in capsys.readouterr().out

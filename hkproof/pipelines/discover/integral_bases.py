@@ -33,7 +33,7 @@ from hkproof.algebra.linalg import cramer, lcm
 from hkproof.algebra.modular import kernel_mod_p, random_prime, rank_mod_p
 from hkproof.algebra.monomials import Exponents, exponents_upto, text
 from hkproof.algebra.vector_reconstruction import reconstruct_vector
-from hkproof.errors import HKProofError, UnluckyPrimeError
+from hkproof.errors import BudgetExhausted, HKProofError, UnluckyPrimeError
 from hkproof.hk.block_system import BlockSystem, verify_candidate
 from hkproof.hk.discover import independent_subset, jacobian_points
 from hkproof.hk.independence import sample_point
@@ -414,14 +414,21 @@ def group_coordinates(ctx: SearchContext, group: Group, rng: random.Random) -> l
     a candidate."""
     inputs = list(ctx.free) + list(ctx.kmap.variables)
     weights = iter(_coordinate_weights(ctx, group))
-    out = []
-    for m in group.members:
-        basis = group.order(m)
-        for k in range(len(basis) - 1):
-            box = KernelBlackBox(ctx.kmap, basis, k, len(basis) - 1, inputs, {n: 1 for n in ctx.weights.normalized})
-            rec = reconstruct_rational(box, len(inputs), rng=rng, budget=ctx.budget, primes=_primes(rng),
-                                       mapper=ctx.mapper, batch_size=BATCH)
-            out.append(-_restored(ctx, rec, inputs, next(weights)))       # a_k = -c_k / c_l
+    out: list[Frac] = []
+    total = sum(len(group.order(m)) - 1 for m in group.members)
+    try:
+        for m in group.members:
+            basis = group.order(m)
+            for k in range(len(basis) - 1):
+                box = KernelBlackBox(ctx.kmap, basis, k, len(basis) - 1, inputs,
+                                     {n: 1 for n in ctx.weights.normalized})
+                rec = reconstruct_rational(box, len(inputs), rng=rng, budget=ctx.budget, primes=_primes(rng),
+                                           mapper=ctx.mapper, batch_size=BATCH)
+                out.append(-_restored(ctx, rec, inputs, next(weights)))       # a_k = -c_k / c_l
+    except BudgetExhausted as exc:
+        labels = "; ".join(f"({', '.join(group.labels(m))})" for m in group.members)
+        raise BudgetExhausted(f"{exc}; step 5d had reconstructed {len(out)} of the {total} coordinates of the bases "
+                              f"{labels}", limit=exc.limit, raise_with=exc.raise_with) from None
     return out
 
 
