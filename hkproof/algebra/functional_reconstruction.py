@@ -411,38 +411,42 @@ class _Engine:
             out.append(max(0, order))
         return tuple(out)
 
-    def _shift(self, p: int, degrees: tuple[int, int]) -> list[int]:
-        """The sparsest shift s with Q(s) != 0 among: none, one variable, two, then SHIFT_SUBSETS random subsets of
-        each size from three to n - 1, then all (random integer values). One probe at each candidate s of a group
-        screens them (f is defined at s only if Q(s) != 0); a defined one is confirmed by a line through s with the
-        full degrees and no pole at t = 0. A black box may fail at s where f is defined (an orbit through a point with
-        many zero coordinates degenerates), so the sparse shifts that fail the probe are tried by their line too,
-        before the full shift: a line costs about 2 deg + 3 probes, the expansions of a full shift's contributions
-        far more (Cuyt-Lee; a term of P_k gives up to binom(k + n, n) terms, against prod (e_i + 1) over the shifted
-        variables). Q needs a shift of k variables when its monomials each involve at least k of them."""
+    def _shift(self, p: int, degrees: tuple[int, int], sizes: range, known_to_fail: frozenset[int] = frozenset()
+               ) -> list[int] | None:
+        """The sparsest shift s with Q(s) != 0 whose number of variables is in `sizes`: all subsets of one and two
+        variables, SHIFT_SUBSETS random subsets of each size from three to n - 1, all variables (random integer
+        values); None if there is none. One probe at each candidate s of a size screens them (f is defined at s only
+        if Q(s) != 0); a defined one is confirmed by a line through s with the full degrees and no pole at t = 0. A
+        black box may fail at s where f is defined (an orbit through a point with many zero coordinates
+        degenerates), so the sparse shifts that fail the probe are tried by their line too, before the full shift: a
+        line costs about 2 deg + 3 probes, the expansions of a full shift's contributions far more (Cuyt-Lee; a term
+        of P_k gives up to binom(k + n, n) terms, against prod (e_i + 1) over the shifted variables). Q needs a
+        shift of k variables when each of its monomials involves at least k of them. Subsets that contain every
+        variable of `known_to_fail` are skipped (after a monomial factor x^k is cleared, Q/x^k vanishes wherever Q
+        did on such a subset)."""
         n = self.n
-        groups: list[list[tuple[int, ...]]] = [[()]]
-        for k in range(1, n):
-            if k <= 2 or math.comb(n, k) <= SHIFT_SUBSETS:
-                groups.append(list(itertools.combinations(range(n), k)))
+        for k in sizes:
+            if k in (0, n) or k <= 2 or math.comb(n, k) <= SHIFT_SUBSETS:
+                group = list(itertools.combinations(range(n), k))
             else:
                 chosen: set[tuple[int, ...]] = set()
                 while len(chosen) < SHIFT_SUBSETS:
                     chosen.add(tuple(sorted(self.rng.sample(range(n), k))))
-                groups.append(sorted(chosen))
-        groups.append([tuple(range(n))])
-        for group in groups:
+                group = sorted(chosen)
+            group = [subset for subset in group if not known_to_fail or not known_to_fail <= set(subset)]
+            if not group:
+                continue
             candidates = [[self.rng.randrange(1, 2 ** 31) if i in subset else 0 for i in range(n)]
                           for subset in group]
             screened = self._probe(p, [[v % p for v in s] for s in candidates], "shift")
-            lines = [s for s, value in zip(candidates, screened) if value is not None or len(group[0]) == n]
-            if 0 < len(group[0]) < n:
+            lines = [s for s, value in zip(candidates, screened) if value is not None or k == n]
+            if 0 < k < n:
                 lines += [s for s, value in zip(candidates, screened) if value is None]
             for shift in lines:
                 num, den = self._thiele_line(p, shift, "shift", expected=2 * max(degrees) + 1 + THIELE_AGREEMENTS)
                 if den[0] == 1 and (len(num) - 1, len(den) - 1) == degrees:
                     return shift
-        raise UnluckyPrimeError(f"no shift s with Q(s) != 0 mod p = {p} was found (a random full shift failed)")
+        return None
 
     # -- the lines -----------------------------------------------------------------------------------------------
     def _run_lines(self, p: int, grid: GeometricPoints, chains: tuple[_Chain, _Chain],
@@ -530,13 +534,17 @@ class _Engine:
         if max(degrees) > self.max_degree:
             raise ResourceLimitError(f"f has degrees {degrees} along a line, above max_degree = {self.max_degree}"
                                      f" (raise max_degree)")
-        shift = self._shift(p, degrees)
-        if sum(1 for s in shift if s) > 2 and self.pole is None:      # no shift of at most two variables
+        sparse = range(min(3, self.n + 1))
+        shift = self._shift(p, degrees, sparse)
+        if shift is None and self.pole is None:      # no shift of at most two variables: a monomial factor of Q?
             self.pole = self._poles(p)
             if any(self.pole):
                 self.black_box = _TimesMonomial(self.black_box, self.pole)
                 degrees = (degrees[0], degrees[1] - sum(self.pole))
-                shift = self._shift(p, degrees)
+                shift = self._shift(p, degrees, sparse, frozenset(i for i, k in enumerate(self.pole) if k))
+        shift = shift or self._shift(p, degrees, range(3, self.n + 1))
+        if shift is None:
+            raise UnluckyPrimeError(f"no shift s with Q(s) != 0 mod p = {p} was found (a random full shift failed)")
         with self._stage("sparse"):
             grid = GeometricPoints.kronecker(p, self.n - 1, max(degrees) + 1, self.rng)
         chains = (_Chain(degrees[0], shift, p, grid, False, self.budget.check),
