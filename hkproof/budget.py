@@ -15,8 +15,10 @@ True
 from __future__ import annotations
 
 import math
-import multiprocessing
 import os
+import pickle
+import select
+import signal
 import time
 from contextlib import contextmanager
 from contextvars import ContextVar
@@ -103,31 +105,33 @@ class Budget:
     def call(self, doing: str, fn: Callable[..., T], *args: Any) -> T:
         """fn(*args), stopped at the deadline even inside one long FLINT call that no check can interrupt: with a
         deadline it runs in a forked child (which shares this process's memory, so big arguments are not copied)
-        killed when the deadline passes (BudgetExhausted); the result, and any exception, must be picklable."""
+        killed when the deadline passes (BudgetExhausted); the result, and any exception, must be picklable. A plain
+        os.fork, so that it works inside daemonic worker processes too (multiprocessing forbids their children)."""
         if not math.isfinite(self.deadline):
             return fn(*args)
         self.check(doing)
-        context = multiprocessing.get_context("fork")
-        receive, send = context.Pipe(duplex=False)
-        child = context.Process(target=_call_and_send, args=(send, fn, args), daemon=True)
-        child.start()
-        send.close()
-        try:
-            if not receive.poll(self.remaining()):
-                child.kill()
-                self.check(doing)
-                raise BudgetExhausted(f"the time budget of {self.seconds:g} s ran out while {doing}",
-                                      limit=f"a time budget of {self.seconds:g} s", raise_with=self.raise_with)
+        read_end, write_end = os.pipe()
+        pid = os.fork()
+        if pid == 0:                                    # the child: compute, send, leave without any clean-up
+            os.close(read_end)
             try:
-                ok, value = receive.recv()
-            except EOFError:
-                raise HKProofError(f"the process {doing} died without an answer (exit code {child.exitcode}; "
-                                   "out of memory?)") from None
+                _call_and_send(write_end, fn, args)
+            finally:
+                os._exit(0)
+        os.close(write_end)
+        try:
+            with os.fdopen(read_end, "rb") as answer:
+                if not select.select([answer], [], [], self.remaining())[0]:
+                    os.kill(pid, signal.SIGKILL)
+                    self.check(doing)
+                    raise BudgetExhausted(f"the time budget of {self.seconds:g} s ran out while {doing}",
+                                          limit=f"a time budget of {self.seconds:g} s", raise_with=self.raise_with)
+                data = answer.read()
         finally:
-            child.join(1)
-            if child.is_alive():
-                child.kill()
-            receive.close()
+            _reap(pid)
+        if not data:
+            raise HKProofError(f"the process {doing} died without an answer (out of memory?)")
+        ok, value = pickle.loads(data)
         if ok:
             return value
         raise value
@@ -142,17 +146,26 @@ class Budget:
             _ACTIVE.reset(token)
 
 
-def _call_and_send(send: Any, fn: Callable[..., Any], args: tuple) -> None:
-    """The child of `Budget.call`: fn(*args) sent back as (True, result) or (False, exception)."""
+def _call_and_send(fd: int, fn: Callable[..., Any], args: tuple) -> None:
+    """The child of `Budget.call`: fn(*args) written to `fd` as a pickled (True, result) or (False, exception)."""
     try:
         message: tuple[bool, Any] = (True, fn(*args))
     except BaseException as exc:         # noqa: BLE001 - the parent re-raises it
         message = (False, exc)
     try:
-        send.send(message)
+        data = pickle.dumps(message)
     except Exception as exc:             # noqa: BLE001 - an unpicklable result or exception
-        send.send((False, HKProofError(f"the answer could not be sent back: {type(exc).__name__}: {exc}")))
-    send.close()
+        data = pickle.dumps((False, HKProofError(f"the answer could not be sent back: {type(exc).__name__}: {exc}")))
+    with os.fdopen(fd, "wb") as out:
+        out.write(data)
+
+
+def _reap(pid: int) -> None:
+    """Wait for a child of `Budget.call` (killed or finished), so that none is left as a zombie."""
+    try:
+        os.waitpid(pid, 0)
+    except ChildProcessError:
+        pass
 
 
 UNLIMITED = Budget(None)

@@ -118,3 +118,24 @@ def test_a_row_check_by_horner_stops_at_the_deadline(monkeypatch):
     with pytest.raises(BudgetExhausted, match="row i = 1"), Budget(1).active():
         row_check.row_holds(f, basis, Frac.parse(f.ring, "x3**2"), 1, [Frac(f.ring, 1), Frac(f.ring, 1)])
     assert time.perf_counter() - start < STOPPED_WITHIN
+
+
+def _call_in_a_daemon(queue) -> None:
+    from hkproof.budget import Budget
+    from hkproof.errors import BudgetExhausted
+    queue.put(Budget(30).call("adding", sum, [1, 2, 3]))
+    try:
+        Budget(0.5).call("sleeping", _slow, 30)
+    except BudgetExhausted:
+        queue.put("stopped")
+
+
+def test_budget_call_works_inside_a_daemonic_worker():
+    """prove and report run claims in daemonic worker processes, which multiprocessing forbids to have children:
+    Budget.call forks by hand (a multiprocessing child there made two atlas claims fail under `report --jobs 2`)."""
+    import multiprocessing
+    queue = multiprocessing.Queue()
+    worker = multiprocessing.Process(target=_call_in_a_daemon, args=(queue,), daemon=True)
+    worker.start()
+    assert queue.get(timeout=60) == 6 and queue.get(timeout=60) == "stopped"
+    worker.join(10)
