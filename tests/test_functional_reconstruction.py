@@ -197,6 +197,15 @@ def test_transposed_vandermonde_and_exponential_sums():
     assert transposed_vandermonde(bases, values, p) == weights
 
 
+def test_exponential_terms_give_a_polynomials_values_at_the_points():
+    rng = random.Random(15)
+    p = smooth_prime(rng)
+    grid = GeometricPoints.random(p, 3, rng)
+    poly = {(2, 0, 1): 5, (0, 3, 0): p - 2, (0, 0, 0): 7, (1, 1, 1): 11}
+    values = [sum(c * grid.monomial_value(m, j) for m, c in poly.items()) % p for j in range(12)]
+    assert ExponentialSum(grid.exponential_terms(poly.items(), 3), p).values(0, 12) == values
+
+
 def test_exponential_sums_over_many_chunks(monkeypatch):
     """The product tree works chunk by chunk (a generator is read once); every chunk size gives the same values."""
     from hkproof.algebra import sparse_interpolation as si

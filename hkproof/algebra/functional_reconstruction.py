@@ -236,18 +236,8 @@ class _Chain:
 
     def _exponential_sum(self, terms: Iterable[tuple[tuple[int, ...], int]]) -> ExponentialSum:
         """The values along the lines of a polynomial in the n coordinates (the first one is 1 on every line)."""
-        grid, p = self.grid, self.p
-        powers = [[pow(w, e, p) for e in range(self.degree + 1)] for w in grid.ratios]
-        scales = [[pow(c, e, p) for e in range(self.degree + 1)] for c in grid.scales]
-
-        def pairs() -> Iterator[tuple[int, int]]:
-            for m, c in terms:
-                base, weight = 1, c
-                for e, pw, sc in zip(m[1:], powers, scales):
-                    if e:
-                        base, weight = base * pw[e] % p, weight * sc[e] % p
-                yield weight, base
-        return ExponentialSum(pairs(), p, self.check)
+        return ExponentialSum(self.grid.exponential_terms(((m[1:], c) for m, c in terms), self.degree), self.p,
+                              self.check)
 
     def _contributions(self, r: int) -> ExponentialSum:
         """sum over the solved pieces k >= r of [t^r] P_k(t z + s) on the lines: the higher pieces' contributions
@@ -426,7 +416,7 @@ class _Engine:
         did on such a subset)."""
         n = self.n
         for k in sizes:
-            if k in (0, n) or k <= 2 or math.comb(n, k) <= SHIFT_SUBSETS:
+            if k <= 2 or math.comb(n, k) <= SHIFT_SUBSETS:
                 group = list(itertools.combinations(range(n), k))
             else:
                 chosen: set[tuple[int, ...]] = set()

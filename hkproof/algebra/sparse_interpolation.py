@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import itertools
 import random
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -124,6 +124,19 @@ class GeometricPoints:
             if e:
                 v = v * pow(c, e, self.p) % self.p
         return v
+
+    def exponential_terms(self, terms: Iterable[tuple[Sequence[int], int]], top: int) -> Iterator[tuple[int, int]]:
+        """(c * scale_of(m), base_of(m)) for each term (m, c) of a polynomial of partial degrees <= top, from tables
+        of powers (the polynomial's values at the points z_j are the exponential sum of these pairs)."""
+        p = self.p
+        powers = [[pow(w, e, p) for e in range(top + 1)] for w in self.ratios]
+        scales = [[pow(c, e, p) for e in range(top + 1)] for c in self.scales]
+        for m, c in terms:
+            base, weight = 1, c
+            for e, pw, sc in zip(m, powers, scales):
+                if e:
+                    base, weight = base * pw[e] % p, weight * sc[e] % p
+            yield weight, base
 
     def monomial_value(self, m: Sequence[int], j: int) -> int:
         """z_j^m."""
