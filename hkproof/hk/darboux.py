@@ -191,12 +191,15 @@ def darboux_identities_hold(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cof
 
 
 def check_darboux(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, p: flint.fmpz_mpoly,
-                  exact: bool = True, rng: random.Random | None = None) -> tuple[Status, str]:
+                  exact: bool = True, rng: random.Random | None = None,
+                  fixed: Mapping[str, flint.fmpq] | None = None) -> tuple[Status, str]:
     """Is P o f = K P? Verified (or refuted) exactly in Z[x, eps, params] (darboux_identities_hold); with
-    exact=False, evidence(exact) (or refuted) at three random exact points."""
+    exact=False, evidence(exact) (or refuted) at three random exact points (eps and parameters random too, except
+    those `fixed`)."""
     if exact:
         ok = darboux_identities_hold(kmap, atoms, cofactor, [p])[0]
         return (Status.VERIFIED if ok else Status.REFUTED), IDENTITY
-    ok = check_at_points(kmap, atoms, cofactor, p, rng or random.Random(0))
-    return ((Status.EVIDENCE_EXACT if ok else Status.REFUTED),
-            "P(f(x)) = K(x) P(x) at 3 random exact points (x, eps, params)")
+    ok = check_at_points(kmap, atoms, cofactor, p, rng or random.Random(0), fixed=dict(fixed or {}))
+    where = (f"at {', '.join(f'{k} = {v}' for k, v in fixed.items())} only: P(f(x)) = K(x) P(x) at 3 random exact "
+             "points x") if fixed else "P(f(x)) = K(x) P(x) at 3 random exact points (x, eps, params)"
+    return (Status.EVIDENCE_EXACT if ok else Status.REFUTED), where

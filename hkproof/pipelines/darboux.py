@@ -33,8 +33,8 @@ from hkproof.dynamics.modular_map import ModularKahanMap
 from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.budget import current
 from hkproof.errors import BudgetExhausted, HKProofError, SingularSystemError
-from hkproof.hk.darboux import (IDENTITY, Atom, Cofactor, DarbouxPolynomial, candidate_cofactors, check_at_points,
-                                check_darboux, darboux_certificate, darboux_identities_hold, jacobian_atoms)
+from hkproof.hk.darboux import (IDENTITY, Atom, Cofactor, DarbouxPolynomial, candidate_cofactors, check_darboux,
+                                darboux_certificate, darboux_identities_hold, jacobian_atoms)
 from hkproof.hk.jacobian import matrix_identity_holds
 from hkproof.pipelines.slices import Slice
 from hkproof.proof.status import Status, specialized_label
@@ -422,8 +422,8 @@ def _search(kmap: KahanMap, result: DarbouxSearch, cofactors: Sequence[Cofactor]
                 result.unverified.append(f"K = {cof.text(atoms)}: reconstruction failed ({exc})")
             done += 1
         start = time.perf_counter()
-        checks = [check_darboux(kmap, atoms, cof, p, exact=False, rng=rng) if symbolic else
-                  _checked_at_values(kmap, atoms, cof, p, values, rng) for p, _ in built]
+        checks = [check_darboux(kmap, atoms, cof, p, exact=False, rng=rng, fixed=None if symbolic else values)
+                  for p, _ in built]
         stopped = None
         if symbolic:          # exact where the points did not refute; evidence(exact) if the budget stops it
             try:
@@ -463,15 +463,6 @@ def _checked_exactly(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, 
     """P o f = K P exactly for each P (polynomial identities; a pulled atom composed with f once)."""
     return [(Status.VERIFIED if ok else Status.REFUTED, IDENTITY)
             for ok in darboux_identities_hold(kmap, atoms, cofactor, polys)]
-
-
-def _checked_at_values(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, p: flint.fmpz_mpoly,
-                       values: Mapping[str, flint.fmpq], rng: random.Random) -> tuple[Status, str]:
-    """P o f = K P at three random exact points, at the search's eps and parameters (evidence there)."""
-    ok = check_at_points(kmap, atoms, cofactor, p, rng, fixed=dict(values))
-    return (Status.EVIDENCE_EXACT if ok else Status.REFUTED,
-            f"at {', '.join(f'{k} = {v}' for k, v in values.items())} only: P(f(x)) = K(x) P(x) at 3 random exact "
-            "points x")
 
 
 def _not_covered(exc: BudgetExhausted, atoms: Sequence[Atom], monos: Sequence[Exponents],
