@@ -165,3 +165,13 @@ def test_weighted_reconstruction_agrees_with_the_plain_one():
     plain = reconstruct(f, atoms, cofactors[k], monos, free, vec, random.Random(2))
     weighted = reconstruct(f, atoms, cofactors[k], monos, free, vec, random.Random(2), scaling_weights(f))
     assert plain == weighted
+
+
+def test_above_the_symbolic_limit_darboux_polynomials_are_evidence_at_the_search_values():
+    """With more phase variables than symbolic_limit, P is rebuilt at the search's eps and parameters and checked at
+    exact points there: evidence(exact), and the method names those values."""
+    found = search_darboux(kahan_map("lotka-volterra"), 2, symbolic_limit=1)
+    assert found.darboux and not found.symbolic
+    for d in found.darboux:
+        assert d.status is Status.EVIDENCE_EXACT
+        assert "only: P(f(x)) = K(x) P(x) at 3 random exact points x" in d.certificate.render()
