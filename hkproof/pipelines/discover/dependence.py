@@ -24,7 +24,7 @@ from typing import Mapping, Sequence
 import flint
 
 from hkproof import budget
-from hkproof.algebra.fraction import Frac
+from hkproof.algebra.fraction import Frac, ModularFrac
 from hkproof.algebra.modular import kernel_mod_p, polynomial_mod_p, rank_mod_p, rational_fit_mod_p
 from hkproof.algebra.monomials import Exponents, exponents_upto, value_mod_p
 from hkproof.dynamics.kahan import KahanMap
@@ -146,9 +146,20 @@ class _Samples:
     def __init__(self, basis: Sequence[Exponents], pool: SamplePool):
         if pool.length != len(basis) - 2:
             raise HKProofError(f"a pool of orbits of {pool.length} steps for a basis of {len(basis)} functions")
-        self.basis, self.pool, self.p, self.kmap = list(basis), pool, pool.p, pool.kmap
-        self.known = pool.known
+        self.basis, self.pool = list(basis), pool
         self._next = 0
+
+    @property
+    def p(self) -> int:
+        return self.pool.p
+
+    @property
+    def kmap(self) -> KahanMap:
+        return self.pool.kmap
+
+    @property
+    def known(self) -> dict[str, ModularFrac]:
+        return self.pool.known
 
     def point(self) -> tuple[list[int], TangentOrbit]:
         self._next += 1
