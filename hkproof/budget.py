@@ -107,7 +107,7 @@ class Budget:
         deadline it runs in a forked child (which shares this process's memory, so big arguments are not copied)
         killed when the deadline passes (BudgetExhausted); the result, and any exception, must be picklable. A plain
         os.fork, so that it works inside daemonic worker processes too (multiprocessing forbids their children)."""
-        if not math.isfinite(self.deadline):
+        if not math.isfinite(self.deadline) or not hasattr(os, "fork"):    # no deadline, or no fork (Windows)
             return fn(*args)
         self.check(doing)
         read_end, write_end = os.pipe()
