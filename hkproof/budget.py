@@ -78,9 +78,7 @@ class Budget:
         """Raise BudgetExhausted (saying what was being done) once the deadline or the memory ceiling is passed."""
         now = time.monotonic()
         if now >= self.deadline:
-            raise BudgetExhausted(f"the time budget of {self.seconds:g} s ran out while {doing} (give "
-                                  f"{self.raise_with} to go further)", limit=f"a time budget of {self.seconds:g} s",
-                                  raise_with=self.raise_with)
+            raise self._out_of_time(doing)
         if self.memory_mb is not None and now - self._memory_checked > 0.2:
             self._memory_checked = now
             used = resident_mb()
@@ -101,6 +99,9 @@ class Budget:
         total = None if not math.isfinite(limit) else max(0.0, limit - now)
         return Budget(total, memory_mb=self.memory_mb, raise_with=self.raise_with, _deadline=limit)
 
+    def _out_of_time(self, doing: str) -> BudgetExhausted:
+        return BudgetExhausted(f"the time budget of {self.seconds:g} s ran out while {doing} (give {self.raise_with} "
+                               "to go further)", limit=f"a time budget of {self.seconds:g} s", raise_with=self.raise_with)
 
     def call(self, doing: str, fn: Callable[..., T], *args: Any) -> T:
         """fn(*args), stopped at the deadline even inside one long FLINT call that no check can interrupt: with a
@@ -123,9 +124,7 @@ class Budget:
             with os.fdopen(read_end, "rb") as answer:
                 if not select.select([answer], [], [], self.remaining())[0]:
                     os.kill(pid, signal.SIGKILL)
-                    self.check(doing)
-                    raise BudgetExhausted(f"the time budget of {self.seconds:g} s ran out while {doing}",
-                                          limit=f"a time budget of {self.seconds:g} s", raise_with=self.raise_with)
+                    raise self._out_of_time(doing)
                 data = answer.read()
         finally:
             _reap(pid)

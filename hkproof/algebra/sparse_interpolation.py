@@ -190,7 +190,7 @@ def _product_tree_fraction(terms: Iterable[tuple[int, int]], p: int, check: Call
         level = 0
         while stack and stack[-1][0] == level:
             _, u2, v2 = stack.pop()
-            u, v, level = u2 * v + u * v2, v2 * v, level + 1
+            (u, v), level = _merged([(u2, v2), (u, v)]), level + 1
         stack.append((level, u, v))
     if not stack:
         return flint.nmod_poly([], p), flint.nmod_poly([1], p), 0
