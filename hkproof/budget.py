@@ -62,6 +62,17 @@ class Budget:
     def __repr__(self) -> str:
         return f"Budget(seconds={self.seconds}, memory_mb={self.memory_mb})"
 
+    def __getstate__(self) -> dict:
+        """Sent to a worker process (or a Dask worker on another machine) with its start and deadline as wall-clock
+        times: the monotonic clock of one process means nothing in another."""
+        shift = time.time() - time.monotonic()
+        return {**self.__dict__, "started": self.started + shift, "deadline": self.deadline + shift}
+
+    def __setstate__(self, state: dict) -> None:
+        shift = time.monotonic() - time.time()
+        self.__dict__.update(state, started=state["started"] + shift, deadline=state["deadline"] + shift,
+                             _memory_checked=0.0)
+
     @property
     def elapsed(self) -> float:
         return time.monotonic() - self.started

@@ -139,3 +139,18 @@ def test_budget_call_works_inside_a_daemonic_worker():
     worker.start()
     assert queue.get(timeout=60) == 6 and queue.get(timeout=60) == "stopped"
     worker.join(10)
+
+
+def test_a_budget_sent_to_another_process_keeps_its_deadline():
+    """Pickled (for a worker), a budget carries its deadline as wall-clock time, not as this process's monotonic
+    clock: the copy has the same time left, and an unlimited one stays unlimited."""
+    import pickle
+
+    from hkproof.budget import Budget
+    b = Budget(100.0)
+    time.sleep(0.05)
+    copy = pickle.loads(pickle.dumps(b))
+    assert abs(copy.remaining() - b.remaining()) < 0.5 and copy.seconds == 100.0
+    assert abs(copy.elapsed - b.elapsed) < 0.5
+    assert pickle.loads(pickle.dumps(Budget(None))).remaining() == float("inf")
+    assert pickle.loads(pickle.dumps(Budget(0.0))).expired

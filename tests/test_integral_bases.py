@@ -193,3 +193,17 @@ def test_a_budget_that_runs_out_in_step_5d_says_how_far_it_got(monkeypatch, caps
     monkeypatch.setattr(ib, "reconstruct_rational", stopped_at_the_second)
     main(["discover", "so4-euler-top-split", "--no-progress"])
     assert "step 5d had reconstructed 1 of the 14 coordinates of the bases (" in capsys.readouterr().out
+
+
+def test_the_coordinates_of_a_group_rebuilt_side_by_side_on_an_executor_are_those_of_the_plain_loop(split_ctx,
+                                                                                                 first_group):
+    """With an executor (--jobs) each coordinate is one job in a worker process; the candidate is the same."""
+    import concurrent.futures
+    import dataclasses
+
+    from hkproof.pipelines.discover.integral_bases import group_coordinates
+    plain = group_coordinates(split_ctx, first_group, random.Random(5))
+    with concurrent.futures.ProcessPoolExecutor(max_workers=2) as pool:
+        pooled = group_coordinates(dataclasses.replace(split_ctx, mapper=pool.map), first_group, random.Random(5))
+    assert len(plain) == len(pooled) >= 2
+    assert all(a == b for a, b in zip(plain, pooled))

@@ -27,8 +27,9 @@ from typing import Sequence
 import flint
 
 from hkproof import budget
+from hkproof.budget import Budget
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.functional_reconstruction import reconstruct_rational
+from hkproof.algebra.functional_reconstruction import RationalReconstruction, reconstruct_rational
 from hkproof.algebra.linalg import cramer, lcm
 from hkproof.algebra.modular import kernel_mod_p, random_prime, rank_mod_p
 from hkproof.algebra.monomials import Exponents, exponents_upto, text
@@ -408,28 +409,54 @@ def lift_group_relations(ctx: SearchContext, group: Group, rng: random.Random) -
     return out
 
 
+@dataclass(frozen=True)
+class _Coordinate:
+    """One unknown of a group rebuilt by sparse reconstruction over prime fields: a picklable job, so that the
+    coordinates of a group can run side by side on the executor of --jobs (each one's probes then run in its job)."""
+    box: KernelBlackBox
+    seed: int
+    budget: Budget
+
+    def __call__(self) -> RationalReconstruction | BudgetExhausted:
+        """The reconstruction, or the BudgetExhausted that stopped it (returned, so that the others are kept)."""
+        rng = random.Random(self.seed)
+        try:
+            return reconstruct_rational(self.box, len(self.box.inputs), rng=rng, budget=self.budget,
+                                        primes=_primes(rng), batch_size=BATCH)
+        except BudgetExhausted as exc:
+            return exc
+
+
+def _rebuild(job: _Coordinate) -> RationalReconstruction | BudgetExhausted:
+    return job()
+
+
 def group_coordinates(ctx: SearchContext, group: Group, rng: random.Random) -> list[Frac]:
     """Every unknown a_k of the group with eps and the parameters symbolic, by sparse reconstruction over prime
     fields (the batch black box of recipe (B); the names weighted homogeneity normalizes set to 1, then restored):
-    a candidate."""
+    a candidate. The coordinates are independent reconstructions, each with its own seed: with an executor
+    (ctx.mapper) they run side by side, one per job, with the same results as in a plain loop."""
     inputs = list(ctx.free) + list(ctx.kmap.variables)
-    weights = iter(_coordinate_weights(ctx, group))
-    out: list[Frac] = []
-    total = sum(len(group.order(m)) - 1 for m in group.members)
-    try:
-        for m in group.members:
-            basis = group.order(m)
-            for k in range(len(basis) - 1):
-                box = KernelBlackBox(ctx.kmap, basis, k, len(basis) - 1, inputs,
-                                     {n: 1 for n in ctx.weights.normalized})
-                rec = reconstruct_rational(box, len(inputs), rng=rng, budget=ctx.budget, primes=_primes(rng),
-                                           mapper=ctx.mapper, batch_size=BATCH)
-                out.append(-_restored(ctx, rec, inputs, next(weights)))       # a_k = -c_k / c_l
-    except BudgetExhausted as exc:
+    jobs = [_Coordinate(KernelBlackBox(ctx.kmap, basis, k, len(basis) - 1, inputs,
+                                       {n: 1 for n in ctx.weights.normalized}), rng.randrange(2 ** 63), ctx.budget)
+            for basis in (group.order(m) for m in group.members) for k in range(len(basis) - 1)]
+    if ctx.mapper is None:
+        results: list[RationalReconstruction | BudgetExhausted] = []
+        for job in jobs:
+            results.append(job())
+            if isinstance(results[-1], BudgetExhausted):
+                break
+    else:
+        ctx.stages.say(f"step 5d: {len(jobs)} coordinates rebuilt side by side on the executor")
+        results = list(ctx.mapper(_rebuild, jobs))
+    done = [r for r in results if isinstance(r, RationalReconstruction)]
+    stopped = next((r for r in results if isinstance(r, BudgetExhausted)), None)
+    if stopped is not None:
         labels = "; ".join(f"({', '.join(group.labels(m))})" for m in group.members)
-        raise BudgetExhausted(f"{exc}; step 5d had reconstructed {len(out)} of the {total} coordinates of the bases "
-                              f"{labels}", limit=exc.limit, raise_with=exc.raise_with) from None
-    return out
+        raise BudgetExhausted(f"{stopped}; step 5d had reconstructed {len(done)} of the {len(jobs)} coordinates of "
+                              f"the bases {labels}", limit=stopped.limit, raise_with=stopped.raise_with)
+    return [-_restored(ctx, rec, inputs, weight)                               # a_k = -c_k / c_l
+            for rec, weight in zip(done, _coordinate_weights(ctx, group), strict=True)]
 
 
 def prove_group(ctx: SearchContext, group: Group, rng: random.Random) -> tuple[list[Frac], Certificate]:
