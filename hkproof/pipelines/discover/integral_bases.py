@@ -21,7 +21,7 @@ from __future__ import annotations
 import itertools
 import random
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Sequence
 
 import flint
@@ -35,11 +35,12 @@ from hkproof.algebra.modular import kernel_mod_p, random_prime, rank_mod_p
 from hkproof.algebra.monomials import Exponents, exponents_upto, text
 from hkproof.algebra.vector_reconstruction import reconstruct_vector
 from hkproof.errors import BudgetExhausted, HKProofError, UnluckyPrimeError
-from hkproof.hk.block_system import BlockSystem, verify_candidate
+from hkproof.hk.block_system import BlockSymmetry, BlockSystem, verify_candidate
 from hkproof.hk.discover import independent_subset, jacobian_points
 from hkproof.hk.independence import sample_point
 from hkproof.hk.integrals import lie_derivative
 from hkproof.hk.reduced import Relation
+from hkproof.hk.symmetries import SignedPermutation, field_symmetries
 from hkproof.pipelines.discover.context import SearchContext
 from hkproof.pipelines.discover.report import FoundIntegral
 from hkproof.pipelines.discover.blackbox import KernelBlackBox
@@ -49,7 +50,8 @@ from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.export import prop_even_blocks_step, relation_data
 from hkproof.proof.status import Status
 
-__all__ = ["Group", "IntegralBasis", "continuous_integral_circuits", "find_group", "group_coordinates",
+__all__ = ["Group", "IntegralBasis", "carried_by_symmetry", "continuous_integral_circuits", "find_group",
+           "group_coordinates",
            "integral_bases", "lift_group_relations", "prove_group", "prove_with_integral_bases"]
 
 MAX_BASIS = 6        # functions in a basis (monomials and one integral circuit)
@@ -238,10 +240,14 @@ Member = tuple[int, int]      # (basis index, the index of its normalized functi
 
 @dataclass
 class Group:
-    """Bases solved together, each with its normalized function, and the relations among their coordinates mod p."""
+    """Bases solved together, each with its normalized function, and the relations among their coordinates mod p;
+    `images` (source, target) are members whose basis is the image of an earlier member's under `symmetry`, a
+    symmetry of the map (their coordinates are images too, and so are their rows)."""
 
     members: list[Member]
     bases: list[IntegralBasis]
+    symmetry: SignedPermutation | None = None
+    images: list[tuple[int, int]] = field(default_factory=list)
 
     def order(self, m: Member) -> list[Frac]:
         """The functions of a member's basis, the normalized one last (hk.block_system's convention)."""
@@ -347,6 +353,60 @@ def find_group(ctx: SearchContext, bases: Sequence[IntegralBasis], rng: random.R
     return None
 
 
+def _proportional(a: Frac, b: Frac, phase: set[str]) -> bool:
+    """a = c b with c free of the phase variables (a function of eps and the parameters only)."""
+    return not a.is_zero() and not b.is_zero() and not ((a / b).variables() & phase)
+
+
+def _carries(sigma: SignedPermutation, group: Group, src: int, dst: int, phase: set[str]) -> bool:
+    """Whether sigma carries the basis of member src to that of member dst, function by function up to factors free
+    of x, the normalized function to the normalized one."""
+    source, target = group.order(group.members[src]), group.order(group.members[dst])
+    if len(source) != len(target):
+        return False
+    images = [sigma.apply(h) for h in source]
+    if not _proportional(images[-1], target[-1], phase):
+        return False
+    free = list(range(len(target) - 1))
+    for h in images[:-1]:
+        k = next((k for k in free if _proportional(h, target[k], phase)), None)
+        if k is None:
+            return False
+        free.remove(k)
+    return True
+
+
+def carried_by_symmetry(ctx: SearchContext, group: Group) -> Group:
+    """The group with as many members as possible replaced by images of earlier ones under one symmetry of the
+    field (hk.symmetries: signed permutations of the variables with the parameters permuted): a member whose basis a
+    symmetry carries to another's, up to factors free of x, is replaced by the exact image, so that its coordinates
+    and its rows are images too (the system keeps its rank: only functions are rescaled)."""
+    if len(group.members) < 2:
+        return group
+    phase = set(ctx.kmap.variables)
+    best: tuple[SignedPermutation | None, list[tuple[int, int]]] = (None, [])
+    for sigma in field_symmetries(ctx.kmap.field):
+        ctx.budget.check("looking for symmetries that carry one basis of the group to another")
+        images: list[tuple[int, int]] = []
+        for dst in range(1, len(group.members)):
+            src = next((s for s in range(dst) if _carries(sigma, group, s, dst, phase)), None)
+            if src is not None:
+                images.append((src, dst))
+        if len(images) > len(best[1]):
+            best = (sigma, images)
+    chosen, images = best
+    if chosen is None:
+        return group
+    out = Group(list(group.members), list(group.bases), chosen, images)
+    for src, dst in images:                 # in order: a source carried earlier is already its exact image
+        functions = [chosen.apply(h) for h in out.order(out.members[src])]
+        names = [f"s({n})" if n.startswith(("I", "s(")) else str(h)
+                 for n, h in zip(out.labels(out.members[src]), functions, strict=True)]
+        out.bases.append(IntegralBasis(functions, names, out.bases[out.members[dst][0]].new))
+        out.members[dst] = (len(out.bases) - 1, len(functions) - 1)
+    return out
+
+
 def _weight(ctx: SearchContext, h: Frac) -> Weight:
     return ctx.weights.of_frac(h) if not h.is_constant() else [flint.fmpq(0)] * len(ctx.weights.basis)
 
@@ -435,11 +495,21 @@ def group_coordinates(ctx: SearchContext, group: Group, rng: random.Random) -> l
     """Every unknown a_k of the group with eps and the parameters symbolic, by sparse reconstruction over prime
     fields (the batch black box of recipe (B); the names weighted homogeneity normalizes set to 1, then restored):
     a candidate. The coordinates are independent reconstructions, each with its own seed: with an executor
-    (ctx.mapper) they run side by side, one per job, with the same results as in a plain loop."""
+    (ctx.mapper) they run side by side, one per job, with the same results as in a plain loop. The coordinates of a
+    member that is the image of another under the group's symmetry are the images of that member's."""
     inputs = list(ctx.free) + list(ctx.kmap.variables)
-    jobs = [_Coordinate(KernelBlackBox(ctx.kmap, basis, k, len(basis) - 1, inputs,
-                                       {n: 1 for n in ctx.weights.normalized}), rng.randrange(2 ** 63), ctx.budget)
-            for basis in (group.order(m) for m in group.members) for k in range(len(basis) - 1)]
+    carried = {dst for _, dst in group.images}
+    weights = iter(_coordinate_weights(ctx, group))
+    jobs, shares = [], []
+    for idx, m in enumerate(group.members):
+        basis = group.order(m)
+        for k in range(len(basis) - 1):
+            weight = next(weights)
+            if idx not in carried:
+                jobs.append(_Coordinate(KernelBlackBox(ctx.kmap, basis, k, len(basis) - 1, inputs,
+                                                       {n: 1 for n in ctx.weights.normalized}),
+                                        rng.randrange(2 ** 63), ctx.budget))
+                shares.append(weight)
     if ctx.mapper is None:
         results: list[RationalReconstruction | BudgetExhausted] = []
         for job in jobs:
@@ -455,8 +525,14 @@ def group_coordinates(ctx: SearchContext, group: Group, rng: random.Random) -> l
         labels = "; ".join(f"({', '.join(group.labels(m))})" for m in group.members)
         raise BudgetExhausted(f"{stopped}; step 5d had reconstructed {len(done)} of the {len(jobs)} coordinates of "
                               f"the bases {labels}", limit=stopped.limit, raise_with=stopped.raise_with)
-    return [-_restored(ctx, rec, inputs, weight)                               # a_k = -c_k / c_l
-            for rec, weight in zip(done, _coordinate_weights(ctx, group), strict=True)]
+    rebuilt = iter(-_restored(ctx, rec, inputs, weight)                        # a_k = -c_k / c_l
+                   for rec, weight in zip(done, shares, strict=True))
+    blocks: list[list[Frac]] = [[] if idx in carried else [next(rebuilt) for _ in range(len(group.order(m)) - 1)]
+                                for idx, m in enumerate(group.members)]
+    for src, dst in group.images:
+        assert group.symmetry is not None
+        blocks[dst] = [group.symmetry.apply(a) for a in blocks[src]]
+    return [a for block in blocks for a in block]
 
 
 def prove_group(ctx: SearchContext, group: Group, rng: random.Random) -> tuple[list[Frac], Certificate]:
@@ -479,8 +555,17 @@ def prove_group(ctx: SearchContext, group: Group, rng: random.Random) -> tuple[l
     system = BlockSystem(ctx.kmap, tuple(tuple(group.order(m)) for m in group.members), tuple(relations), (0, 1))
     names = [f"a{b + 1}_{k + 1}" for b, m in enumerate(group.members) for k in range(len(group.order(m)) - 1)]
     point = sample_point(ctx.kmap.ring.names, 3)
+    symmetry = None
+    if group.symmetry is not None:
+        sigma = group.symmetry
+        symmetry = BlockSymmetry(sigma.apply, sigma.commutes,
+                                 tuple((src, dst, tuple(range(len(group.order(group.members[src])))))
+                                       for src, dst in group.images))
+        cert.notes.append(f"s = ({sigma}) is a symmetry of the field; it carries the basis of "
+                                   + ", ".join(f"block {src + 1} to block {dst + 1}" for src, dst in group.images)
+                                   + ": those blocks' coordinates are images, their rows follow")
     try:
-        verify_candidate(cert, system, names, candidate, point)
+        verify_candidate(cert, system, names, candidate, point, symmetry)
         blocks = [(basis[:-1], basis[-1]) for basis in system.bases]
         rows = [relation_data(r.coefficients, r.rhs) for r in relations]
         cert.checks.append(prop_even_blocks_step(ctx.kmap.field, blocks, names, candidate, (0, 1), rows, point))
@@ -509,8 +594,13 @@ def prove_with_integral_bases(ctx: SearchContext, monomials: Sequence[Exponents]
     if group is None:
         ctx.stages.say("no group of these bases gives a square system (mod p)")
         return []
+    group = carried_by_symmetry(ctx, group)
     labels = [f"({', '.join(group.labels(m))})" for m in group.members]
     ctx.stages.say(f"{len(group.members)} bases solved together, {group.width} unknowns: {'; '.join(labels)}")
+    if group.symmetry is not None:
+        ctx.stages.say(f"the symmetry s = ({group.symmetry}) of the field carries "
+                       + ", ".join(f"basis {src + 1} to basis {dst + 1}" for src, dst in group.images)
+                       + ": their coordinates and rows are images")
     candidate, cert = prove_group(ctx, group, rng)
     if cert.status < Status.VERIFIED_SPECIALIZED:
         ctx.stages.say(f"the block system was not proven: {cert.error}")
