@@ -381,7 +381,7 @@ def carried_by_symmetry(ctx: SearchContext, group: Group) -> Group:
     field (hk.symmetries: signed permutations of the variables with the parameters permuted): a member whose basis a
     symmetry carries to another's, up to factors free of x, is replaced by the exact image, so that its coordinates
     and its rows are images too (the system keeps its rank: only functions are rescaled)."""
-    if len(group.members) < 2:
+    if len(group.members) < 2 or not ctx.symmetries:
         return group
     phase = set(ctx.kmap.variables)
     best: tuple[SignedPermutation | None, list[tuple[int, int]]] = (None, [])

@@ -48,11 +48,13 @@ INTEGRAL_BASIS_ROUNDS = 2    # groups of bases with integrals of the flow proven
 
 def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[str, Rational] | None = None,
              budget: Budget | None = None, seed: int = 0, progress: Progress | None = None, max_degree: int = 16,
-             max_unknowns: int = 2500, mapper: Mapper | None = None, translations: bool = True) -> DiscoveryReport:
+             max_unknowns: int = 2500, mapper: Mapper | None = None, translations: bool = True,
+             symmetries: bool = True) -> DiscoveryReport:
     """Integrals of the Kahan map of `system` whose HK-bases are monomials of degree <= `degree`, certified; when the
     budget runs out, the report says what was covered ("complete": false). `mapper` runs the batches of probes of
     the sparse reconstruction (e.g. on a process pool); the result does not depend on it. `translations=False`
-    searches with every parameter instead of on the slice of the field's parameter translations (a comparison)."""
+    searches with every parameter instead of on the slice of the field's parameter translations, `symmetries=False`
+    rebuilds every block of step 5d instead of carrying blocks by symmetries of the field (comparisons)."""
     if not 1 <= degree <= MAX_SEARCH_DEGREE:
         raise ParseError(f"the degree of the basis monomials must be between 1 and {MAX_SEARCH_DEGREE}, got {degree}")
     base = get_system(system) if isinstance(system, str) else system
@@ -75,7 +77,8 @@ def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[s
     field, conserved = without_conserved(where.searched)
     kmap = kahan_map(field)
     ctx = SearchContext.for_maps(kmap, full_map, fixed=fixed, seed=seed, budget=budget, stages=stages,
-                                 max_degree=max_degree, max_unknowns=max_unknowns, mapper=mapper)
+                                 max_degree=max_degree, max_unknowns=max_unknowns, mapper=mapper,
+                                 symmetries=symmetries)
     with budget.active():
         _run(ctx, report, conserved, kahan_map(original) if where.shifts else full_map)
     return report
