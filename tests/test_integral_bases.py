@@ -207,3 +207,41 @@ def test_the_coordinates_of_a_group_rebuilt_side_by_side_on_an_executor_are_thos
         pooled = group_coordinates(dataclasses.replace(split_ctx, mapper=pool.map), first_group, random.Random(5))
     assert len(plain) == len(pooled) >= 2
     assert all(a == b for a, b in zip(plain, pooled))
+
+
+def test_candidates_whose_proof_the_budget_stopped_are_evidence_at_exact_points_and_a_wrong_one_is_refuted(
+        split_ctx, first_group):
+    """When the budget stops the block proof (the row check by Horner of a very large candidate), the candidates are
+    checked at random exact points: evidence(exact), never verified; a perturbed one is refuted there."""
+    from hkproof.pipelines.discover.integral_bases import evidence_at_points, group_coordinates
+    candidate = group_coordinates(split_ctx, first_group, random.Random(3))
+    names = [f"a{k}" for k in range(len(candidate))]
+    cert = evidence_at_points(split_ctx, names, candidate, random.Random(4))
+    assert cert.status is Status.EVIDENCE_EXACT and cert.steps[-1].points == 2
+    ring = split_ctx.kmap.ring
+    bumped = list(candidate)
+    bumped[0] = candidate[0] + Frac(ring, ring.gen("u1"))
+    assert evidence_at_points(split_ctx, names, bumped, random.Random(4)).status is Status.REFUTED
+
+
+def test_a_block_proof_stopped_by_the_budget_reports_its_integrals_as_evidence(monkeypatch, capsys):
+    """discover so4-euler-top-split with the row check i = 1 stopped as by the budget: the group's new integral is
+    reported as evidence(exact) with the reason, and counted apart from the proven ones."""
+    from hkproof.cli import main
+    from hkproof.errors import BudgetExhausted
+    from hkproof.hk import block_system
+    honest = block_system.row_holds
+
+    def stopped(kmap, basis, target, i, solution):
+        if i == 1:
+            raise BudgetExhausted("the time budget of 1 s ran out while checking row i = 1 by Horner's scheme",
+                                  limit="1 s", raise_with="more")
+        return honest(kmap, basis, target, i, solution)
+    monkeypatch.setattr(block_system, "row_holds", stopped)
+    main(["discover", "so4-euler-top-split", "--no-progress", "--json"])
+    import json
+    report = json.loads(capsys.readouterr().out)
+    evidence = [i for i in report["integrals"] if i["status"] == "evidence(exact)"]
+    assert evidence and all("was stopped" in " ".join(i["notes"]) for i in evidence)
+    assert all("random exact points" in i["method"] for i in evidence)
+    assert any("candidates only checked at random exact points" in c for c in report["covered"])

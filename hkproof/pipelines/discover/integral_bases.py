@@ -34,10 +34,11 @@ from hkproof.algebra.linalg import cramer, lcm
 from hkproof.algebra.modular import kernel_mod_p, random_prime, rank_mod_p
 from hkproof.algebra.monomials import Exponents, exponents_upto, text
 from hkproof.algebra.vector_reconstruction import reconstruct_vector
-from hkproof.errors import BudgetExhausted, HKProofError, UnluckyPrimeError
+from hkproof.errors import BudgetExhausted, HKProofError, SingularPointError, UnluckyPrimeError
 from hkproof.hk.block_system import BlockSymmetry, BlockSystem, verify_candidate
 from hkproof.hk.discover import independent_subset, jacobian_points
 from hkproof.hk.independence import sample_point
+from hkproof.algebra.sampling import random_point
 from hkproof.hk.integrals import lie_derivative
 from hkproof.hk.reduced import Relation
 from hkproof.hk.symmetries import SignedPermutation, field_symmetries
@@ -548,7 +549,7 @@ def prove_group(ctx: SearchContext, group: Group, rng: random.Random) -> tuple[l
                    ctx.kmap.ring) as s:
         for m in group.members:
             for name, f in zip(group.labels(m), group.order(m), strict=True):
-                if name.startswith("I"):
+                if name.startswith(("I", "s(")):
                     s.note(f"{name} = {f}")
     relations = lift_group_relations(ctx, group, rng)
     candidate = group_coordinates(ctx, group, rng)
@@ -574,6 +575,49 @@ def prove_group(ctx: SearchContext, group: Group, rng: random.Random) -> tuple[l
     except HKProofError as exc:
         cert.error = f"{type(exc).__name__}: {exc}"
     return candidate, cert
+
+
+EVIDENCE_POINTS = 2
+"""Random exact points at which a candidate whose proof the budget stopped is checked (a(f(x)) = a(x))."""
+
+
+def stopped_by_budget(cert: Certificate) -> bool:
+    """Whether the proof stopped because the time budget ran out (in a step, e.g. a row check by Horner)."""
+    return bool(cert.steps) and cert.steps[-1].status is Status.UNKNOWN and \
+        cert.steps[-1].detail.startswith(BudgetExhausted.__name__)
+
+
+def evidence_at_points(ctx: SearchContext, names: Sequence[str], candidate: Sequence[Frac],
+                       rng: random.Random) -> Certificate:
+    """Evidence(exact) for candidates whose proof was stopped: a(f(x)) = a(x) exactly at EVIDENCE_POINTS random
+    rational points (x, eps and the parameters random); refuted if one differs. Not a proof."""
+    kmap = ctx.kmap
+    cert = Certificate("bases (evidence)", "the kernel coordinates of the bases are constant along the map at random "
+                       "exact points", 'sec. 3 (an integral: h o f = h), at points', "Evidence, not proof: each "
+                       "coordinate takes the same exact value at x and at f(x) for random rational x, eps and "
+                       "parameters.", fixed={k: str(v) for k, v in ctx.fixed.items()})
+    controls = [n for n in kmap.ring.names if n not in kmap.variables]
+    try:
+        with cert.step("a(f(x)) = a(x) at random exact points", "exact arithmetic over Q (the map by one linear "
+                       "solve)", f"Q at {EVIDENCE_POINTS} points") as s:
+            checked = 0
+            for _ in range(4 * EVIDENCE_POINTS):
+                point = random_point(rng, [*kmap.variables, *controls], 5, denominator=7)
+                try:
+                    image = {**point, **kmap.step_exact(point)}
+                    values = [(a.evaluate(point), a.evaluate(image)) for a in candidate]
+                except SingularPointError:
+                    continue
+                for n, (here, there) in zip(names, values, strict=True):
+                    s.require(here == there, f"{n} takes {here} at x and {there} at f(x): not an integral")
+                checked += 1
+                if checked == EVIDENCE_POINTS:
+                    break
+            s.require(checked > 0, "the map or a candidate is singular at every random point tried")
+            s.evidence(Status.EVIDENCE_EXACT, points=checked)
+    except ProofStopped as exc:
+        cert.error = str(exc)
+    return cert
 
 
 def prove_with_integral_bases(ctx: SearchContext, monomials: Sequence[Exponents], known: dict[str, Frac],
@@ -602,8 +646,14 @@ def prove_with_integral_bases(ctx: SearchContext, monomials: Sequence[Exponents]
                        + ", ".join(f"basis {src + 1} to basis {dst + 1}" for src, dst in group.images)
                        + ": their coordinates and rows are images")
     candidate, cert = prove_group(ctx, group, rng)
-    if cert.status < Status.VERIFIED_SPECIALIZED:
-        ctx.stages.say(f"the block system was not proven: {cert.error}")
+    stopped = ""
+    if cert.status < Status.VERIFIED_SPECIALIZED and stopped_by_budget(cert):
+        names = [f"a{b + 1}_{k + 1}" for b, m in enumerate(group.members) for k in range(len(group.order(m)) - 1)]
+        stopped = f"the proof by Prop. \"prop: even\" was stopped: {cert.error}"
+        ctx.stages.say(f"{stopped}; the candidates are checked at random exact points instead (evidence)")
+        cert = evidence_at_points(ctx, names, candidate, random.Random(rng.random()))
+    if cert.status < Status.EVIDENCE_EXACT or (cert.status < Status.VERIFIED_SPECIALIZED and not stopped):
+        ctx.stages.say(f"the block system was not proven: {cert.error or cert.steps[-1].detail}")
         return []
     full = ctx.full_map
     proven = [h.to_ring(full.ring) for h in known.values()]
@@ -619,10 +669,13 @@ def prove_with_integral_bases(ctx: SearchContext, monomials: Sequence[Exponents]
         k = order[idx - len(proven)]
         name = f"I{start_name + len(out)}"
         cert.formula(name, candidate[k])
+        method = (f"Prop. \"prop: even\" on {_bases_text(len(group.members))} (monomials and integrals of the "
+                  f"continuous flow; {len(cert.steps)} steps)" if not stopped else
+                  f"a candidate from {_bases_text(len(group.members))} (monomials and integrals of the continuous "
+                  f"flow), constant at {cert.steps[-1].points} random exact points: evidence")
         out.append(FoundIntegral(name, candidate[k].to_ring(full.ring), cert.status, "kernel coordinate",
-                                 labels, labels_flat[k], time.perf_counter() - start,
-                                 f"Prop. \"prop: even\" on {_bases_text(len(group.members))} (monomials and "
-                                 f"integrals of the continuous flow; {len(cert.steps)} steps)", certificate=cert))
+                                 labels, labels_flat[k], time.perf_counter() - start, method,
+                                 [stopped] if stopped else [], certificate=cert))
     return out
 
 
