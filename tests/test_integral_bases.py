@@ -245,3 +245,4 @@ def test_a_block_proof_stopped_by_the_budget_reports_its_integrals_as_evidence(m
     assert evidence and all("was stopped" in " ".join(i["notes"]) for i in evidence)
     assert all("random exact points" in i["method"] for i in evidence)
     assert any("candidates only checked at random exact points" in c for c in report["covered"])
+    assert report["complete"] is False

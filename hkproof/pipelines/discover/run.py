@@ -203,6 +203,8 @@ def _with_integral_bases(ctx: SearchContext, report: DiscoveryReport, probe, deg
         report.covered.append(f"bases with integrals of the continuous flow: {proven} new independent integrals "
                               "proven" + (f", {len(found) - proven} candidates only checked at random exact points "
                                           "(the budget stopped their proof)" if len(found) > proven else ""))
+        if len(found) > proven:              # the budget stopped a proof: what is reported is not all it could be
+            report.complete = False
         if not proven:
             return
 
