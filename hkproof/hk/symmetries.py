@@ -116,6 +116,23 @@ def _power(bits: Sequence[int], e: Sequence[int]) -> int:
     return out
 
 
+def _sign_equations(coefficients: Sequence[dict[tuple[int, ...], Frac]], pi: Sequence[int],
+                    relabel: SignedPermutation) -> list[tuple[int, tuple[int, ...], int]] | None:
+    """(v, e, +-1) for each term: the parameters relabeled carry its coefficient to +- that of x^pi(e) in F_pi(v);
+    None when one is carried to neither."""
+    out = []
+    for v, terms in enumerate(coefficients):
+        for e, c in terms.items():
+            image, target = relabel.apply(c), coefficients[pi[v]][_moved(e, pi)]
+            if image == target:
+                out.append((v, e, 1))
+            elif image == -target:
+                out.append((v, e, -1))
+            else:
+                return None
+    return out
+
+
 def field_symmetries(field: QuadraticField) -> list[SignedPermutation]:
     """The signed permutations of the phase variables with a permutation of the parameters (eps fixed) that the
     field is equivariant under, the identity left out; none searched above MAX_PERMUTED variables or parameters.
@@ -123,37 +140,23 @@ def field_symmetries(field: QuadraticField) -> list[SignedPermutation]:
     n, params = len(field.variables), list(field.parameters)
     if n > MAX_PERMUTED or len(params) > MAX_PERMUTED:
         return []
-    ring = field.ring
     coefficients = _coefficients(field)
     supports = [frozenset(c) for c in coefficients]
+    identity = tuple(range(n))
     out: list[SignedPermutation] = []
     for pi in itertools.permutations(range(n)):
         if not _supports_match(supports, pi):
             continue
         for rho in itertools.permutations(range(len(params))):
-            moved = [(params[j], params[rho[j]]) for j in range(len(params)) if rho[j] != j]
-            relabel = SignedPermutation((), tuple(moved))
-            equations = []
-            for v in range(n):
-                for e, c in coefficients[v].items():
-                    image = relabel.apply(c)
-                    target = coefficients[pi[v]][_moved(e, pi)]
-                    if image == target:
-                        equations.append((v, e, 1))
-                    elif image == -target:
-                        equations.append((v, e, -1))
-                    else:
-                        break
-                else:
+            moved = tuple((params[j], params[rho[j]]) for j in range(len(params)) if rho[j] != j)
+            equations = _sign_equations(coefficients, pi, SignedPermutation((), moved))
+            if equations is None:
+                continue
+            for bits in _signs(equations, n):
+                if pi == identity and not moved and all(b == 1 for b in bits):
                     continue
-                break
-            else:
-                for bits in _signs(equations, n):
-                    if pi == tuple(range(n)) and not moved and all(b == 1 for b in bits):
-                        continue
-                    sigma = SignedPermutation(tuple((field.variables[v], field.variables[pi[v]], bits[v])
-                                                    for v in range(n)), tuple(moved))
-                    if all(Frac(ring, sigma.apply_poly(ring, f.num), sigma.apply_poly(ring, f.den)) ==
-                           field.rhs[pi[v]] * bits[v] for v, f in enumerate(field.rhs)):
-                        out.append(sigma)
+                sigma = SignedPermutation(tuple((field.variables[v], field.variables[pi[v]], bits[v])
+                                                for v in range(n)), moved)
+                if all(sigma.apply(f) == field.rhs[pi[v]] * bits[v] for v, f in enumerate(field.rhs)):
+                    out.append(sigma)
     return out

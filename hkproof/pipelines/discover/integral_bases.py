@@ -33,12 +33,12 @@ from hkproof.algebra.functional_reconstruction import RationalReconstruction, re
 from hkproof.algebra.linalg import cramer, lcm
 from hkproof.algebra.modular import kernel_mod_p, random_prime, rank_mod_p
 from hkproof.algebra.monomials import Exponents, exponents_upto, text
+from hkproof.algebra.sampling import random_point
 from hkproof.algebra.vector_reconstruction import reconstruct_vector
 from hkproof.errors import BudgetExhausted, HKProofError, SingularPointError, UnluckyPrimeError
 from hkproof.hk.block_system import BlockSymmetry, BlockSystem, verify_candidate
 from hkproof.hk.discover import independent_subset, jacobian_points
 from hkproof.hk.independence import sample_point
-from hkproof.algebra.sampling import random_point
 from hkproof.hk.integrals import lie_derivative
 from hkproof.hk.reduced import Relation
 from hkproof.hk.symmetries import SignedPermutation, field_symmetries
