@@ -28,13 +28,15 @@ import flint
 
 from hkproof.algebra.fraction import Frac, normalize_sign
 from hkproof.algebra.ring import Ring
+from hkproof.budget import check
 from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 
 __all__ = ["MAX_PERMUTED", "SignedPermutation", "field_symmetries"]
 
 MAX_PERMUTED = 8
-"""Phase variables (and, separately, parameters) above which no symmetry is searched (n! permutations)."""
+"""Phase variables (and, separately, parameters) above which no symmetry is searched (n! permutations of each;
+the pairs are screened by the supports first, and the search checks the active budget)."""
 
 
 @dataclass(frozen=True)
@@ -148,6 +150,7 @@ def field_symmetries(field: QuadraticField) -> list[SignedPermutation]:
         if not _supports_match(supports, pi):
             continue
         for rho in itertools.permutations(range(len(params))):
+            check("looking for symmetries of the field (signed permutations)")
             moved = tuple((params[j], params[rho[j]]) for j in range(len(params)) if rho[j] != j)
             equations = _sign_equations(coefficients, pi, SignedPermutation((), moved))
             if equations is None:
