@@ -318,3 +318,26 @@ def test_henon_heiles_modified_energy_by_sparse_reconstruction_and_substitution(
     assert constant_along_sympy_orbit(get_system(path), proven) == []
     bad = SimpleNamespace(name="bad", frac=proven[0].frac + Frac.parse(f.ring, "eps**2*q1"))
     assert constant_along_sympy_orbit(get_system(path), [bad]) == ["bad"]
+
+
+def test_a_formula_too_large_to_read_is_summarized_in_the_text_and_latex_reports():
+    """A person's report prints small integrals whole and summarizes large ones (term counts and degrees; the whole
+    formula stays in --json and the certificate), and --latex does not try to factor them."""
+    from hkproof.algebra.fraction import Frac
+    from hkproof.dynamics.catalogue import kahan_map
+    from hkproof.pipelines.discover.report import SHOWN_TERMS, DiscoveryReport, FoundIntegral
+    from hkproof.proof.status import Status
+    ring = kahan_map("euler-top").ring
+    big = Frac(ring, (ring.gen("x1") + ring.gen("x2") + 2 * ring.gen("x3") + 1) ** 40, ring.gen("x1") + 3)
+    assert len(big.num) + len(big.den) > SHOWN_TERMS
+    small = Frac.parse(ring, "x1**2 + x2**2")
+    report = DiscoveryReport("euler-top", ["x1", "x2", "x3"], ["a1", "a2", "a3"], 2, {})
+    report.integrals = [FoundIntegral("I1", small, Status.VERIFIED, "kernel coordinate"),
+                        FoundIntegral("I2", big, Status.EVIDENCE_EXACT, "kernel coordinate")]
+    text = report.text()
+    assert "I1 = x1**2 + x2**2: verified" in text
+    assert f"I2 = <a rational function of {len(big.num)} + {len(big.den)} terms, total degrees 40 / 1" in text
+    assert str(big) not in text
+    latex = report.latex()
+    assert "\\mathrm{I1}" in latex and "\\mathrm{I2}" not in latex and f"{len(big.num)} + 2 terms" in latex
+    assert report.to_dict()["integrals"][1]["expr"] == str(big)

@@ -25,6 +25,11 @@ __all__ = ["DiscoveryReport", "FoundIntegral", "SKIPPED_SHOWN"]
 SKIPPED_SHOWN = 40       # kernel coordinates too large to reconstruct: the first ones are listed, all are counted
 
 
+SHOWN_TERMS = 400
+"""Terms (numerator and denominator) above which the text and LaTeX reports summarize a formula instead of printing
+it (a formula of the commuting so(4) flow is 29 million characters long)."""
+
+
 @dataclass
 class FoundIntegral:
     """A candidate integral: its formula (None if not reconstructed), its status and where it came from."""
@@ -42,6 +47,21 @@ class FoundIntegral:
     certificate: Certificate | None = None       # the proof (for a basis proven whole, the basis's certificate)
     proof: BasisProof | None = field(default=None, repr=False, compare=False)   # the basis's data (Prop. "prop: even")
     searched: Frac | None = field(default=None, repr=False, compare=False)     # the integral on the slice, if lifted
+
+    def too_large(self) -> bool:
+        """Whether the formula is too long to print (or to factor for LaTeX) in a report read by a person."""
+        return self.frac is not None and len(self.frac.num) + len(self.frac.den) > SHOWN_TERMS
+
+    def shown(self) -> str:
+        """The formula as text, or a summary of it when it is too large to read (the whole is in --json and in
+        the certificate)."""
+        h = self.frac
+        if h is None:
+            return ""
+        if not self.too_large():
+            return str(h)
+        return (f"<a rational function of {len(h.num)} + {len(h.den)} terms, total degrees {h.num.total_degree()} / "
+                f"{h.den.total_degree()}: the formula is in --json and in --certificate>")
 
     def latex(self) -> str:
         if self.frac is None:
@@ -113,7 +133,7 @@ class DiscoveryReport:
             lines.append(f"  {len(self.bases)} minimal HK-bases, e.g. " + "; ".join(
                 f"({', '.join(b['basis'])}) d={b.get('dimension')}" for b in self.bases[:4]))
         for i in self.integrals:
-            expr = "not reconstructed" if i.frac is None else str(i.frac)
+            expr = "not reconstructed" if i.frac is None else i.shown()
             flag = " [independent]" if i.independent else ""
             lines.append(f"  {i.name} = {expr}: {i.status.label}{flag} ({i.kind}"
                          + (f" of ({', '.join(i.basis)})" if i.basis else "") + ")")
@@ -131,7 +151,9 @@ class DiscoveryReport:
         """One LaTeX equation per integral found (reconstructed ones only), with its status as a comment."""
         out = [f"% integrals of the Kahan map of {self.system} (hkproof discover, degree {self.degree})"]
         for i in self.integrals:
-            if i.frac is not None:
+            if i.frac is not None and i.too_large():
+                out.append(f"% {i.name}: {i.status.label}; {i.shown()[1:-1]}")
+            elif i.frac is not None:
                 out.append(f"% {i.name}: {i.status.label}\n\\[ \\mathrm{{{i.name}}} = {i.latex()} \\]")
         if len(out) == 1:
             out.append("% no integral found")
