@@ -341,3 +341,30 @@ def test_a_formula_too_large_to_read_is_summarized_in_the_text_and_latex_reports
     latex = report.latex()
     assert "\\mathrm{I1}" in latex and "\\mathrm{I2}" not in latex and f"{len(big.num)} + 2 terms" in latex
     assert report.to_dict()["integrals"][1]["expr"] == str(big)
+
+
+def test_independent_subset_skips_dependent_functions_and_evaluates_each_gradient_once_per_point(monkeypatch):
+    """h3 = h1 + h2 is left out, h4 kept; every gradient is evaluated at most once per point, however many trials
+    reuse it (sympy gives the same rank of the Jacobian of the chosen ones)."""
+    import sympy
+
+    from hkproof.algebra.fraction import Frac
+    from hkproof.dynamics.catalogue import kahan_map
+    from hkproof.hk import discover as exact
+    ring = kahan_map("euler-top").ring
+    texts = ["x1**2 + x2**2", "x2**2 + x3**2", "x1**2 + 2*x2**2 + x3**2", "x1*x2*x3"]
+    functions = [Frac.parse(ring, t) for t in texts]
+    calls: list[int] = []
+    honest = exact.gradient_at
+
+    def counted(h, variables, point):
+        calls.append(1)
+        return honest(h, variables, point)
+    monkeypatch.setattr(exact, "gradient_at", counted)
+    points = exact.jacobian_points(ring.names)
+    chosen = exact.independent_subset(functions, ["x1", "x2", "x3"], points)
+    assert chosen == [0, 1, 3]
+    assert len(calls) <= len(functions) * len(points)
+    xs = sympy.symbols("x1 x2 x3")
+    jac = sympy.Matrix([[sympy.diff(sympy.sympify(texts[i]), x) for x in xs] for i in chosen])
+    assert jac.rank() == 3

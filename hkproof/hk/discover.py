@@ -16,7 +16,7 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import SingularPointError
-from hkproof.hk.independence import jacobian_rank_at
+from hkproof.hk.independence import gradient_at
 from hkproof.hk.integrals import check_integral
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.export import substitution_step
@@ -51,17 +51,26 @@ def is_phase_constant(h: Frac, variables: Sequence[str]) -> bool:
 
 def independent_subset(functions: Sequence[Frac], variables: Sequence[str],
                        points: Sequence[Mapping[str, Rational]]) -> list[int]:
-    """Indices of a maximal subset whose Jacobian has full rank at one of `points` (exact; proves independence)."""
+    """Indices of a maximal subset whose Jacobian has full rank at one of `points` (exact; proves independence).
+    Each gradient is evaluated at most once per point (the chosen ones are reused for every later trial): for large
+    kernel coordinates the evaluations, not the small ranks, are the cost."""
+    rows: dict[tuple[int, int], list[flint.fmpq] | None] = {}
+
+    def row(i: int, k: int) -> list[flint.fmpq] | None:
+        if (i, k) not in rows:
+            try:
+                rows[i, k] = gradient_at(functions[i], variables, points[k])
+            except SingularPointError:
+                rows[i, k] = None
+        return rows[i, k]
+
     chosen: list[int] = []
     for i in range(len(functions)):
-        trial = [functions[j] for j in chosen + [i]]
-        for point in points:
-            try:
-                if jacobian_rank_at(trial, variables, point) == len(trial):
-                    chosen.append(i)
-                    break
-            except SingularPointError:
-                continue
+        for k in range(len(points)):
+            trial = [r for r in (row(j, k) for j in [*chosen, i]) if r is not None]
+            if len(trial) == len(chosen) + 1 and flint.fmpq_mat(trial).rank() == len(trial):
+                chosen.append(i)
+                break
     return chosen
 
 
