@@ -265,6 +265,10 @@ class Group:
     def width(self) -> int:
         return sum(len(self.bases[b].functions) - 1 for b, _ in self.members)
 
+    def unknown_names(self) -> list[str]:
+        """a<block>_<k> for every unknown, block after block (the names of the certificates)."""
+        return [f"a{b + 1}_{k + 1}" for b, m in enumerate(self.members) for k in range(len(self.order(m)) - 1)]
+
 
 def _kernel_vector(mod: _Modular, basis: Sequence[Frac], orbit: Sequence[Sequence[int]]) -> list[int] | None:
     """The kernel vector of recipe (B)'s rows i = 0..l-2 on an orbit mod p (None where it is not one-dimensional)."""
@@ -554,7 +558,7 @@ def prove_group(ctx: SearchContext, group: Group, rng: random.Random) -> tuple[l
     relations = lift_group_relations(ctx, group, rng)
     candidate = group_coordinates(ctx, group, rng)
     system = BlockSystem(ctx.kmap, tuple(tuple(group.order(m)) for m in group.members), tuple(relations), (0, 1))
-    names = [f"a{b + 1}_{k + 1}" for b, m in enumerate(group.members) for k in range(len(group.order(m)) - 1)]
+    names = group.unknown_names()
     point = sample_point(ctx.kmap.ring.names, 3)
     symmetry = None
     if group.symmetry is not None:
@@ -562,9 +566,9 @@ def prove_group(ctx: SearchContext, group: Group, rng: random.Random) -> tuple[l
         symmetry = BlockSymmetry(sigma.apply, sigma.commutes,
                                  tuple((src, dst, tuple(range(len(group.order(group.members[src])))))
                                        for src, dst in group.images))
-        cert.notes.append(f"s = ({sigma}) is a symmetry of the field; it carries the basis of "
-                                   + ", ".join(f"block {src + 1} to block {dst + 1}" for src, dst in group.images)
-                                   + ": those blocks' coordinates are images, their rows follow")
+        carried = ", ".join(f"block {src + 1} to block {dst + 1}" for src, dst in group.images)
+        cert.notes.append(f"s = ({sigma}) is a symmetry of the field; it carries {carried}: those blocks' "
+                          "coordinates are images, their rows follow")
     try:
         verify_candidate(cert, system, names, candidate, point, symmetry)
         blocks = [(basis[:-1], basis[-1]) for basis in system.bases]
@@ -648,10 +652,9 @@ def prove_with_integral_bases(ctx: SearchContext, monomials: Sequence[Exponents]
     candidate, cert = prove_group(ctx, group, rng)
     stopped = ""
     if cert.status < Status.VERIFIED_SPECIALIZED and stopped_by_budget(cert):
-        names = [f"a{b + 1}_{k + 1}" for b, m in enumerate(group.members) for k in range(len(group.order(m)) - 1)]
         stopped = f"the proof by Prop. \"prop: even\" was stopped: {cert.error}"
         ctx.stages.say(f"{stopped}; the candidates are checked at random exact points instead (evidence)")
-        cert = evidence_at_points(ctx, names, candidate, random.Random(rng.random()))
+        cert = evidence_at_points(ctx, group.unknown_names(), candidate, random.Random(rng.random()))
     if cert.status < Status.EVIDENCE_EXACT or (cert.status < Status.VERIFIED_SPECIALIZED and not stopped):
         ctx.stages.say(f"the block system was not proven: {cert.error or cert.steps[-1].detail}")
         return []
