@@ -341,6 +341,9 @@ def test_a_formula_too_large_to_read_is_summarized_in_the_text_and_latex_reports
     latex = report.latex()
     assert "\\mathrm{I1}" in latex and "\\mathrm{I2}" not in latex and f"{len(big.num)} + 2 terms" in latex
     assert report.to_dict()["integrals"][1]["expr"] == str(big)
+    from hkproof.pipelines.display import discovery_markdown
+    markdown = discovery_markdown(report)                       # how Jupyter shows the report: summarized too
+    assert f"a rational function of {len(big.num)} + 2 terms" in markdown and "x_{1}^{2} + x_{2}^{2}" in markdown
 
 
 def test_independent_subset_skips_dependent_functions_and_evaluates_each_gradient_once_per_point(monkeypatch):

@@ -20,7 +20,7 @@ def discovery_markdown(report: DiscoveryReport) -> str:
     """The integrals (LaTeX, status, kind), the kernels and what the search covered."""
     fixed = f" at {', '.join(f'{k} = {v}' for k, v in report.fixed.items())}" if report.fixed else ""
     lines = [f"**discover {report.system}**{fixed}: HK-bases among monomials of degree <= {report.degree}", ""]
-    rows = [[i.name, f"${latex(sympy.factor(i.frac.to_sympy()))}$" if i.frac is not None else "not reconstructed",
+    rows = [[i.name, i.summary() if i.frac is None or i.too_large() else f"${i.latex()}$",
              i.status.label, "yes" if i.independent else "", i.kind, f"{i.seconds:.2f} s"] for i in report.integrals]
     lines.append(markdown_table(["integral", "formula", "status", "independent", "found as", "time"], rows)
                  if rows else "no integral found")

@@ -52,16 +52,20 @@ class FoundIntegral:
         """Whether the formula is too long to print (or to factor for LaTeX) in a report read by a person."""
         return self.frac is not None and len(self.frac.num) + len(self.frac.den) > SHOWN_TERMS
 
-    def shown(self) -> str:
-        """The formula as text, or a summary of it when it is too large to read (the whole is in --json and in
-        the certificate)."""
+    def summary(self) -> str:
+        """What a report read by a person says of a formula too large to print: its size (the whole is in --json and
+        in the certificate)."""
         h = self.frac
         if h is None:
+            return "not reconstructed"
+        return (f"a rational function of {len(h.num)} + {len(h.den)} terms, total degrees {h.num.total_degree()} / "
+                f"{h.den.total_degree()}: the formula is in --json and in --certificate")
+
+    def shown(self) -> str:
+        """The formula as text, or <its summary> when it is too large to read."""
+        if self.frac is None:
             return ""
-        if not self.too_large():
-            return str(h)
-        return (f"<a rational function of {len(h.num)} + {len(h.den)} terms, total degrees {h.num.total_degree()} / "
-                f"{h.den.total_degree()}: the formula is in --json and in --certificate>")
+        return f"<{self.summary()}>" if self.too_large() else str(self.frac)
 
     def latex(self) -> str:
         if self.frac is None:
@@ -152,7 +156,7 @@ class DiscoveryReport:
         out = [f"% integrals of the Kahan map of {self.system} (hkproof discover, degree {self.degree})"]
         for i in self.integrals:
             if i.frac is not None and i.too_large():
-                out.append(f"% {i.name}: {i.status.label}; {i.shown()[1:-1]}")
+                out.append(f"% {i.name}: {i.status.label}; {i.summary()}")
             elif i.frac is not None:
                 out.append(f"% {i.name}: {i.status.label}\n\\[ \\mathrm{{{i.name}}} = {i.latex()} \\]")
         if len(out) == 1:
