@@ -146,6 +146,50 @@ class Budget:
             return value
         raise value
 
+    def call_each(self, doing: str, fn: Callable[[int], T], jobs: int) -> list[T]:
+        """[fn(0), ..., fn(jobs - 1)], each in a forked child at the same time (side by side on the cores), with the
+        deadline of `call`: every child is killed when it passes (BudgetExhausted), and a child's exception is
+        raised here. One job, or no fork (Windows), runs in this process."""
+        if jobs <= 1 or not hasattr(os, "fork"):
+            return [fn(k) for k in range(jobs)]
+        self.check(doing)
+        children = []
+        for k in range(jobs):
+            read_end, write_end = os.pipe()
+            pid = os.fork()
+            if pid == 0:
+                os.close(read_end)
+                try:
+                    _call_and_send(write_end, fn, (k,))
+                finally:
+                    os._exit(0)
+            os.close(write_end)
+            children.append((pid, os.fdopen(read_end, "rb")))
+        answers = []
+        try:
+            for _, answer in children:
+                wait = self.remaining() if math.isfinite(self.deadline) else None
+                if not select.select([answer], [], [], wait)[0]:
+                    raise self._out_of_time(doing)
+                answers.append(answer.read())
+        finally:
+            for pid, answer in children:
+                answer.close()
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+                _reap(pid)
+        out = []
+        for data in answers:
+            if not data:
+                raise HKProofError(f"a process {doing} died without an answer (out of memory?)")
+            ok, value = pickle.loads(data)
+            if not ok:
+                raise value
+            out.append(value)
+        return out
+
     @contextmanager
     def active(self) -> Iterator["Budget"]:
         """Make this the budget that `check` consults in this thread (nested budgets: the innermost wins)."""

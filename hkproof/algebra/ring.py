@@ -140,12 +140,16 @@ def get_ring(names: tuple[str, ...]) -> Ring:
     return Ring(names)
 
 
+def cores() -> int:
+    """The cores this process may use."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
 @contextmanager
 def flint_threads(n: int | None = None) -> Iterator[None]:
     """FLINT's own threads for big polynomial products and divisions (n = the cores this process may use)."""
     before = flint.ctx.threads
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    flint.ctx.threads = n or cores
+    flint.ctx.threads = n or cores()
     try:
         yield
     finally:

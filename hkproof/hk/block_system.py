@@ -193,7 +193,8 @@ def verify_candidate(cert: Certificate, system: BlockSystem, names: Sequence[str
     even_components(cert, names, candidate)
     carried = {dst for _, dst, _ in symmetry.images} if symmetry else set()
     with cert.step("the candidate satisfies the system", "substitution: relations and rows i = 0 exactly, rows with "
-                   "iterates by Horner in the numerators of f^i (hk.row_check)" +
+                   "iterates by Horner's scheme in the numerators of f^i (hk.row_check: expanded, or at the points of "
+                   "a unisolvent lattice in the parameters; the route of each row is noted)" +
                    ("; the rows of the carried blocks as images under a symmetry of f (checked)" if carried else ""),
                    ring) as s:
         for k, rel in enumerate(system.relations):
@@ -202,7 +203,10 @@ def verify_candidate(cert: Certificate, system: BlockSystem, names: Sequence[str
             block = [candidate[k] for k in system.block(b)]
             for i in system.iterates:
                 if i == 0 or b not in carried:
-                    s.require(row_holds(f, basis[:-1], basis[-1], i, block), f"row i = {i} of block {b + 1} fails")
+                    row = row_holds(f, basis[:-1], basis[-1], i, block)
+                    s.require(row.holds, f"{row.route}: row i = {i} of block {b + 1} fails")
+                    if i:
+                        s.note(f"block {b + 1}, {row.route}")
         if symmetry:
             s.require(symmetry.holds(f), "the symmetry does not commute with the map")
             established = set(range(len(system.bases))) - carried

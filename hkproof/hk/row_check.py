@@ -1,37 +1,57 @@
 """Substituting a solution back into a row with an iterate, (sum a_k phi_k) o f^i = phi_l o f^i, by a Horner
 scheme in the numerators of f^i: the big solution is multiplied only by the small numerators N_j, one at a time,
-never by the big rows phi_k o f^i (Prop. "prop: even", check 4, for polynomial basis functions)."""
+never by the big rows phi_k o f^i (Prop. "prop: even", check 4, for polynomial basis functions); or, where a cost
+model says it is cheaper, the same identity with eps and one parameter set to 1 by the weighted homogeneity and
+the other parameters on a unisolvent lattice (`algebra.lattice_identity`): never expanded in the parameters."""
 from __future__ import annotations
 
-from typing import Sequence
+from dataclasses import dataclass
+from typing import Literal, Sequence
 
 import flint
 
 from hkproof.algebra.fraction import Frac
+from hkproof.algebra.lattice_identity import horner, plan_lattice, vanishes_on_lattice
 from hkproof.algebra.linalg import lcm
-from hkproof.algebra.ring import flint_threads
+from hkproof.algebra.ring import cores, flint_threads
 from hkproof.budget import current
+from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals
 
-__all__ = ["check_solution_by_rows", "Monomial", "row_holds"]
+__all__ = ["check_solution_by_rows", "Monomial", "row_holds", "RowCheck", "Route"]
 
 Monomial = tuple[int, ...]
+Route = Literal["auto", "horner", "lattice"]
 
 
-def row_holds(kmap: KahanMap, basis: Sequence[Frac], target: Frac, i: int, solution: Sequence[Frac]) -> bool:
+@dataclass(frozen=True)
+class RowCheck:
+    """Whether a row holds, and how that was decided (for the certificate); true in a boolean context iff it holds."""
+
+    holds: bool
+    route: str
+
+    def __bool__(self) -> bool:
+        return self.holds
+
+
+def row_holds(kmap: KahanMap, basis: Sequence[Frac], target: Frac, i: int, solution: Sequence[Frac],
+              route: Route = "auto") -> RowCheck:
     """sum a_k(x) phi_k(f^i(x)) == phi_l(f^i(x)) exactly, for basis functions and target polynomial in x.
 
     With f^i = N / Delta and D the largest degree, the row times Delta^D is sum_mu C_mu(x) N^mu Delta^(D - |mu|),
     C_mu(x) = sum_k a_k(x) [x^mu] phi_k - [x^mu] phi_l (the a_k stay at x, only phi moves); it is evaluated by
-    Horner's scheme in (N, Delta) over the common denominator of the C_mu, and compared with 0. Row i = 0, and a
-    row of basis functions that are not polynomial in x, is the plain substitution.
+    Horner's scheme in (N, Delta) over the common denominator of the C_mu, and compared with 0 -- expanded in
+    every variable, or (route "lattice", or "auto" when the cost model prefers it) at the points of a unisolvent
+    lattice in the parameters. Row i = 0, and a row of basis functions that are not polynomial in x, is the plain
+    substitution.
     """
     if i == 0:
-        return linear_combination_equals(basis, solution, target)
+        return RowCheck(linear_combination_equals(basis, solution, target), "row i = 0 by substitution")
     if any(phi.den_variables_in(kmap.variables) for phi in (*basis, target)):
         row, rhs = hk_row(kmap, basis, target, i)
-        return linear_combination_equals(row, solution, rhs)
+        return RowCheck(linear_combination_equals(row, solution, rhs), f"row i = {i} by substitution")
     ring = kmap.ring
     coefficients: dict[Monomial, Frac] = {}
     for a, phi in [*zip(solution, basis, strict=True), (Frac(ring, -1), target)]:
@@ -39,12 +59,21 @@ def row_holds(kmap: KahanMap, basis: Sequence[Frac], target: Frac, i: int, solut
             coefficients[mu] = coefficients.get(mu, Frac(ring, 0)) + a * c
     coefficients = {mu: c for mu, c in coefficients.items() if not c.is_zero()}
     if not coefficients:
-        return True
+        return RowCheck(True, f"row i = {i}: every coefficient cancels")
     nums, delta = kmap.iterate(i) if abs(i) > 1 else (kmap.explicit if i > 0 else kmap.inverse_explicit)
     top = max(sum(mu) for mu in coefficients)
     common = lcm([c.den for c in coefficients.values()])
     terms = {(*mu, top - sum(mu)): c.num * (common / c.den) for mu, c in coefficients.items()}
-    return current().call(f"checking row i = {i} by Horner's scheme", _vanishes, terms, [*nums, delta])
+    factors = [*nums, delta]
+    parameters = tuple(kmap.field.parameters)
+    if route != "horner" and parameters:
+        plan = plan_lattice(terms, factors, ring.names, (EPS, *parameters), parameters)
+        if route == "lattice" or plan.cheaper:
+            with flint_threads():
+                holds, bad = vanishes_on_lattice(terms, factors, plan, jobs=cores())
+            return RowCheck(holds, f"row i = {i}: {plan.describe()}" + (f"; not zero at {bad}" if bad else ""))
+    holds = current().call(f"checking row i = {i} by Horner's scheme", _vanishes, terms, factors)
+    return RowCheck(holds, f"row i = {i} by Horner's scheme in the numerators of f^{i}, expanded")
 
 
 def check_solution_by_rows(kmap: KahanMap, basis: Sequence[Frac], target: Frac, iterates: Sequence[int],
@@ -73,17 +102,4 @@ def _x_coefficients(kmap: KahanMap, phi: Frac) -> dict[Monomial, Frac]:
 def _vanishes(terms: dict[Monomial, flint.fmpz_mpoly], factors: Sequence[flint.fmpz_mpoly]) -> bool:
     """Whether sum_mu terms[mu] prod_j factors[j]^mu_j is zero (FLINT's threads on the big products)."""
     with flint_threads():
-        return _horner(terms, factors).is_zero()
-
-
-def _horner(terms: dict[Monomial, flint.fmpz_mpoly], factors: Sequence[flint.fmpz_mpoly]) -> flint.fmpz_mpoly:
-    """sum_mu terms[mu] prod_j factors[j]^mu_j: factor out the first variable that occurs, recursively."""
-    constant = terms.get(tuple(0 for _ in factors))
-    rest = {mu: p for mu, p in terms.items() if any(mu)}
-    out = constant if constant is not None else factors[0] - factors[0]
-    while rest:
-        j = min(k for mu in rest for k, e in enumerate(mu) if e)
-        inner = {mu[:j] + (mu[j] - 1,) + mu[j + 1:]: p for mu, p in rest.items() if mu[j]}
-        rest = {mu: p for mu, p in rest.items() if not mu[j]}
-        out = out + factors[j] * _horner(inner, factors)
-    return out
+        return horner(terms, factors).is_zero()
