@@ -52,10 +52,15 @@ class _Exponents:
     """The exponent matrices of the T_mu and F_j (numpy, one row per monomial), read once."""
 
     def __init__(self, terms: Terms, factors: Sequence[flint.fmpz_mpoly]):
-        self.mus = [mu for mu, p in terms.items() if not p.is_zero()]
+        self.mus = [mu for mu, p in terms.items()
+                    if not p.is_zero() and not any(m and factors[j].is_zero() for j, m in enumerate(mu))]
         self.terms = [np.array(terms[mu].monoms(), dtype=np.int64) for mu in self.mus]
         self.factors = [np.array(f.monoms(), dtype=np.int64).reshape(-1, f.context().nvars()) for f in factors]
         self._distinct: dict[tuple[int, ...], tuple[list[int], list[int]]] = {}
+
+    def top(self) -> int:
+        """The largest sum of exponents of a monomial of a T_mu or F_j (a bound for int64 weight arithmetic)."""
+        return max((int(e.sum(axis=1).max()) for e in self.all()), default=0) + 1
 
     def all(self) -> list[np.ndarray]:
         return self.terms + [f for f in self.factors if len(f)]
@@ -121,7 +126,10 @@ def _gradings(exponents: _Exponents, nvars: int, seed_rows: int = 32) -> np.ndar
     while True:
         basis = nullspace_q([[int(x) for x in r] for r in rows]) if rows else \
             [[flint.fmpq(int(i == j)) for i in range(nvars)] for j in range(nvars)]
-        weights = np.array([_integer(v) for v in basis], dtype=np.int64).reshape(-1, nvars)
+        weights = np.array([_integer(v) for v in basis], dtype=object).reshape(-1, nvars)
+        if len(weights) and max(abs(int(w)) for w in weights.flat) * exponents.top() >= 2 ** 50:
+            return np.zeros((0, nvars), dtype=np.int64)     # weights this large: no shortcut (int64 arithmetic)
+        weights = weights.astype(np.int64)
         failing = [r for r in (_failing_row(e, weights) for e in exponents.all()) if r is not None]
         if not failing:
             return weights
@@ -172,7 +180,7 @@ def plan_lattice(terms: Terms, factors: Sequence[flint.fmpz_mpoly], names: Seque
         kept = [k for k, n in enumerate(names) if n not in ones and n not in on]
         work = points * exps.work(*exps.distinct(kept))
         if best is None or work < best.work:
-            best = LatticePlan(tuple(ones), on, degree, points, work, plain)
+            best = LatticePlan(tuple(ones), on, int(degree), int(points), int(work), int(plain))
     assert best is not None      # combinations(free, rank) with rank = rank of the block yields a valid choice
     return best
 
