@@ -116,7 +116,28 @@ def test_a_row_check_by_horner_stops_at_the_deadline(monkeypatch):
     basis = [Frac.parse(f.ring, t) for t in ("x1**2", "x2**2")]
     start = time.perf_counter()
     with pytest.raises(BudgetExhausted, match="row i = 1"), Budget(1).active():
-        row_check.row_holds(f, basis, Frac.parse(f.ring, "x3**2"), 1, [Frac(f.ring, 1), Frac(f.ring, 1)])
+        row_check.row_holds(f, basis, Frac.parse(f.ring, "x3**2"), 1, [Frac(f.ring, 1), Frac(f.ring, 1)],
+                            route="horner")
+    assert time.perf_counter() - start < STOPPED_WITHIN
+
+
+def _square_or_fail(k: int) -> int:
+    if k == 2:
+        raise ValueError("a refusal in child 2")
+    return k * k
+
+
+def test_budget_call_each_runs_side_by_side_raises_and_stops_at_the_deadline():
+    from hkproof.budget import Budget
+    from hkproof.errors import BudgetExhausted
+    assert Budget(30).call_each("squaring", lambda k: k * k, 3) == [0, 1, 4]
+    assert Budget(None).call_each("squaring", lambda k: k * k, 2) == [0, 1]      # no deadline: forked all the same
+    assert Budget(30).call_each("squaring", lambda k: k * k, 1) == [0]            # one job: in this process
+    with pytest.raises(ValueError, match="refusal in child 2"):
+        Budget(30).call_each("squaring", _square_or_fail, 3)
+    start = time.perf_counter()
+    with pytest.raises(BudgetExhausted, match="ran out while sleeping"):
+        Budget(0.5).call_each("sleeping", lambda k: _slow(30), 2)
     assert time.perf_counter() - start < STOPPED_WITHIN
 
 
