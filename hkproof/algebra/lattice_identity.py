@@ -213,6 +213,6 @@ def vanishes_on_lattice(terms: Terms, factors: Sequence[flint.fmpz_mpoly], plan:
     def part(k: int) -> dict[str, int] | None:
         return walk(0, plan.degree, start, moved, {}, range(k, plan.degree + 1, jobs))
 
-    bad = next((b for b in budget.current().call_each("checking a row identity on a lattice", part, jobs) if b is not None),
-               None)
+    found = budget.current().call_each("checking a row identity on a lattice", part, jobs)
+    bad = next((b for b in found if b is not None), None)
     return bad is None, bad
