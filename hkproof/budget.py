@@ -22,7 +22,7 @@ import signal
 import time
 from contextlib import contextmanager
 from contextvars import ContextVar
-from typing import Any, Callable, Iterator, TypeVar
+from typing import Any, Callable, Iterator, Sequence, TypeVar
 
 from hkproof.errors import BudgetExhausted, HKProofError
 
@@ -121,30 +121,7 @@ class Budget:
         os.fork, so that it works inside daemonic worker processes too (multiprocessing forbids their children)."""
         if not math.isfinite(self.deadline) or not hasattr(os, "fork"):    # no deadline, or no fork (Windows)
             return fn(*args)
-        self.check(doing)
-        read_end, write_end = os.pipe()
-        pid = os.fork()
-        if pid == 0:                                    # the child: compute, send, leave without any clean-up
-            os.close(read_end)
-            try:
-                _call_and_send(write_end, fn, args)
-            finally:
-                os._exit(0)
-        os.close(write_end)
-        try:
-            with os.fdopen(read_end, "rb") as answer:
-                if not select.select([answer], [], [], self.remaining())[0]:
-                    os.kill(pid, signal.SIGKILL)
-                    raise self._out_of_time(doing)
-                data = answer.read()
-        finally:
-            _reap(pid)
-        if not data:
-            raise HKProofError(f"the process {doing} died without an answer (out of memory?)")
-        ok, value = pickle.loads(data)
-        if ok:
-            return value
-        raise value
+        return self._in_children(doing, [(fn, args)])[0]
 
     def call_each(self, doing: str, fn: Callable[[int], T], jobs: int) -> list[T]:
         """[fn(0), ..., fn(jobs - 1)], each in a forked child at the same time (side by side on the cores), with the
@@ -152,15 +129,20 @@ class Budget:
         raised here. One job, or no fork (Windows), runs in this process."""
         if jobs <= 1 or not hasattr(os, "fork"):
             return [fn(k) for k in range(jobs)]
+        return self._in_children(doing, [(fn, (k,)) for k in range(jobs)])
+
+    def _in_children(self, doing: str, calls: Sequence[tuple[Callable[..., T], tuple]]) -> list[T]:
+        """fn(*args) for each call, each in a forked child (which shares this process's memory, so big arguments are
+        not copied), the answers read in order until the deadline; every child is killed and reaped at the end."""
         self.check(doing)
         children = []
-        for k in range(jobs):
+        for fn, args in calls:
             read_end, write_end = os.pipe()
             pid = os.fork()
-            if pid == 0:
+            if pid == 0:                                # the child: compute, send, leave without any clean-up
                 os.close(read_end)
                 try:
-                    _call_and_send(write_end, fn, (k,))
+                    _call_and_send(write_end, fn, args)
                 finally:
                     os._exit(0)
             os.close(write_end)
@@ -183,7 +165,7 @@ class Budget:
         out = []
         for data in answers:
             if not data:
-                raise HKProofError(f"a process {doing} died without an answer (out of memory?)")
+                raise HKProofError(f"the process {doing} died without an answer (out of memory?)")
             ok, value = pickle.loads(data)
             if not ok:
                 raise value
