@@ -101,3 +101,19 @@ def test_both_routes_of_a_row_check_agree_on_the_euler_top():
     bad = [sol[0] + Frac.parse(f.ring, "eps**2*a1"), sol[1]]
     assert not row_holds(f, basis[:2], basis[2], 1, bad, route="lattice")
     assert not row_holds(f, basis[:2], basis[2], 1, bad, route="horner")
+
+
+def test_exponents_past_int64_do_not_fake_a_grading():
+    """R = y - y (x z)^(2^64) is not zero. With int64 exponent arithmetic the summand weight 4 * 2^62 wrapped to 0
+    (so every grading seemed to hold) and the exponent sum 2^63 of F wrapped negative (so the size guard passed):
+    x = z = 1 was allowed and R(x = z = 1) = 0 was read as R = 0. Exact arithmetic finds the one grading that holds
+    (x and z of opposite weights): one of them alone is set to 1, and the identity is refuted."""
+    ring = get_ring(("x", "y", "z"))
+    x, y, z = ring.gens()
+    terms, factors = {(0,): y, (4,): -y}, [x ** 2 ** 62 * z ** 2 ** 62]
+    assert not horner(terms, factors).is_zero()
+    for lattice in ((), ("z",)):
+        plan = plan_lattice(terms, factors, ring.names, ("x", "z"), lattice)
+        assert len(plan.ones) <= 1
+        holds, point = vanishes_on_lattice(terms, factors, plan)
+        assert not holds and point is not None

@@ -32,6 +32,7 @@ __all__ = ["horner", "LatticePlan", "plan_lattice", "vanishes_on_lattice"]
 
 Monomial = tuple[int, ...]
 PARALLEL_POINTS = 64      # fewer lattice points are checked in this process (a fork costs more than they do)
+EXACT_INT64 = 2 ** 62     # exponent sums and weighted sums below this are exact in int64 (Python integers above)
 Terms = Mapping[Monomial, flint.fmpz_mpoly]
 
 
@@ -49,17 +50,29 @@ def horner(terms: Terms, factors: Sequence[flint.fmpz_mpoly]) -> flint.fmpz_mpol
 
 
 class _Exponents:
-    """The exponent matrices of the T_mu and F_j (numpy, one row per monomial), read once."""
+    """The exponent matrices of the T_mu and F_j (numpy, one row per monomial), read once. Every sum, difference and
+    weighted sum of exponents below is exact: the arrays are int64 only when a bound computed with Python integers
+    (the degrees of the T_mu and F_j) shows that no such value can pass 2^62, and Python integers (dtype object)
+    otherwise -- int64 arithmetic wraps silently, and a grading that holds only mod 2^64 would set names to 1
+    unsoundly."""
 
     def __init__(self, terms: Terms, factors: Sequence[flint.fmpz_mpoly]):
         self.mus = [mu for mu, p in terms.items()
                     if not p.is_zero() and not any(m and factors[j].is_zero() for j, m in enumerate(mu))]
-        self.terms = [np.array(terms[mu].monoms(), dtype=np.int64) for mu in self.mus]
-        self.factors = [np.array(f.monoms(), dtype=np.int64).reshape(-1, f.context().nvars()) for f in factors]
+        sizes = [sum(int(d) for d in f.degrees()) if not f.is_zero() else 0 for f in factors]
+        self.bound = max((sum(int(d) for d in terms[mu].degrees()) + sum(m * sizes[j] for j, m in enumerate(mu))
+                          for mu in self.mus), default=0)     # >= every exponent sum of a summand and of a T or F
+        self.dtype: type = np.int64 if self.bound < EXACT_INT64 else object
+        self.terms = [self._array(terms[mu]) for mu in self.mus]
+        self.factors = [self._array(f) for f in factors]
         self._distinct: dict[tuple[int, ...], tuple[list[int], list[int]]] = {}
 
+    def _array(self, p: flint.fmpz_mpoly) -> np.ndarray:
+        monoms = [tuple(int(x) for x in m) for m in p.monoms()] if self.dtype is object else p.monoms()
+        return np.array(monoms, dtype=self.dtype).reshape(-1, p.context().nvars())
+
     def top(self) -> int:
-        """The largest sum of exponents of a monomial of a T_mu or F_j (a bound for int64 weight arithmetic)."""
+        """The largest sum of exponents of a monomial of a T_mu or F_j, plus 1 (a bound for weight arithmetic)."""
         return max((int(e.sum(axis=1).max()) for e in self.all()), default=0) + 1
 
     def all(self) -> list[np.ndarray]:
@@ -85,7 +98,11 @@ class _Exponents:
         key = tuple(columns)
         if key not in self._distinct:
             def count(e: np.ndarray) -> int:
-                return int(np.unique(e[:, key], axis=0).shape[0]) if len(e) and key else min(len(e), 1)
+                if not len(e) or not key:
+                    return min(len(e), 1)
+                if e.dtype == object:                        # numpy's unique has no axis for Python integers
+                    return len({tuple(row) for row in e[:, key]})
+                return int(np.unique(e[:, key], axis=0).shape[0])
             self._distinct[key] = ([count(e) for e in self.terms], [count(e) for e in self.factors])
         return self._distinct[key]
 
@@ -95,9 +112,9 @@ class _Exponents:
                    for mu, t in zip(self.mus, term_sizes, strict=True))
 
 
-def _integer(v: Sequence[flint.fmpq]) -> np.ndarray:
+def _integer(v: Sequence[flint.fmpq]) -> list[int]:
     den = lcm(*(int(c.q) for c in v))
-    return np.array([int(c.p) * (den // int(c.q)) for c in v], dtype=np.int64)
+    return [int(c.p) * (den // int(c.q)) for c in v]
 
 
 def _rank(weights: np.ndarray, columns: Sequence[int]) -> int:
@@ -127,9 +144,9 @@ def _gradings(exponents: _Exponents, nvars: int, seed_rows: int = 32) -> np.ndar
         basis = nullspace_q([[int(x) for x in r] for r in rows]) if rows else \
             [[flint.fmpq(int(i == j)) for i in range(nvars)] for j in range(nvars)]
         weights = np.array([_integer(v) for v in basis], dtype=object).reshape(-1, nvars)
-        if len(weights) and max(abs(int(w)) for w in weights.flat) * exponents.top() >= 2 ** 50:
-            return np.zeros((0, nvars), dtype=np.int64)     # weights this large: no shortcut (int64 arithmetic)
-        weights = weights.astype(np.int64)
+        if exponents.dtype is not object and (
+                not len(weights) or max(abs(int(w)) for w in weights.flat) * exponents.top() < EXACT_INT64):
+            weights = weights.astype(np.int64)      # every e . w fits: int64 is exact (else Python integers)
         failing = [r for r in (_failing_row(e, weights) for e in exponents.all()) if r is not None]
         if not failing:
             return weights
