@@ -17,7 +17,7 @@ from hkproof.hk.modified_hamiltonian import ModifiedHamiltonianResult
 from hkproof.pipelines.darboux import DarbouxSearch
 from hkproof.pipelines.discover.report import DiscoveryReport, FoundIntegral
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.export import Conclusion, darboux_step, document, field_data, substitution_step
+from hkproof.proof.export import Conclusion, claimed, darboux_step, document, field_data, substitution_step
 from hkproof.proof.status import Status
 
 
@@ -120,8 +120,9 @@ def discover_document(report: DiscoveryReport) -> dict:
                       "integrals": [_lifted(f, name, on_slice[name]) for f, name in concluded]})
     doc = document(f"integrals of the Kahan map of {report.system}", "", steps, report.fixed)
     if where is not None:
-        doc["claim"]["integrals"] = [e["name"] for e in doc["steps"][-1]["integrals"]]
-    doc["claim"]["statement"] = (f"the integrals {', '.join(doc['claim']['integrals'])} are integrals of the Kahan "
+        doc["claim"]["integrals"] = [claimed(doc["steps"][-1], e) for e in doc["steps"][-1]["integrals"]]
+    names = ", ".join(e["name"] for e in doc["claim"]["integrals"])
+    doc["claim"]["statement"] = (f"the integrals {names} are integrals of the Kahan "
                                  f"map of {report.system}" + ("" if where is None else f" ({where.describe()}; the "
                                  "steps before the last prove them, named <name>_slice, on the slice)"))
     return doc

@@ -8,6 +8,7 @@ which `hkproof.checker` re-verifies.
 """
 from __future__ import annotations
 
+import re
 from typing import Mapping, Sequence
 
 from hkproof.algebra.fraction import Frac
@@ -15,12 +16,12 @@ from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import QuadraticField
 from hkproof.proof.certificate import Certificate
 
-__all__ = ["CONVENTION", "Conclusion", "darboux_step", "degrees_step", "document", "field_data", "FORMAT",
+__all__ = ["claimed", "CONVENTION", "Conclusion", "field_key", "darboux_step", "degrees_step", "document", "field_data", "FORMAT",
            "prop_even_blocks_step", "prop_even_step", "recipe_g_step", "relation_data", "substitution_step", "VERSION"]
 
 FORMAT = "hkproof-certificate"
-VERSION = 5                   # 2: darboux, recipe-g, densities; 3: degrees, cofactor "det Df"; 4: prop-even blocks;
-# 5: reparametrization
+VERSION = 6                   # 2: darboux, recipe-g, densities; 3: degrees, cofactor "det Df"; 4: prop-even blocks;
+# 5: reparametrization; 6: the claim names the field of each integral and density, field keys ASCII
 Conclusion = tuple[str, Frac, str]      # (name, value, the value written in the step's own names)
 CONVENTION = "eps = h/2"      # x~ - x = 2 eps F(x, x~): hkproof's eps is half the time step h
 
@@ -118,7 +119,7 @@ def document(title: str, statement: str, steps: Sequence[dict], fixed: Mapping[s
     def keyed(data: dict) -> str:
         key = next((k for k, v in fields.items() if v == data), None)
         if key is None:
-            key = _fresh(data["name"], fields)
+            key = _fresh(field_key(data["name"]), fields)
             fields[key] = data
         return key
     for step in [*steps, *(s for c in certificates for s in c.checks)]:
@@ -132,9 +133,24 @@ def document(title: str, statement: str, steps: Sequence[dict], fixed: Mapping[s
         out.append({"field": key, **step})
     return {"format": FORMAT, "version": VERSION, "convention": CONVENTION,
             "claim": {"title": title, "statement": statement, "fixed": dict(fixed or {}),
-                      "integrals": [e["name"] for s in out for e in s["integrals"]],
-                      "densities": [e["name"] for s in out for e in s.get("densities", [])]},
+                      "integrals": [claimed(s, e) for s in out for e in s["integrals"]],
+                      "densities": [claimed(s, e) for s in out for e in s.get("densities", [])]},
             "fields": fields, "steps": out}
+
+
+def claimed(step: dict, conclusion: dict) -> dict:
+    """A claim's entry for a quantity a step concludes: its name and the key of the field it belongs to."""
+    return {"name": conclusion["name"], "field": step["field"]}
+
+
+def field_key(name: str) -> str:
+    """A field's key in a file: its name in ASCII letters, digits, '_', '.' and '-' (other runs become '_').
+
+    >>> field_key("so4-euler-top[a4=0]"), field_key("3-body")
+    ('so4-euler-top_a4_0', 'f_3-body')
+    """
+    key = re.sub(r"[^A-Za-z0-9_.-]+", "_", name).strip("_")[:90]
+    return key if key[:1].isalpha() else f"f_{key}"
 
 
 def _fresh(name: str, taken: Mapping[str, object] | set[str]) -> str:
