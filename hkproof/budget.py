@@ -16,6 +16,10 @@ from __future__ import annotations
 
 import math
 import os
+try:
+    import resource
+except ImportError:                 # Windows: no rlimits (and no fork: Budget.call runs inline there)
+    resource = None  # type: ignore[assignment]
 import pickle
 import select
 import signal
@@ -43,7 +47,8 @@ def resident_mb() -> float | None:
 
 
 class Budget:
-    """A deadline `seconds` from now (None: no deadline) and a memory ceiling in MB (None: none)."""
+    """A deadline `seconds` from now (None: no deadline) and a memory ceiling in MB (None: none): `check` compares it
+    with this process's resident memory, and a child of `call` may grow its address space by that much at most."""
 
     def __init__(self, seconds: float | None = None, *, memory_mb: float | None = None,
                  raise_with: str = "a larger budget", _deadline: float | None = None):
@@ -142,6 +147,7 @@ class Budget:
             if pid == 0:                                # the child: compute, send, leave without any clean-up
                 os.close(read_end)
                 try:
+                    _cap_address_space(self.memory_mb)
                     _call_and_send(write_end, fn, args)
                 finally:
                     os._exit(0)
@@ -164,6 +170,10 @@ class Budget:
                 _reap(pid)
         out = []
         for data in answers:
+            if not data and self.memory_mb is not None:
+                raise BudgetExhausted(f"the process {doing} died without an answer, at the memory ceiling of "
+                                      f"{self.memory_mb:g} MB (give {self.raise_with} to go further)",
+                                      limit=f"a memory ceiling of {self.memory_mb:g} MB", raise_with=self.raise_with)
             if not data:
                 raise HKProofError(f"the process {doing} died without an answer (out of memory?)")
             ok, value = pickle.loads(data)
@@ -180,6 +190,21 @@ class Budget:
             yield self
         finally:
             _ACTIVE.reset(token)
+
+
+def _cap_address_space(memory_mb: float | None) -> None:
+    """In a child of `Budget.call`: the memory ceiling made hard, so that it holds inside one FLINT call too: the
+    address space may grow by `memory_mb` beyond what the child has at the fork (an allocation past it fails, and GMP
+    aborts the child, which the parent reports as the ceiling)."""
+    if memory_mb is None or resource is None:
+        return
+    try:
+        with open("/proc/self/statm", "rb") as fh:
+            size = int(fh.read().split()[0]) * _PAGE_MB
+    except (OSError, ValueError, IndexError):
+        return
+    limit = int((size + memory_mb) * 2**20)
+    resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
 
 
 def _call_and_send(fd: int, fn: Callable[..., Any], args: tuple) -> None:
