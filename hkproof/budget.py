@@ -147,6 +147,7 @@ class Budget:
             if pid == 0:                                # the child: compute, send, leave without any clean-up
                 os.close(read_end)
                 try:
+                    os.dup2(2, 1)     # a library's last words (FLINT aborts on stdout) go to stderr: stdout is ours
                     _cap_address_space(self.memory_mb)
                     _call_and_send(write_end, fn, args)
                 finally:

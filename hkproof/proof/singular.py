@@ -1,6 +1,6 @@
-"""A certificate's substitution and darboux steps as a Singular script: a second computer algebra system rebuilds the
-Kahan map from the field and re-checks h o f - h = 0, P o f = K P and, for densities, K = det Df on its own
-(docs/certificates.md, "A second opinion")."""
+"""A certificate's substitution, darboux and recipe-g steps as a Singular script: a second computer algebra system
+rebuilds the Kahan map and its equations from the field and re-checks h o f - h = 0, P o f = K P (for densities
+K = det Df) and D delta = sum lambda_i E_i on its own (docs/certificates.md, "A second opinion")."""
 from __future__ import annotations
 
 from typing import Mapping
@@ -34,8 +34,8 @@ _PULLBACK = """proc hkPullback(poly p, ideal hkN, poly hkD, int n)
 
 
 def singular_script(doc: Mapping) -> str:
-    """A Singular script that prints 'verified: step k ...' (or 'refuted: step k ...') for each substitution and
-    darboux step of a checked certificate; other step kinds are listed as not exported."""
+    """A Singular script that prints 'verified: step k ...' (or 'refuted: step k ...') for each substitution, darboux
+    and recipe-g step of a checked certificate; other step kinds are listed as not exported."""
     lines = ["// hkproof certificate re-checked in Singular: the Kahan map x~ - x = 2 eps F(x, x~) (eps = h/2) by",
              "// Cramer's rule, then h(N/Delta) Delta^d compared with h over a common denominator.", _PULLBACK,
              "int i; int j; int hkOk;"]
@@ -45,7 +45,7 @@ def singular_script(doc: Mapping) -> str:
             continue
         field = doc["fields"][step["field"]]
         ring, map_lines = _kahan_map(k, field)
-        lines += map_lines + _STEPS[step["kind"]](k, ring, len(field["variables"]), step) + [f"kill hkR{k};"]
+        lines += map_lines + _STEPS[step["kind"]](k, ring, field, step) + [f"kill hkR{k};"]
     lines.append("quit;")
     return "\n".join(lines) + "\n"
 
@@ -83,8 +83,9 @@ def _pulled(ring: Ring, text: str, n: int) -> list[str]:
             f"hkA = hkPullback(hkP, hkN, hkD, {n}); hkBq = hkPullback(hkQ, hkN, hkD, {n});"]
 
 
-def _substitution(k: int, ring: Ring, n: int, step: Mapping) -> list[str]:
+def _substitution(k: int, ring: Ring, field: Mapping, step: Mapping) -> list[str]:
     """h(N/D) D^a D^b Q = P Q(N/D) D^b D^a: h o f = h."""
+    n = len(field["variables"])
     name = step["integrals"][0]["name"]
     return [_DECLARE, *_pulled(ring, step["function"], n),
             "poly hkDiff = hkA[1] * hkD^hkBq[2] * hkQ - hkP * hkBq[1] * hkD^hkA[2];",
@@ -92,10 +93,11 @@ def _substitution(k: int, ring: Ring, n: int, step: Mapping) -> list[str]:
             f'else {{ "refuted: step {k}, {name} o f - {name} is not 0"; }}']
 
 
-def _darboux(k: int, ring: Ring, n: int, step: Mapping) -> list[str]:
+def _darboux(k: int, ring: Ring, field: Mapping, step: Mapping) -> list[str]:
     """P_j(N/D) D^b Q_j K_den = K_num P_j Q_j(N/D) D^a for P_j = hkP/hkQ and K = K_num/K_den; with densities also
     K_num D^(2n) = K_den det(D dN_i/dx_j - N_i dD/dx_j) (K = det Df); a cofactor written "det Df" is that
     determinant over D^(2n)."""
+    n = len(field["variables"])
     jacobian = [f"matrix hkJ[{n}][{n}];",
                 f"for (i = 1; i <= {n}; i++) {{ for (j = 1; j <= {n}; j++) {{"
                 " hkJ[i, j] = hkD * diff(hkN[i], var(j)) - hkN[i] * diff(hkD, var(j)); } }"]
@@ -114,8 +116,38 @@ def _darboux(k: int, ring: Ring, n: int, step: Mapping) -> list[str]:
     return [*out, f'if (hkOk) {{ "verified: step {k}, {what}"; }} else {{ "refuted: step {k}, {what} fails"; }}']
 
 
+def _recipe_g(k: int, ring: Ring, field: Mapping, step: Mapping) -> list[str]:
+    """L D (p(x~) q(x) - p(x) q(x~)) = sum_i (L lambda_i) E_i with Singular's own Kahan equations E_i = d_i (x~_i - x_i
+    - 2 eps F_i(x, x~)) (d_i the denominator of F_i, as the checker writes them), L the lcm of the denominators of the
+    cofactors and of D (free of x~, which the checker requires), and q(f(x)) != 0."""
+    n = len(field["variables"])
+    ys = [f"hkY{i + 1}" for i in range(n)]
+    stated, target = get_ring((*ring.names, *step["tilde"])), get_ring((*ring.names, *ys))
+    cofactors = [parse_formula(stated, t) for t in step["cofactors"]]
+    moved = [(c.num.compose(*target.gens(), ctx=target.ctx), c.den.compose(*target.gens(), ctx=target.ctx))
+             for c in cofactors]
+    multiplier = parse_formula(ring, step["multiplier"])
+    big = [(multiplier.num.compose(*target.gens()[:len(ring.names)], ctx=target.ctx),
+            multiplier.den.compose(*target.gens()[:len(ring.names)], ctx=target.ctx)), *moved]
+    common = big[0][1]
+    for _, den in big[1:]:
+        common = common * den / common.gcd(den)
+    (d_num, d_den), lams = big[0], [num * (common / den) for num, den in moved]
+    scales = [_poly(parse_formula(ring, t).den) for t in field["rhs"]]
+    name = step["integrals"][0]["name"]
+    return [_DECLARE, *_pulled(ring, step["function"], n), "ideal hkEg; poly hkS = 0;",
+            *(f"hkEg[{i + 1}] = ({d}) * (var({n + i + 1}) - var({i + 1}) - 2*eps*(2*hkFm[{i + 1}] - (hkF[{i + 1}] + "
+              f"hkFy[{i + 1}])/2));" for i, d in enumerate(scales)),
+            *(f"hkS = hkS + ({_poly(lam)}) * hkEg[{i + 1}];" for i, lam in enumerate(lams)),
+            f"poly hkLD = {_poly(d_num * (common / d_den))};",
+            "poly hkDiff = hkLD * (hkToY(hkP) * hkQ - hkP * hkToY(hkQ)) - hkS;",
+            f'if (hkD != 0 && hkLD != 0 && hkBq[1] != 0 && hkDiff == 0) {{ "verified: step {k}, D delta = sum '
+            f'lambda_i E_i, so {name} o f = {name}"; }}',
+            f'else {{ "refuted: step {k}, D delta - sum lambda_i E_i is not 0"; }}']
+
+
 _DECLARE = "poly hkP; poly hkQ; list hkA; list hkBq;"
-_STEPS = {"substitution": _substitution, "darboux": _darboux}
+_STEPS = {"substitution": _substitution, "darboux": _darboux, "recipe-g": _recipe_g}
 
 
 def _text(ring: Ring, text: str) -> str:
