@@ -243,4 +243,4 @@ def test_check_verifies_every_certificate_of_prove_all(capsys, tmp_path):
     doc = json.loads(target.read_text())
     title = doc["claim"]["title"]
     assert all(c in title for c in ("dc-theta", "dc345-alpha", "dc345-step5", "flow-second-theta"))
-    assert run(capsys, "check", str(target))[0] == 0
+    assert run(capsys, "check", str(target), "--seconds", "20000", "--memory-mb", "16000")[0] == 0
