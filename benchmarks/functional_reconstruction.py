@@ -21,8 +21,8 @@ sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]
 
 from docs_section import write_section
 
-from hkproof.algebra.functional_reconstruction import reconstruct_rational
-from tests.test_functional_reconstruction import RationalBox, multiply, primitive, random_sparse_polynomial
+from hkproof.algebra.sparse_reconstruction import sparse as reconstruct_rational
+from tests.test_sparse_reconstruction import RationalBox, multiply, primitive, random_sparse_polynomial
 
 DOC = ROOT / "docs" / "reconstruction.md"
 SIZES = [(n, t) for t in (100, 1000, 10000) for n in (6, 8, 10)]

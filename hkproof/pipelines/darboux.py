@@ -25,7 +25,7 @@ from hkproof.algebra.modular import free_kernel_mod_p, random_prime
 from hkproof.algebra.monomials import Exponents, exponents_upto, value, values_mod_p
 from hkproof.algebra.ring import Rational, Ring, get_ring
 from hkproof.algebra.rational_lifting import CoefficientLifter
-from hkproof.algebra.vector_reconstruction import reconstruct_vector
+from hkproof.algebra.reconstruction import reconstruct as rebuild
 from hkproof.dynamics.field import EPS, STEP_CONVENTION
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.kahan import KahanMap
@@ -226,7 +226,7 @@ def reconstruct(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, monos
                 vector: Sequence[int], rng: random.Random, weights: Weights | None = None) -> flint.fmpz_mpoly:
     """The kernel vector with eps and the parameters symbolic, on the support of the modular one (its free
     monomial's coefficient 1): every other coefficient is a rational function of eps and the parameters, rebuilt from
-    kernels mod primes at shared values (hkproof.algebra.vector_reconstruction). With the `weights` of a scaling
+    kernels mod primes at shared values (hkproof.algebra.reconstruction, method "dense"). With the `weights` of a scaling
     symmetry under which the cofactor has weight 0, the unique kernel vector is weighted homogeneous: the
     coefficient of x^m has the weight of x^free / x^m, so the normalized names are set to 1 in the probes and
     restored afterwards. A candidate: check_darboux proves it."""
@@ -247,10 +247,9 @@ def reconstruct(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, monos
             reduced[p] = atoms_mod_p(kmap, atoms, p)
         return _support_vector_mod_p(kmap, atoms, reduced[p], cofactor, support, at, p, controls, rng)
     if names:
-        sampled = get_ring(tuple(names))
-        values = [Frac(ring, sampled.project(sampled.ctx.from_dict(num), ring),
-                       sampled.project(sampled.ctx.from_dict(den), ring))
-                  for num, den in reconstruct_vector(box, len(names), len(support) - 1, rng=rng)]
+        values = [r.to_frac(ring, names) for r in
+                  rebuild(lambda p, ts: [box(p, t) for t in ts], len(names), len(support) - 1, method="dense",
+                          rng=rng)]
     else:
         values = [Frac.rational(ring, c) for c in _rational_vector(box, rng)]
     coeffs = {support[at]: one}

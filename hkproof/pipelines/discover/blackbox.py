@@ -114,14 +114,15 @@ class KernelBlackBox:
         self.probes += count
         return [nums[:, c] for c in range(l - 1)] + [(p - den) % p], ok
 
-    def __call__(self, p: int, points: Sequence[Sequence[int]]) -> list[int | None]:
-        """c_k / c_j mod p at each point (None where undefined mod p)."""
+    def __call__(self, p: int, points: Sequence[Sequence[int]]) -> list[list[int] | None]:
+        """[c_k / c_j] mod p at each point (None where undefined mod p): the black box of
+        hkproof.algebra.reconstruction, one function."""
         coords, ok = self.vectors(p, points)
         top, bottom = coords[self.k], coords[self.j]
         ok &= bottom != 0
         inverse = _inverse(np.where(ok, bottom, 1), p)
         values = mulmod(top, inverse, p)
-        return [int(v) if good else None for v, good in zip(values, ok, strict=True)]
+        return [[int(v)] if good else None for v, good in zip(values, ok, strict=True)]
 
 
 def _inverse(values: np.ndarray, p: int) -> np.ndarray:

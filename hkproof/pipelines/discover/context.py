@@ -2,11 +2,11 @@
 from __future__ import annotations
 
 import random
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import flint
 
-from hkproof.algebra.functional_reconstruction import Mapper
+from hkproof.algebra.reconstruction import Mapper
 from hkproof.budget import Budget
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.dynamics.field import EPS
@@ -32,7 +32,6 @@ class SearchContext:
     stages: Stages
     max_degree: int = 16
     max_unknowns: int = 2500
-    caches: dict = field(default_factory=dict)
     mapper: Mapper | None = None        # where batches of probes run (a process pool, Dask); None: in this process
     symmetries: bool = True             # step 5d carries members of a group by symmetries of the field
 

@@ -11,7 +11,7 @@ several bases at once with relations across them (Th. "dC bases 345"). Both idea
 3. Groups of such bases, each with a normalization, added greedily while the rows i = 0, 1 of every basis and the
    constant relations among all their coordinates (recipe (E) across bases, found mod p) come closer to a square
    system; a group is taken when they reach rank = unknowns.
-4. The relations with eps and the parameters symbolic (hkproof.algebra.vector_reconstruction), the coordinates by
+4. The relations with eps and the parameters symbolic (hkproof.algebra.reconstruction, method "dense"), the coordinates by
    sparse reconstruction over prime fields, and the proof: Prop. "prop: even" for the whole block system
    (hk.block_system.verify_candidate: rank at a rational point, even relations and coordinates, every row and
    relation substituted exactly). Nothing is called an integral before that proof.
@@ -29,12 +29,11 @@ import flint
 from hkproof import budget
 from hkproof.budget import Budget
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.functional_reconstruction import RationalReconstruction, reconstruct_rational
 from hkproof.algebra.linalg import cramer, lcm
 from hkproof.algebra.modular import kernel_mod_p, random_prime, rank_mod_p
 from hkproof.algebra.monomials import Exponents, exponents_upto, text
 from hkproof.algebra.sampling import random_point
-from hkproof.algebra.vector_reconstruction import reconstruct_vector
+from hkproof.algebra.reconstruction import Rebuilt, reconstruct
 from hkproof.errors import BudgetExhausted, HKProofError, SingularPointError, UnluckyPrimeError
 from hkproof.hk.block_system import BlockSymmetry, BlockSystem, verify_candidate
 from hkproof.hk.discover import independent_subset, jacobian_points
@@ -46,7 +45,7 @@ from hkproof.pipelines.discover.context import SearchContext
 from hkproof.pipelines.discover.report import FoundIntegral
 from hkproof.pipelines.discover.blackbox import KernelBlackBox
 from hkproof.pipelines.discover.candidates import recipe_b_gradients
-from hkproof.pipelines.discover.symbolic import BATCH, PRIME_BITS, _primes, _restored
+from hkproof.pipelines.discover.symbolic import BATCH, PRIME_BITS, restored
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.export import prop_even_blocks_step, relation_data
 from hkproof.proof.status import Status
@@ -428,7 +427,7 @@ def _coordinate_weights(ctx: SearchContext, group: Group) -> list[Weight]:
 
 def lift_group_relations(ctx: SearchContext, group: Group, rng: random.Random) -> list[Relation]:
     """The constant relations of the group with eps and the parameters symbolic: their entries rebuilt on shared
-    probes (hkproof.algebra.vector_reconstruction), each restored to its weight."""
+    probes (hkproof.algebra.reconstruction, method "dense"), each restored to its weight."""
     width = group.width
     count = width + SAMPLES_SPARE
     shape: list[tuple[int, ...]] = []
@@ -456,7 +455,8 @@ def lift_group_relations(ctx: SearchContext, group: Group, rng: random.Random) -
     first = box(p0, [rng.randrange(1, p0) for _ in ctx.free])
     if first is None:
         raise HKProofError("the relations of the group could not be sampled")
-    flat = iter(reconstruct_vector(box, len(ctx.free), len(first), rng=rng)) if first else iter(())
+    flat = iter(reconstruct(lambda p, ts: [box(p, t) for t in ts], len(ctx.free), len(first), method="dense",
+                            rng=rng)) if first else iter(())
     weights = _coordinate_weights(ctx, group) + [[flint.fmpq(0)] * len(ctx.weights.basis)]
     ring = ctx.kmap.ring
     out = []
@@ -469,7 +469,7 @@ def lift_group_relations(ctx: SearchContext, group: Group, rng: random.Random) -
                 entries.append(Frac(ring, 0))
             else:
                 target = [a - b for a, b in zip(weights[free], weights[k], strict=True)]
-                entries.append(_restored(ctx, next(flat), ctx.free, target))
+                entries.append(restored(ctx, next(flat), ctx.free, target))
         out.append(Relation(entries[:width], -entries[width]))
     return out
 
@@ -482,17 +482,17 @@ class _Coordinate:
     seed: int
     budget: Budget
 
-    def __call__(self) -> RationalReconstruction | BudgetExhausted:
+    def __call__(self) -> Rebuilt | BudgetExhausted:
         """The reconstruction, or the BudgetExhausted that stopped it (returned, so that the others are kept)."""
         rng = random.Random(self.seed)
         try:
-            return reconstruct_rational(self.box, len(self.box.inputs), rng=rng, budget=self.budget,
-                                        primes=_primes(rng), batch_size=BATCH)
+            return reconstruct(self.box, len(self.box.inputs), rng=rng, budget=self.budget, bits=PRIME_BITS,
+                               batch_size=BATCH)[0]
         except BudgetExhausted as exc:
             return exc
 
 
-def _rebuild(job: _Coordinate) -> RationalReconstruction | BudgetExhausted:
+def _rebuild(job: _Coordinate) -> Rebuilt | BudgetExhausted:
     return job()
 
 
@@ -516,7 +516,7 @@ def group_coordinates(ctx: SearchContext, group: Group, rng: random.Random) -> l
                                         rng.randrange(2 ** 63), ctx.budget))
                 shares.append(weight)
     if ctx.mapper is None:
-        results: list[RationalReconstruction | BudgetExhausted] = []
+        results: list[Rebuilt | BudgetExhausted] = []
         for job in jobs:
             results.append(job())
             if isinstance(results[-1], BudgetExhausted):
@@ -524,13 +524,13 @@ def group_coordinates(ctx: SearchContext, group: Group, rng: random.Random) -> l
     else:
         ctx.stages.say(f"step 5d: {len(jobs)} coordinates rebuilt side by side on the executor")
         results = list(ctx.mapper(_rebuild, jobs))
-    done = [r for r in results if isinstance(r, RationalReconstruction)]
+    done = [r for r in results if isinstance(r, Rebuilt)]
     stopped = next((r for r in results if isinstance(r, BudgetExhausted)), None)
     if stopped is not None:
         labels = "; ".join(f"({', '.join(group.labels(m))})" for m in group.members)
         raise BudgetExhausted(f"{stopped}; step 5d had reconstructed {len(done)} of the {len(jobs)} coordinates of "
                               f"the bases {labels}", limit=stopped.limit, raise_with=stopped.raise_with)
-    rebuilt = iter(-_restored(ctx, rec, inputs, weight)                        # a_k = -c_k / c_l
+    rebuilt = iter(-restored(ctx, rec, inputs, weight)                        # a_k = -c_k / c_l
                    for rec, weight in zip(done, shares, strict=True))
     blocks: list[list[Frac]] = [[] if idx in carried else [next(rebuilt) for _ in range(len(group.order(m)) - 1)]
                                 for idx, m in enumerate(group.members)]

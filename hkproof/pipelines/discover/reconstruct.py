@@ -17,15 +17,13 @@ import time
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
-import flint
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.modular import rank_mod_p
+from hkproof.algebra.dense_reconstruction import ansatz_size, line_degrees
 from hkproof.algebra.monomials import Exponents, text
-from hkproof.errors import BudgetExhausted, HKProofError
-from hkproof.experiments.profiles import ProfileProblem, kernel_vector
-from hkproof.experiments.reconstruction import dense_size, line_degrees, reconstruct_rational
-from hkproof.experiments.scene import make_scene
+from hkproof.algebra.reconstruction import Batch, reconstruct
+from hkproof.errors import BudgetExhausted, HKProofError, ResourceLimitError
 from hkproof.hk.discover import certify, is_phase_constant
 from hkproof.pipelines.discover.candidates import Candidate, modular_sampler
 from hkproof.pipelines.discover.context import SearchContext
@@ -223,18 +221,18 @@ def _sparse(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, state:
 
 def _dense(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, texts: list[str],
            p: int) -> FoundIntegral | Skipped:
-    """The dense route for one candidate: degrees along two lines mod p, exact samples, the ansatz, the proof;
-    Skipped when the ansatz is too large."""
+    """The dense route for one candidate: degrees along two lines mod p, the dense ansatz on values mod primes (few
+    values of eps and the parameters, many points each), the proof; Skipped when the ansatz is too large."""
     kmap, rng = ctx.kmap, ctx.rng
-    sampler = _exact_sampler(ctx, texts, cand.k, cand.j)
+    box, names = _ratio_box(ctx, cand), [*ctx.free, *ctx.inner]
     ctx.stages.start("reconstruction", f"degrees of coordinate {cand.k + 1} of the kernel of ({', '.join(texts)})")
     start = time.perf_counter()
-    fast = modular_sampler(kmap, cand.basis, (cand.k, cand.j), ctx.weights, ctx.free, p)
-    lines = [line_degrees(fast, ctx.free, ctx.inner, max_degree=ctx.max_degree, seed=rng.randint(0, 10**6),
-                          modulus=p) for _ in range(2)]
-    measured = [d for d in lines if d is not None]
-    degrees = (max(d[0] for d in measured), max(d[1] for d in measured)) if len(measured) == len(lines) else None
-    size = None if degrees is None else dense_size(len(ctx.free) + len(ctx.inner), degrees)
+    try:
+        lines = [line_degrees(box, p, len(names), 1, rng, ctx.max_degree)[0] for _ in range(2)]
+        degrees: tuple[int, int] | None = (max(d[0] for d in lines), max(d[1] for d in lines))
+    except ResourceLimitError:
+        degrees = None
+    size = None if degrees is None else ansatz_size(len(names), degrees)
     if degrees is None or size is None or size > ctx.max_unknowns:
         return Skipped({"basis": texts, "coordinate": cand.label,
                         "degrees": None if degrees is None else list(degrees),
@@ -243,17 +241,19 @@ def _dense(ctx: SearchContext, report: DiscoveryReport, cand: Candidate, texts: 
     name = f"I{len(report.integrals) + 1}"
     ctx.stages.say(f"{name}: coordinate {cand.k + 1} of the kernel of ({', '.join(texts)}), degrees {degrees}, "
                    f"{size} unknowns")
-    rec = reconstruct_rational(kmap.ring, ctx.free, ctx.inner, sampler, degrees, seed=rng.randint(0, 10**6))
-    notes = list(rec.notes)
-    h = None
-    if rec.frac is not None:
-        weight = [a - b for a, b in zip(ctx.weights.of_monomial(_exps(kmap.variables, cand.basis[cand.j])),
-                                        ctx.weights.of_monomial(_exps(kmap.variables, cand.basis[cand.k])),
-                                        strict=True)]
-        h = ctx.weights.restore_frac(rec.frac, weight)
-        notes.append("the interpolant is not weighted homogeneous: not restored" if h is None else
-                     f"P/Q with degrees {list(degrees)} from {rec.samples} exact samples, checked at "
-                     f"{rec.checks} fresh ones")
+    weight = [a - b for a, b in zip(ctx.weights.of_monomial(_exps(kmap.variables, cand.basis[cand.j])),
+                                    ctx.weights.of_monomial(_exps(kmap.variables, cand.basis[cand.k])), strict=True)]
+    try:
+        rebuilt = reconstruct(box, len(names), 1, method="dense", rng=rng, max_degree=ctx.max_degree,
+                              degrees=[degrees], shared=len(ctx.free))[0]
+        h = ctx.weights.restore_frac(rebuilt.to_frac(kmap.ring, names), weight)
+        notes = ["the interpolant is not weighted homogeneous: not restored" if h is None else
+                 f"P/Q with degrees {list(degrees)} by the dense ansatz on values mod primes, checked at a fresh "
+                 "prime"]
+    except (BudgetExhausted, MemoryError):
+        raise
+    except HKProofError as exc:
+        h, notes = None, [f"no P/Q with degrees <= {list(degrees)} fits: {exc}"]
     if h is None:
         return FoundIntegral(name, None, Status.UNKNOWN, "kernel coordinate", texts, cand.label,
                              time.perf_counter() - start, "reconstruction failed", notes)
@@ -267,27 +267,25 @@ def _exps(variables: Sequence[str], e: Exponents) -> dict[str, int]:
     return {v: k for v, k in zip(variables, e, strict=True) if k}
 
 
-def _exact_sampler(ctx: SearchContext, texts: list[str], k: int, j: int) -> Callable:
-    """Exact values of c_k / c_j for the kernel of a minimal basis (recipe (B): c_l = -1), at given free values."""
-    kmap, weights, free = ctx.kmap, ctx.weights, ctx.free
-    basis = [Frac.parse(kmap.ring, t) for t in texts]
-    cache = ctx.caches.setdefault(tuple(texts), {})
+def _ratio_box(ctx: SearchContext, cand: Candidate) -> Batch:
+    """c_k / c_j of the kernel of the candidate's basis mod p at points (free names, then phase variables), the
+    normalized names set to 1: the black box of the dense route (points sharing their free values share one
+    specialized map)."""
+    samplers: dict[int, Callable] = {}
+    split = len(ctx.free)
 
-    def sample(outer: dict, points: list[dict]) -> list:
-        vals = {m: flint.fmpq(1) for m in weights.normalized} | {m: outer[m] for m in free}
-        key = tuple(sorted((m, str(v)) for m, v in vals.items()))
-        problem = cache.get(key)
-        if problem is None:
-            try:
-                problem = ProfileProblem(make_scene(kmap, vals), basis)
-            except HKProofError:
-                return [None] * len(points)
-            cache.clear()
-            cache[key] = problem
-        out = []
-        for pt in points:
-            c = kernel_vector(problem, [pt[v] for v in kmap.variables])
-            ok = c is not None and c[-1] == -1 and c[j] != 0          # -1 last: recipe (B)'s normalization
-            out.append(c[k] / c[j] if ok and c is not None else None)
+    def box(p: int, points: Sequence[Sequence[int]]) -> list[list[int] | None]:
+        if p not in samplers:
+            samplers[p] = modular_sampler(ctx.kmap, cand.basis, (cand.k, cand.j), ctx.weights, ctx.free, p)
+        groups: dict[tuple[int, ...], list[int]] = {}
+        for i, x in enumerate(points):
+            groups.setdefault(tuple(x[:split]), []).append(i)
+        out: list[list[int] | None] = [None] * len(points)
+        for outer, members in groups.items():
+            values = samplers[p](dict(zip(ctx.free, outer, strict=True)),
+                                 [dict(zip(ctx.inner, points[i][split:], strict=True)) for i in members])
+            for i, v in zip(members, values, strict=True):
+                out[i] = None if v is None else [int(v) % p]
         return out
-    return sample
+    return box
+

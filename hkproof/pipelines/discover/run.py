@@ -16,7 +16,7 @@ from typing import Mapping
 
 import flint
 
-from hkproof.algebra.functional_reconstruction import Mapper
+from hkproof.algebra.reconstruction import Mapper
 from hkproof.algebra.sampling import random_point
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.modular import rank_mod_p

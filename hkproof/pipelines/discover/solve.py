@@ -27,7 +27,7 @@ from hkproof.errors import BudgetExhausted, HKProofError, ResourceLimitError
 from hkproof.hk.independence import sample_point
 from hkproof.hk.reduced import Relation, verify_by_evenness
 from hkproof.hk.row_check import check_solution_by_rows
-from hkproof.experiments.reconstruction import dense_size
+from hkproof.algebra.dense_reconstruction import ansatz_size
 from hkproof.pipelines.discover.candidates import line_degrees
 from hkproof.pipelines.discover.context import SearchContext
 from hkproof.pipelines.discover.dependence import ModularPlan, SamplePool, plan_mod_p
@@ -98,7 +98,7 @@ def prove_basis(ctx: SearchContext, basis: Sequence[Exponents], known: Mapping[s
 
     def cost(last: int) -> int:                  # the size of the dense ansatzes of the coordinates (an estimate)
         sizes = [degrees[(k, last)] for k in range(len(basis)) if k != last]
-        return sum(10**12 if d is None else dense_size(nvars, d) for d in sizes)
+        return sum(10**12 if d is None else ansatz_size(nvars, d) for d in sizes)
     ordered = [(order, plan) for last, order, plan in sorted(complete, key=lambda t: cost(t[0]))]
     try:
         order, _, coords = _race(ctx, ordered, rng)

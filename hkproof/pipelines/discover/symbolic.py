@@ -2,12 +2,12 @@
 symbolic (the candidates that hkproof.pipelines.discover.solve hands to Prop. "prop: even").
 
 - The coordinates c_k (c_l = -1) by sparse functional reconstruction over prime fields
-  (hkproof.algebra.functional_reconstruction), the black box being recipe (B) on batches of orbits mod p
+  (hkproof.algebra.reconstruction, method "sparse"), the black box being recipe (B) on batches of orbits mod p
   (hkproof.pipelines.discover.blackbox); the names that scaling symmetries allow are set to 1 while sampling and
   restored by weighted homogeneity.
 - The relations l.c = R(K') of a plan found mod p (hkproof.pipelines.discover.dependence): the entries of l and the
   coefficients of R are small functions of eps and the parameters, rebuilt together on shared probes
-  (hkproof.algebra.vector_reconstruction), each restored to its weight; R is then composed with the proven
+  (method "dense"), each restored to its weight; R is then composed with the proven
   integrals (one homogenized compose, hkproof.hk.transport.Substitution).
 Everything here is a candidate; the proof checks each identity exactly.
 """
@@ -20,21 +20,18 @@ from typing import Callable, Iterator, Mapping, Sequence
 import flint
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.functional_reconstruction import Mapper, RationalReconstruction, reconstruct_rational
-from hkproof.algebra.modular import random_prime
+from hkproof.algebra.reconstruction import Mapper, Rebuilt, reconstruct
 from hkproof.algebra.factored import sum_of_products
 from hkproof.algebra.formula import rename
 from hkproof.algebra.monomials import Exponents, text
 from hkproof.algebra.ring import Ring
-from hkproof.algebra.sparse_interpolation import smooth_prime
-from hkproof.algebra.vector_reconstruction import Fraction, reconstruct_vector
 from hkproof.budget import Budget
 from hkproof.errors import HKProofError
 from hkproof.pipelines.discover.blackbox import KernelBlackBox
 from hkproof.pipelines.discover.context import SearchContext
 from hkproof.pipelines.discover.dependence import ModularPlan, ModularRelation, evaluate_plan
 
-__all__ = ["PRIME_BITS", "SymbolicRelation", "coordinates", "lift_relations"]
+__all__ = ["PRIME_BITS", "SymbolicRelation", "coordinate_weights", "coordinates", "lift_relations", "restored"]
 
 PRIME_BITS = 50      # the batch black box reduces products exactly below 2^50 (hkproof.dynamics.batch_map)
 BATCH = 2048         # probes per call of the batch black box (numpy's per-call cost is amortized)
@@ -52,14 +49,6 @@ class SymbolicRelation:
     knowns: list[str]
 
 
-def _primes(rng: random.Random) -> Iterator[int]:
-    """Primes below 2^50 for the engine: every fourth with p - 1 smooth (its support stage needs one)."""
-    k = 0
-    while True:
-        yield smooth_prime(rng, PRIME_BITS) if k % 4 == 0 else random_prime(rng, PRIME_BITS)
-        k += 1
-
-
 def _weight_of_exponents(ctx: SearchContext, e: Exponents) -> Weight:
     return ctx.weights.of_monomial({v: k for v, k in zip(ctx.kmap.variables, e, strict=True) if k})
 
@@ -70,25 +59,9 @@ def coordinate_weights(ctx: SearchContext, basis: Sequence[Exponents]) -> list[W
     return [[a - b for a, b in zip(last, _weight_of_exponents(ctx, e), strict=True)] for e in basis[:-1]]
 
 
-def _lift(ctx: SearchContext, poly: Mapping[Exponents, int], names: Sequence[str]) -> flint.fmpz_mpoly:
-    """A polynomial in `names` (exponent tuples) as an element of the map's ring."""
-    ring = ctx.kmap.ring
-    idx = [ring.index(n) for n in names]
-    data = {}
-    for m, c in poly.items():
-        full = [0] * len(ring.names)
-        for i, e in zip(idx, m, strict=True):
-            full[i] = e
-        data[tuple(full)] = c
-    return ring.ctx.from_dict(data)
-
-
-def _restored(ctx: SearchContext, fraction: Fraction | RationalReconstruction, names: Sequence[str],
-              weight: Weight) -> Frac:
-    """num/den over `names` (the normalized names were 1), made weighted homogeneous of `weight` again."""
-    num, den = (fraction.numerator, fraction.denominator) if isinstance(fraction, RationalReconstruction) \
-        else fraction
-    h = Frac(ctx.kmap.ring, _lift(ctx, num, names), _lift(ctx, den, names))
+def restored(ctx: SearchContext, rebuilt: Rebuilt, names: Sequence[str], weight: Weight) -> Frac:
+    """A rebuilt function of `names` (the normalized names were 1), made weighted homogeneous of `weight` again."""
+    h = rebuilt.to_frac(ctx.kmap.ring, names)
     restored = ctx.weights.restore_frac(h, weight)
     if restored is None:
         raise HKProofError(f"{h} is not weighted homogeneous of the expected weight: the reconstruction is wrong")
@@ -115,11 +88,11 @@ def kernel_ratio(ctx: SearchContext, basis: Sequence[Exponents], k: int, j: int,
     fields (the normalized names set to 1 and restored to the weight [phi_j] - [phi_k]): a candidate."""
     inputs = list(ctx.free) + list(ctx.kmap.variables)
     box = KernelBlackBox(ctx.kmap, basis, k, j, inputs, {n: 1 for n in ctx.weights.normalized})
-    rec = reconstruct_rational(box, len(inputs), rng=rng, budget=budget or ctx.budget, primes=_primes(rng),
-                               mapper=mapper or ctx.mapper, progress=progress, batch_size=BATCH)
+    rec = reconstruct(box, len(inputs), rng=rng, budget=budget or ctx.budget, bits=PRIME_BITS,
+                      mapper=mapper or ctx.mapper, progress=progress, batch_size=BATCH)[0]
     weight = [a - b for a, b in zip(_weight_of_exponents(ctx, basis[j]), _weight_of_exponents(ctx, basis[k]),
                                     strict=True)]
-    return _restored(ctx, rec, inputs, weight)
+    return restored(ctx, rec, inputs, weight)
 
 
 def _flat(relations: Sequence[ModularRelation]) -> list[int]:
@@ -144,12 +117,13 @@ def lift_relations(ctx: SearchContext, basis: Sequence[Exponents], known: Mappin
         found = evaluate_plan(ctx.kmap, basis, known, plan, p, controls, rng)
         return None if found is None else _flat(found)
 
-    flat = reconstruct_vector(box, len(ctx.free), width, rng=rng) if width else []
+    flat = reconstruct(lambda p, ts: [box(p, t) for t in ts], len(ctx.free), width, method="dense",
+                       rng=rng) if width else []
     return _assemble(ctx, basis, known, plan, iter(flat))
 
 
 def _assemble(ctx: SearchContext, basis: Sequence[Exponents], known: Mapping[str, Frac], plan: ModularPlan,
-              flat: Iterator[Fraction]) -> list[SymbolicRelation]:
+              flat: Iterator[Rebuilt]) -> list[SymbolicRelation]:
     """The symbolic relations from the rebuilt values, in the order of `_flat`, each restored to its weight."""
     ring = ctx.kmap.ring
     weights = coordinate_weights(ctx, basis)
@@ -166,7 +140,7 @@ def _assemble(ctx: SearchContext, basis: Sequence[Exponents], known: Mapping[str
             elif k == rel.pivot:
                 combination.append(Frac(ring, 1))
             else:
-                combination.append(_restored(ctx, next(flat), free, [a - b for a, b in
+                combination.append(restored(ctx, next(flat), free, [a - b for a, b in
                                                                      zip(target, weights[k], strict=True)]))
         knowns = rel.knowns
         kw = [value_weights[n] for n in knowns]
@@ -177,11 +151,11 @@ def _assemble(ctx: SearchContext, basis: Sequence[Exponents], known: Mapping[str
                 total = [a + e * b for a, b in zip(total, w, strict=True)]
             return total
         lead = weight(rel.lead)
-        num_coeffs = {m: _restored(ctx, next(flat), free, [a + b - c for a, b, c in zip(target, lead, weight(m),
+        num_coeffs = {m: restored(ctx, next(flat), free, [a + b - c for a, b, c in zip(target, lead, weight(m),
                                                                                           strict=True)])
                       for m in sorted(rel.numerator)}
         den_coeffs = {rel.lead: Frac(ring, 1)}
-        den_coeffs.update({m: _restored(ctx, next(flat), free, [a - b for a, b in zip(lead, weight(m), strict=True)])
+        den_coeffs.update({m: restored(ctx, next(flat), free, [a - b for a, b in zip(lead, weight(m), strict=True)])
                            for m in sorted(rel.denominator) if m != rel.lead})
         rhs, formula = _compose(ring, knowns, num_coeffs, den_coeffs, values)
         name = f"_l{i}"

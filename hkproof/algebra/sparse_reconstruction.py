@@ -1,4 +1,5 @@
-"""Sparse functional reconstruction over prime fields: a rational function f = P/Q with rational coefficients, known
+"""The sparse algorithm behind hkproof.algebra.reconstruction (method "sparse"): functional reconstruction over prime
+fields: a rational function f = P/Q with rational coefficients, known
 only through its values mod primes (a black box), rebuilt exactly over Q (the method of FireFly, Klappert–Lange 2019,
 and FiniteFlow, Peraro 2019). See docs/reconstruction.md for the method, the choices and the measurements.
 
@@ -14,7 +15,7 @@ The result is a candidate that agreed with f at random points mod a fresh prime,
 >>> def box(p, points):   # f = (x^2 - y/3) / (1 + 2 x y)
 ...     return [(x * x - y * pow(3, -1, p)) * pow(1 + 2 * x * y, -1, p) % p if (1 + 2 * x * y) % p else None
 ...             for x, y in points]
->>> r = reconstruct_rational(box, 2, rng=random.Random(5))
+>>> r = sparse(box, 2, rng=random.Random(5))
 >>> sorted(r.numerator.items()), sorted(r.denominator.items())
 ([((0, 1), -1), ((2, 0), 3)], [((0, 0), 3), ((1, 1), 6)])
 """
@@ -33,26 +34,22 @@ from typing import Any
 import flint
 
 from hkproof.algebra.homogeneous_shift import ShiftedPieces
-from hkproof.algebra.modular import random_prime
 from hkproof.algebra.rational_lifting import CoefficientLifter
+from hkproof.algebra.reconstruction import (Mapper, Polynomial, Primes, Rebuilt, ReconstructionStats,
+                                            agrees_at_fresh_prime, fractions_on_line, primitive)
 from hkproof.algebra.sparse_interpolation import (EARLY_TERMINATION, ExponentialSum, GeometricPoints, ben_or_tiwari,
-                                                  is_smooth_prime, smooth_prime, transposed_vandermonde)
-from hkproof.algebra.univariate_rational import THIELE_AGREEMENTS, ThieleInterpolator, fit_lines
+                                                  transposed_vandermonde)
+from hkproof.algebra.univariate_rational import THIELE_AGREEMENTS, fit_lines
 from hkproof.budget import UNLIMITED, Budget
 from hkproof.errors import HKProofError, ResourceLimitError, UnluckyPrimeError
 
-__all__ = ["Mapper", "ProbeBatch", "RationalReconstruction", "ReconstructionStats", "reconstruct_rational"]
+__all__ = ["ProbeBatch", "sparse"]
 
 ProbeBatch = Callable[[int, Sequence[Sequence[int]]], "list[int | None]"]
 """black_box(p, points) -> f(point) mod p for each point (n residues each), None where f is undefined there."""
-Mapper = Callable[[Callable[[Any], Any], list[Any]], Iterable[Any]]
-"""Like map: applies a function to each job (a process pool's or Dask's map runs the black-box batches)."""
-Polynomial = dict[tuple[int, ...], int]
 CoefficientName = tuple[str, tuple[int, ...]]
 """("n", exponents) for a numerator coefficient, ("d", exponents) for a denominator one."""
 
-CHECK_POINTS = 4
-"""The final check compares the candidate with f at this many random points modulo a fresh prime."""
 SPARE_NODES = 16
 """Extra values of t a line may use where f is undefined at the usual ones."""
 SHIFT_SUBSETS = 12
@@ -65,55 +62,6 @@ SHIFTED_TERMS_LIMIT = 50_000_000
 """Terms of a shift's contributions one chain may keep (about 1.2 GB in FLINT's packed form): a piece whose
 expansion could pass it is a clean ResourceLimitError before it is composed, not an allocation failure that aborts
 the process."""
-
-
-@dataclass
-class ReconstructionStats:
-    """What a reconstruction cost: probes (black-box evaluations), primes, sizes and seconds per stage."""
-    probes: int = 0
-    undefined_probes: int = 0
-    black_box_calls: int = 0
-    probes_by_stage: dict[str, int] = field(default_factory=dict)
-    lines: int = 0
-    primes_used: list[int] = field(default_factory=list)
-    primes_rejected: list[tuple[int, str]] = field(default_factory=list)
-    check_primes: list[int] = field(default_factory=list)
-    terms_numerator: int = 0
-    terms_denominator: int = 0
-    degree_numerator: int = 0
-    degree_denominator: int = 0
-    shift: tuple[int, ...] = ()
-    cleared: tuple[int, ...] = ()       # x^cleared: a monomial factor of the denominator, cleared before the shift
-    seconds: dict[str, float] = field(default_factory=lambda: dict.fromkeys(
-        ("probes", "univariate", "sparse", "crt", "check"), 0.0))
-
-    def as_dict(self) -> dict[str, Any]:
-        """The statistics as plain data (for printing or JSON)."""
-        return {k: (dict(v) if isinstance(v, dict) else list(v) if isinstance(v, list) else v)
-                for k, v in self.__dict__.items()}
-
-
-@dataclass(frozen=True)
-class RationalReconstruction:
-    """f = numerator / denominator with integer coefficients ({exponents: coefficient}), primitive (the gcd of all
-    coefficients of both is 1), signed so that the denominator's leading coefficient (highest total degree, then the
-    lexicographically largest exponents) is positive."""
-    numerator: Polynomial
-    denominator: Polynomial
-    stats: ReconstructionStats
-
-    def value_mod_p(self, point: Sequence[int], p: int) -> int | None:
-        """numerator / denominator at a point mod p (None where the denominator vanishes)."""
-        num, den = (_evaluate_mod_p(poly, point, p) for poly in (self.numerator, self.denominator))
-        return None if den == 0 else num * pow(den, -1, p) % p
-
-
-def _evaluate_mod_p(poly: Polynomial, point: Sequence[int], p: int) -> int:
-    """An integer polynomial at a point mod p."""
-    if not poly:
-        return 0
-    ctx = flint.nmod_mpoly_ctx.get(("x", len(point)), modulus=p)
-    return int(ctx.from_dict({m: c % p for m, c in poly.items()})(*(v % p for v in point)))
 
 
 class _BatchCall:
@@ -143,55 +91,6 @@ class _TimesMonomial:
                     v = v * pow(int(xi), e, p) % p
             out.append(v)
         return out
-
-
-class _Primes:
-    """The primes to use, in order: given ones, or random ones (smooth p - 1 for Ben-Or–Tiwari's support stage).
-    A given prime unfit for the support stage is kept for a later coefficient stage."""
-
-    def __init__(self, given: Iterable[int] | None, rng: random.Random):
-        self.given: Iterator[int] | None = None if given is None else iter(given)
-        self.deferred: list[int] = []
-        self.rng = rng
-        self.seen: set[int] = set()
-
-    def _next_given(self, purpose: str) -> int:
-        assert self.given is not None
-        for p in self.given:
-            p = int(p)
-            if p in self.seen:
-                continue
-            if p < 2 ** 20 or p >= 2 ** 64 or not flint.fmpz(p).is_prime():
-                raise HKProofError(f"the primes given must be primes between 2^20 and 2^64, got {p}")
-            self.seen.add(p)
-            return p
-        raise HKProofError(f"the primes given ran out ({len(self.seen)} used) while {purpose}: give more primes, or "
-                           f"none to let the engine draw random ones")
-
-    def support(self) -> int:
-        """A prime for the support stage: p - 1 smooth (Pohlig–Hellman discrete logarithms)."""
-        if self.given is None:
-            return self._fresh(lambda: smooth_prime(self.rng))
-        while True:
-            p = self._next_given("looking for a prime with smooth p - 1 for the support stage")
-            if is_smooth_prime(p):
-                return p
-            self.deferred.append(p)
-
-    def coefficients(self) -> int:
-        """A prime for a coefficient stage or a check (any prime)."""
-        if self.deferred:
-            return self.deferred.pop(0)
-        if self.given is None:
-            return self._fresh(lambda: random_prime(self.rng))
-        return self._next_given("solving for coefficients modulo more primes")
-
-    def _fresh(self, draw: Callable[[], int]) -> int:
-        while True:
-            p = draw()
-            if p not in self.seen:
-                self.seen.add(p)
-                return p
 
 
 @dataclass
@@ -273,20 +172,15 @@ class _Chain:
         self.moved.add(poly)
 
 
-def _leading(poly: Polynomial) -> tuple[int, ...]:
-    """The leading monomial: highest total degree, then lexicographically largest."""
-    return max(poly, key=lambda m: (sum(m), m))
-
-
 class _Engine:
     """One reconstruction: the prime loop, the stages, the statistics."""
 
     def __init__(self, black_box: ProbeBatch, n: int, rng: random.Random, budget: Budget, max_degree: int,
                  primes: Iterable[int] | None, mapper: Mapper | None, progress: Callable[[dict], None] | None,
-                 batch_size: int):
+                 batch_size: int, bits: int):
         self.black_box, self.n, self.rng, self.budget = black_box, n, rng, budget
         self.max_degree, self.batch_size = max_degree, batch_size
-        self.primes = _Primes(primes, rng)
+        self.primes = Primes(rng, primes, bits)
         self.mapper: Mapper = mapper or (lambda fn, jobs: [fn(job) for job in jobs])
         self.report = progress
         self.stats = ReconstructionStats()
@@ -353,35 +247,20 @@ class _Engine:
     def _thiele_line(self, p: int, shift: Sequence[int], stage: str, expected: int = 8,
                      direction: Sequence[int] | None = None) -> tuple[list[int], list[int]]:
         """The reduced N/D (coefficient lists) of t -> f(t z + s) for a random z (or the given direction), by Thiele
-        with early termination."""
+        with early termination (hkproof.algebra.reconstruction.fractions_on_line)."""
         z = list(direction) if direction is not None else [self.rng.randrange(1, p) for _ in range(self.n)]
-        thiele = ThieleInterpolator(p)
-        limit = 2 * self.max_degree + 2
-        defined = undefined = 0
-        request = expected
-        while not thiele.terminated:
-            if len(thiele.nodes) > limit:
-                raise ResourceLimitError(
-                    f"f restricted to a line needs more than {limit} points: its numerator or denominator has degree "
-                    f"above max_degree = {self.max_degree} (raise max_degree)")
-            ts = [self.rng.randrange(1, p) for _ in range(request)]
-            values = self._probe(p, [[(t * zi + si) % p for zi, si in zip(z, shift)] for t in ts], stage)
-            with self._stage("univariate"):
-                for t, v in zip(ts, values):
-                    if v is None:
-                        undefined += 1
-                        continue
-                    defined += 1
-                    thiele.add(t, v)
-                    if thiele.terminated:
-                        break
-            if undefined >= 16 and undefined > 3 * defined:
-                raise HKProofError(
-                    f"the black box is undefined at {undefined} of {undefined + defined} random points mod p = {p}: "
-                    f"f is undefined almost everywhere (or the black box fails mod p); check the black box")
-            request = max(2, min(8, limit + 1 - len(thiele.nodes)))
+
+        def values(ts: list[int]) -> list[list[int] | None]:
+            return [None if v is None else [v] for v in
+                    self._probe(p, [[(t * zi + si) % p for zi, si in zip(z, shift)] for t in ts], stage)]
         with self._stage("univariate"):
-            return thiele.fraction()
+            found = fractions_on_line(values, p, 1, lambda k: [self.rng.randrange(1, p) for _ in range(k)],
+                                      self.max_degree, first=expected)[0]
+        if found is None:
+            raise ResourceLimitError(
+                f"f restricted to a line needs more than {2 * self.max_degree + 2} points: its numerator or "
+                f"denominator has degree above max_degree = {self.max_degree} (raise max_degree)")
+        return found
 
     def _degrees(self, p: int) -> tuple[int, int]:
         """deg P, deg Q from a random line with a random shift (-1 for f = 0)."""
@@ -602,36 +481,18 @@ class _Engine:
         return out
 
     # -- the check -----------------------------------------------------------------------------------------------
-    def _check(self, numerator: Polynomial, denominator: Polynomial) -> bool:
-        """Whether the candidate agrees with f at CHECK_POINTS random points modulo a fresh prime."""
-        for _ in range(3):
-            p = self.primes.coefficients()
-            verdict = self._check_mod(p, numerator, denominator)
-            if verdict is not None:
-                self.stats.check_primes.append(p)
-                return verdict
-            self._reject(p, "the black box is undefined at most random points modulo this check prime")
-        raise HKProofError("the black box is undefined at most random points modulo three check primes")
-
-    def _check_mod(self, p: int, numerator: Polynomial, denominator: Polynomial) -> bool | None:
-        """The check modulo p (None when the black box is undefined at most points)."""
+    def _check(self, candidate: Rebuilt) -> bool:
+        """Whether the candidate agrees with f at random points modulo a fresh prime (one shared rule)."""
+        def vectors(p: int, points: Sequence[Sequence[int]]) -> list[list[int] | None]:
+            return [None if v is None else [v] for v in self._probe(p, [list(x) for x in points], "check")]
         with self._stage("check"):
-            agreed = tried = 0
-            while agreed < CHECK_POINTS:
-                if tried >= 8 * CHECK_POINTS:
-                    return None
-                points = [[self.rng.randrange(p) for _ in range(self.n)] for _ in range(CHECK_POINTS - agreed)]
-                tried += len(points)
-                for x, v in zip(points, self._probe(p, points, "check")):
-                    if v is None:
-                        continue
-                    if (_evaluate_mod_p(numerator, x, p) - v * _evaluate_mod_p(denominator, x, p)) % p:
-                        return False
-                    agreed += 1
-        return True
+            p = agrees_at_fresh_prime(vectors, [candidate], self.n, self.primes, self.rng)
+        if p is not None:
+            self.stats.check_primes.append(p)
+        return p is not None
 
     # -- the prime loop ------------------------------------------------------------------------------------------
-    def run(self) -> RationalReconstruction:
+    def run(self) -> Rebuilt:
         for _ in range(MAX_SUPPORT_RESTARTS + 1):
             p0 = self.primes.support()
             try:
@@ -646,7 +507,7 @@ class _Engine:
                            f"{self.stats.primes_rejected[-3:]}); the black box may not be a fixed rational function "
                            f"of degree <= {self.max_degree}")
 
-    def _lift(self, p0: int, support: _Support) -> RationalReconstruction | None:
+    def _lift(self, p0: int, support: _Support) -> Rebuilt | None:
         """More primes on the support of p0 until the rationals reconstruct and pass the check (None: p0 was
         unlucky, its support is contradicted)."""
         den_terms = [m for poly in support.den.values() for m in poly]
@@ -658,14 +519,16 @@ class _Engine:
         failures = 0
         while True:
             if not missing:
-                numerator, denominator = self._integers(lifter)
-                if self._check(numerator, denominator):
-                    return self._result(numerator, denominator, support)
+                with self._stage("crt"):
+                    candidate = primitive({m: q for (side, m), q in lifter.rationals.items() if side == "n"},
+                                          {m: q for (side, m), q in lifter.rationals.items() if side == "d"})
+                if self._check(candidate):
+                    return self._result(candidate.numerator, candidate.denominator, support)
                 if lifter.changed == 0 and len(lifter.primes) > 1:
                     self._reject(p0, "the support found modulo this prime gives coefficients that are stable over "
                                      "the primes but fail the final check")
                     return None
-            p = self.primes.coefficients()
+            p = self.primes.any()
             try:
                 residues = self._coefficients(p, support)
             except UnluckyPrimeError as exc:
@@ -682,24 +545,7 @@ class _Engine:
             self.stats.primes_used.append(p)
             self._progress(force=True, stage="crt", prime=p, coefficients_missing=len(missing))
 
-    def _integers(self, lifter: CoefficientLifter[CoefficientName]) -> tuple[Polynomial, Polynomial]:
-        """The reconstructed rationals as coprime integer polynomials with the documented sign."""
-        with self._stage("crt"):
-            lcm = 1
-            for q in lifter.rationals.values():
-                lcm = math.lcm(lcm, int(q.q))
-            ints = {key: int(q.p) * (lcm // int(q.q)) for key, q in lifter.rationals.items()}
-            g = 0
-            for v in ints.values():
-                g = math.gcd(g, v)
-            num = {m: v // g for (side, m), v in ints.items() if side == "n" and v}
-            den = {m: v // g for (side, m), v in ints.items() if side == "d" and v}
-            if den[_leading(den)] < 0:
-                num = {m: -v for m, v in num.items()}
-                den = {m: -v for m, v in den.items()}
-            return num, den
-
-    def _result(self, numerator: Polynomial, denominator: Polynomial, support: _Support) -> RationalReconstruction:
+    def _result(self, numerator: Polynomial, denominator: Polynomial, support: _Support) -> Rebuilt:
         if self.pole and any(self.pole):           # f = (x^k f) / x^k, in lowest terms should k have been too large
             common = [min(e) for e in zip(*numerator)] if numerator else [0] * self.n
             lower = [min(c, k) for c, k in zip(common, self.pole)]
@@ -712,23 +558,23 @@ class _Engine:
         s.shift = tuple(support.shift)
         s.cleared = self.pole if self.pole and any(self.pole) else ()
         self._progress(force=True, stage="done", terms=s.terms_numerator + s.terms_denominator)
-        return RationalReconstruction(numerator, denominator, s)
+        return Rebuilt(numerator, denominator, s)
 
 
-def reconstruct_rational(black_box: ProbeBatch, n: int, *, rng: random.Random, budget: Budget | None = None,
-                         max_degree: int = 60, primes: Iterable[int] | None = None, mapper: Mapper | None = None,
-                         progress: Callable[[dict], None] | None = None, batch_size: int = 256
-                         ) -> RationalReconstruction:
+def sparse(black_box: ProbeBatch, n: int, *, rng: random.Random, budget: Budget | None = None, max_degree: int = 60,
+           primes: Iterable[int] | None = None, mapper: Mapper | None = None,
+           progress: Callable[[dict], None] | None = None, batch_size: int = 256, bits: int = 62) -> Rebuilt:
     """f = P/Q over Q from its values mod primes (FireFly/FiniteFlow: Thiele along lines, Cuyt–Lee shifts,
     Ben-Or–Tiwari, Wang's rational reconstruction), checked at random points modulo a fresh prime.
 
     black_box(p, points) gives f at many points mod p (None where undefined); n is the number of variables; rng
     makes the run reproducible; budget bounds the time (BudgetExhausted); max_degree bounds the total degrees of P
-    and Q (ResourceLimitError above it); primes replaces the random primes (used in order; the support stage takes
-    the first with smooth p - 1); mapper runs the independent black-box batches of `batch_size` points (default: a
-    loop); progress receives a dict now and then. The result is a candidate for the caller to prove."""
+    and Q (ResourceLimitError above it); primes replaces the random primes of `bits` bits (used in order; the support
+    stage takes the first with smooth p - 1); mapper runs the independent black-box batches of `batch_size` points
+    (default: a loop); progress receives a dict now and then. The result is a candidate for the caller to prove."""
     if n < 1:
         raise HKProofError(f"a black box needs at least one variable, got n = {n}")
     if max_degree < 0 or batch_size < 1:
         raise HKProofError(f"max_degree must be >= 0 and batch_size >= 1, got {max_degree} and {batch_size}")
-    return _Engine(black_box, n, rng, budget or UNLIMITED, max_degree, primes, mapper, progress, batch_size).run()
+    return _Engine(black_box, n, rng, budget or UNLIMITED, max_degree, primes, mapper, progress, batch_size,
+                   bits).run()

@@ -1,4 +1,4 @@
-"""Sparse functional reconstruction over prime fields (hkproof.algebra.functional_reconstruction and its stages):
+"""Sparse functional reconstruction over prime fields (hkproof.algebra.sparse_reconstruction and its stages):
 each stage on its own, then end-to-end on synthetic black boxes compared exactly with the truth."""
 from __future__ import annotations
 
@@ -12,7 +12,8 @@ import flint
 import pytest
 import sympy
 
-from hkproof.algebra.functional_reconstruction import RationalReconstruction, reconstruct_rational
+from hkproof.algebra.reconstruction import Rebuilt
+from hkproof.algebra.sparse_reconstruction import sparse
 from hkproof.algebra.homogeneous_shift import ShiftedPieces
 from hkproof.algebra.modular import random_prime
 from hkproof.algebra.rational_lifting import CoefficientLifter, crt, rational_reconstruction
@@ -97,7 +98,7 @@ def random_target(rng: random.Random, n: int, degree: int, terms: int, den_terms
     return RationalBox(n, [num], [den]), *primitive(num, den)
 
 
-def assert_exact(result: RationalReconstruction, num: Poly, den: Poly) -> None:
+def assert_exact(result: Rebuilt, num: Poly, den: Poly) -> None:
     assert result.numerator == num
     assert result.denominator == den
 
@@ -284,7 +285,7 @@ def test_random_targets_in_1_to_10_variables(n):
     rng = random.Random(100 + n)
     degree = min(12, 3 + n)
     box, num, den = random_target(rng, n, degree, 4 * n + 3, 2 * n + 1, constant=n % 2 == 0)
-    assert_exact(reconstruct_rational(box, n, rng=random.Random(n)), num, den)
+    assert_exact(sparse(box, n, rng=random.Random(n)), num, den)
 
 
 def test_reduced_form_cross_checked_with_sympy_cancel():
@@ -294,7 +295,7 @@ def test_reduced_form_cross_checked_with_sympy_cancel():
         (sympy.Rational(1, 3) * x * z + y ** 2) * (x * y - 5 * z ** 3))
     box = RationalBox(3, [{(2, 0, 0): 1, (0, 1, 1): flint.fmpq(-2, 7), (0, 0, 0): 3}, {(1, 1, 0): 1, (0, 0, 3): -5}],
                       [{(1, 0, 1): flint.fmpq(1, 3), (0, 2, 0): 1}, {(1, 1, 0): 1, (0, 0, 3): -5}])
-    result = reconstruct_rational(box, 3, rng=random.Random(1))
+    result = sparse(box, 3, rng=random.Random(1))
     num, den = sympy.fraction(sympy.cancel(sympy.together(expr)))
 
     def to_dict(e: sympy.Expr) -> Poly:
@@ -313,7 +314,7 @@ def test_a_sparse_shift_where_the_black_box_fails_at_the_shift_point():
     def box(p: int, points):
         values = exact(p, points)
         return [None if any(v % p == 0 for v in x) else value for x, value in zip(points, values)]
-    result = reconstruct_rational(box, 4, rng=random.Random(5))
+    result = sparse(box, 4, rng=random.Random(5))
     assert_exact(result, *primitive(num, den))
     assert 0 < sum(1 for s in result.stats.shift if s) <= 2
 
@@ -324,7 +325,7 @@ def test_a_denominator_whose_monomials_each_involve_three_variables_gets_a_three
     full shift of six, and f is rebuilt exactly."""
     num = {(1, 0, 0, 0, 0, 0): 1, (0, 1, 1, 0, 0, 0): 3, (0, 0, 0, 0, 1, 1): -2}
     den = {(1, 1, 1, 0, 0, 0): 1, (0, 0, 0, 1, 1, 1): 5, (1, 0, 0, 1, 0, 1): 7, (0, 1, 1, 0, 1, 0): 2}
-    result = reconstruct_rational(RationalBox(6, [num], [den]), 6, rng=random.Random(3))
+    result = sparse(RationalBox(6, [num], [den]), 6, rng=random.Random(3))
     assert_exact(result, *primitive(num, den))
     assert not any(result.stats.cleared) and 3 <= sum(1 for s in result.stats.shift if s) <= 4
 
@@ -334,7 +335,7 @@ def test_a_monomial_factor_of_the_denominator_is_cleared_before_the_shift():
     orders along each x_i = 0, rebuilds x0 x1^2 x2 f with a one-variable shift, and returns f exactly."""
     num = {(1, 0, 0, 0): 1, (0, 1, 1, 0): 3, (0, 0, 0, 2): 1}
     den = {(1, 2, 1, 2): 1, (2, 2, 2, 0): 1}
-    result = reconstruct_rational(RationalBox(4, [num], [den]), 4, rng=random.Random(1))
+    result = sparse(RationalBox(4, [num], [den]), 4, rng=random.Random(1))
     assert_exact(result, *primitive(num, den))
     assert result.stats.cleared == (1, 2, 1, 0)
     assert sum(1 for s in result.stats.shift if s) == 1
@@ -343,12 +344,12 @@ def test_a_monomial_factor_of_the_denominator_is_cleared_before_the_shift():
 def test_a_pole_order_read_too_high_still_gives_lowest_terms(monkeypatch):
     """Should the pole orders along x_i = 0 come out too high (an unlucky line), x^k f has x_i in its numerator; the
     engine cancels it again and returns f in lowest terms."""
-    from hkproof.algebra import functional_reconstruction as fr
+    from hkproof.algebra import sparse_reconstruction as fr
     honest = fr._Engine._poles
     monkeypatch.setattr(fr._Engine, "_poles", lambda self, p: tuple(k + 1 for k in honest(self, p)))
     num = {(1, 0, 0, 0): 1, (0, 1, 1, 0): 3, (0, 0, 0, 2): 1}
     den = {(1, 2, 1, 2): 1, (2, 2, 2, 0): 1}
-    result = reconstruct_rational(RationalBox(4, [num], [den]), 4, rng=random.Random(1))
+    result = sparse(RationalBox(4, [num], [den]), 4, rng=random.Random(1))
     assert result.stats.cleared == (2, 3, 2, 1)
     assert_exact(result, *primitive(num, den))
 
@@ -360,7 +361,7 @@ def test_medium_target_with_shift_and_two_primes():
     big = {m: c * (2 ** 25 + 3) + 1 for m, c in box.factors[0][0].items()}
     box = RationalBox(6, [big], box.factors[1])
     num, den = primitive(big, box.factors[1][0])
-    result = reconstruct_rational(box, 6, rng=random.Random(2))
+    result = sparse(box, 6, rng=random.Random(2))
     assert_exact(result, num, den)
     assert any(result.stats.shift) and len(result.stats.primes_used) >= 2
     stats = result.stats
@@ -373,16 +374,16 @@ def test_medium_target_with_shift_and_two_primes():
 def test_a_polynomial_and_the_value_of_the_result():
     rng = random.Random(23)
     num = random_sparse_polynomial(rng, 5, 7, 60)
-    result = reconstruct_rational(RationalBox(5, [num], [{(0,) * 5: 7}]), 5, rng=random.Random(8))
+    result = sparse(RationalBox(5, [num], [{(0,) * 5: 7}]), 5, rng=random.Random(8))
     assert_exact(result, *primitive(num, {(0,) * 5: 7}))
     p, point = random_prime(rng), [rng.randrange(10 ** 6) for _ in range(5)]
     assert result.value_mod_p(point, p) == RationalBox(5, [num], [{(0,) * 5: 7}])(p, [point])[0]
 
 
 def test_zero_and_constant_functions():
-    zero = reconstruct_rational(lambda p, pts: [0] * len(pts), 3, rng=random.Random(1))
+    zero = sparse(lambda p, pts: [0] * len(pts), 3, rng=random.Random(1))
     assert zero.numerator == {} and zero.denominator == {(0, 0, 0): 1}
-    half = reconstruct_rational(lambda p, pts: [pow(2, -1, p)] * len(pts), 2, rng=random.Random(1))
+    half = sparse(lambda p, pts: [pow(2, -1, p)] * len(pts), 2, rng=random.Random(1))
     assert half.numerator == {(0, 0): 1} and half.denominator == {(0, 0): 2}
 
 
@@ -401,7 +402,7 @@ def test_an_unlucky_support_prime_is_detected_and_replaced():
     rng = random.Random(16)
     bad = smooth_prime(rng)
     box, num, den = _unlucky_target(bad)
-    result = reconstruct_rational(box, 4, rng=random.Random(3),
+    result = sparse(box, 4, rng=random.Random(3),
                                   primes=itertools.chain([bad], iter(lambda: smooth_prime(rng), None)))
     assert_exact(result, num, den)
     reasons = [why for q, why in result.stats.primes_rejected if q == bad]
@@ -414,7 +415,7 @@ def test_an_unlucky_coefficient_prime_is_detected_and_replaced():
     bad = next(q for q in iter(lambda: random_prime(rng), None) if not is_smooth_prime(q))
     box, num, den = _unlucky_target(bad)
     good = smooth_prime(rng)                                # support; heights 2^80 need more coefficient primes
-    result = reconstruct_rational(box, 4, rng=random.Random(4),
+    result = sparse(box, 4, rng=random.Random(4),
                                   primes=itertools.chain([bad, good], iter(lambda: random_prime(rng), None)))
     assert_exact(result, num, den)
     assert result.stats.primes_used[0] == good
@@ -429,32 +430,32 @@ def test_poles_and_black_box_failures_are_skipped():
 
     def flaky(p, points):   # undefined at a fifth of the points on top of the poles
         return [None if flaky_rng.random() < 0.2 else v for v in box(p, points)]
-    result = reconstruct_rational(flaky, 4, rng=random.Random(5))
+    result = sparse(flaky, 4, rng=random.Random(5))
     assert_exact(result, num, den)
     assert result.stats.undefined_probes > 0
 
 
 def test_a_black_box_undefined_everywhere_is_reported():
     with pytest.raises(HKProofError, match="undefined almost everywhere"):
-        reconstruct_rational(lambda p, pts: [None] * len(pts), 3, rng=random.Random(1))
+        sparse(lambda p, pts: [None] * len(pts), 3, rng=random.Random(1))
 
 
 def test_a_degree_above_max_degree_is_a_resource_limit():
     box, _, _ = random_target(random.Random(19), 2, 9, 10, 5)
     with pytest.raises(ResourceLimitError, match="max_degree = 4"):
-        reconstruct_rational(box, 2, rng=random.Random(1), max_degree=4)
+        sparse(box, 2, rng=random.Random(1), max_degree=4)
 
 
 def test_a_black_box_that_answers_the_wrong_count_is_reported():
     with pytest.raises(HKProofError, match="returned 1 values for"):
-        reconstruct_rational(lambda p, pts: [1], 2, rng=random.Random(1))
+        sparse(lambda p, pts: [1], 2, rng=random.Random(1))
 
 
 def test_the_budget_stops_a_long_reconstruction_promptly():
     box, _, _ = random_target(random.Random(20), 8, 10, 3000, 300)
     start = time.monotonic()
     with pytest.raises(BudgetExhausted):
-        reconstruct_rational(box, 8, rng=random.Random(1), budget=Budget(0.5))
+        sparse(box, 8, rng=random.Random(1), budget=Budget(0.5))
     assert time.monotonic() - start < 10          # a hang guard, not a timing claim
 
 
@@ -474,7 +475,7 @@ class _CountingBudget(Budget):
 def test_lines_are_probed_and_fitted_in_waves_between_budget_checks(monkeypatch):
     """No batch of lines runs unchecked: at most LINES_PER_WAVE lines are fitted between two budget checks (a
     structural test: the first so(4) flow's batches of thousands of lines once overran a 100 s budget by 90 s)."""
-    from hkproof.algebra import functional_reconstruction as fr
+    from hkproof.algebra import sparse_reconstruction as fr
     budget = _CountingBudget()
     original = fr.fit_lines
 
@@ -484,7 +485,7 @@ def test_lines_are_probed_and_fitted_in_waves_between_budget_checks(monkeypatch)
     monkeypatch.setattr(fr, "fit_lines", counted)
     monkeypatch.setattr(fr, "LINES_PER_WAVE", 8)
     box, num, den = random_target(random.Random(22), 4, 7, 150, 20)
-    assert_exact(reconstruct_rational(box, 4, rng=random.Random(2), budget=budget), num, den)
+    assert_exact(sparse(box, 4, rng=random.Random(2), budget=budget), num, den)
     assert max(budget.between) <= 8 and sum(budget.between) + budget.fitted > 40
 
 
@@ -506,7 +507,7 @@ def test_a_mapper_runs_the_batches_and_progress_is_reported():
         jobs.extend(len(points) for _, points in items)
         with ThreadPoolExecutor(2) as pool:
             return list(pool.map(fn, items))
-    result = reconstruct_rational(box, 5, rng=random.Random(6), mapper=pool_map, batch_size=64,
+    result = sparse(box, 5, rng=random.Random(6), mapper=pool_map, batch_size=64,
                                   progress=reports.append)
     assert_exact(result, num, den)
     assert sum(jobs) == result.stats.probes and max(jobs) <= 64
@@ -516,7 +517,7 @@ def test_a_mapper_runs_the_batches_and_progress_is_reported():
 def test_a_process_pool_runs_the_batches():
     box, num, den = random_target(random.Random(22), 3, 5, 30, 8)
     with ProcessPoolExecutor(2) as pool:
-        result = reconstruct_rational(box, 3, rng=random.Random(7), mapper=lambda fn, jobs: pool.map(fn, jobs))
+        result = sparse(box, 3, rng=random.Random(7), mapper=lambda fn, jobs: pool.map(fn, jobs))
     assert_exact(result, num, den)
 
 
@@ -525,17 +526,17 @@ def test_a_process_pool_runs_the_batches():
 @pytest.mark.parametrize("n,terms", [(6, 1000), (8, 3000), (10, 10000)])
 def test_large_sparse_targets(n, terms):
     box, num, den = random_target(random.Random(n), n, 12, terms, terms // 10)
-    assert_exact(reconstruct_rational(box, n, rng=random.Random(n)), num, den)
+    assert_exact(sparse(box, n, rng=random.Random(n)), num, den)
 
 
 def test_a_shift_too_large_for_memory_is_a_clean_limit(monkeypatch):
     """The shifted contributions are counted; above SHIFTED_TERMS_LIMIT the engine raises ResourceLimitError (what
     discover reports as a stage stopped by a limit), never an allocation failure that aborts the process."""
-    from hkproof.algebra import functional_reconstruction as fr
+    from hkproof.algebra import sparse_reconstruction as fr
     from hkproof.errors import ResourceLimitError
     monkeypatch.setattr(fr, "SHIFTED_TERMS_LIMIT", 0)
     num = {(1, 0, 0, 0): 1, (0, 1, 1, 0): 3, (0, 0, 0, 4): 1}
     den = {(1, 2, 1, 2): 1, (2, 2, 2, 0): 1}
     with pytest.raises(ResourceLimitError, match="shifted terms|shift's contributions") as info:
-        reconstruct_rational(RationalBox(4, [num], [den]), 4, rng=random.Random(1))
+        sparse(RationalBox(4, [num], [den]), 4, rng=random.Random(1))
     assert info.value.limit == "0 shifted terms per reconstruction"
