@@ -15,8 +15,10 @@ from hkproof.hk.block_system import BlockSystem, verify_candidate
 from hkproof.hk.independence import sample_point
 from hkproof.pipelines.discover import discover
 from hkproof.pipelines.discover.context import SearchContext
-from hkproof.pipelines.discover.integral_bases import (continuous_integral_circuits, find_group, integral_bases,
-                                                       lift_group_relations, prove_group)
+from hkproof.hk.flow_integrals import continuous_integral_circuits
+from hkproof.pipelines.discover.group_coordinates import lift_group_relations
+from hkproof.pipelines.discover.groups import find_group, integral_bases
+from hkproof.pipelines.discover.integral_bases import prove_group
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 from tests.sympy_bridge import constant_along_sympy_orbit
@@ -31,7 +33,7 @@ def split_ctx() -> SearchContext:
 
 @pytest.fixture(scope="module")
 def circuits(split_ctx):
-    return continuous_integral_circuits(split_ctx, 2, random.Random(1))
+    return continuous_integral_circuits(split_ctx.kmap, 2, random.Random(1))
 
 
 def _quadratic_support() -> list:
@@ -55,7 +57,7 @@ def test_circuits_are_integrals_of_the_flow_by_sympy(split_ctx, circuits):
 
 def test_a_field_without_polynomial_integrals_has_no_circuits():
     ctx = SearchContext.for_maps(kahan_map("lotka-volterra"))
-    assert continuous_integral_circuits(ctx, 2, random.Random(1)) == []
+    assert continuous_integral_circuits(ctx.kmap, 2, random.Random(1)) == []
 
 
 @pytest.fixture(scope="module")
@@ -70,7 +72,7 @@ def first_group(split_ctx, circuits):
 
 
 def test_a_group_is_proven_and_its_coordinates_are_integrals(split_ctx, first_group):
-    candidate, cert = prove_group(split_ctx, first_group, random.Random(2))
+    candidate, cert, _ = prove_group(split_ctx, first_group, random.Random(2))
     assert cert.status is Status.VERIFIED, cert.error
     kmap = split_ctx.kmap
 
@@ -84,7 +86,7 @@ def test_a_perturbed_candidate_is_refuted(split_ctx, first_group):
     """One coefficient changed in one coordinate: the block proof does not call it verified."""
     rng = random.Random(2)
     relations = lift_group_relations(split_ctx, first_group, rng)
-    candidate, _ = prove_group(split_ctx, first_group, rng)
+    candidate, _, _ = prove_group(split_ctx, first_group, rng)
     ring = split_ctx.kmap.ring
     k = max(range(len(candidate)), key=lambda i: len(candidate[i].num))
     bumped = list(candidate)
@@ -115,7 +117,7 @@ def test_the_batch_black_box_agrees_with_the_pointwise_kernel(split_ctx, first_g
     from hkproof.algebra.modular import random_prime
     from hkproof.pipelines.discover.blackbox import KernelBlackBox
     from hkproof.pipelines.discover.symbolic import PRIME_BITS
-    from hkproof.pipelines.discover.integral_bases import _kernel_vector, _Modular, _normalized
+    from hkproof.pipelines.discover.groups import ModularScene, kernel_vector, normalized
     basis = first_group.order(first_group.members[0])
     ring = split_ctx.kmap.ring
     inputs = list(ring.names)
@@ -128,8 +130,8 @@ def test_the_batch_black_box_agrees_with_the_pointwise_kernel(split_ctx, first_g
         for pt, value in zip(points, batch):
             controls = {n: v for n, v in zip(inputs, pt) if n not in split_ctx.kmap.variables}
             x = [v for n, v in zip(inputs, pt) if n in split_ctx.kmap.variables]
-            mod = _Modular(split_ctx, p, controls)
-            a = _normalized(_kernel_vector(mod, basis, mod.map.orbit(x, len(basis) - 2)), len(basis) - 1, p)
+            mod = ModularScene(split_ctx, p, controls)
+            a = normalized(kernel_vector(mod, basis, mod.map.orbit(x, len(basis) - 2)), len(basis) - 1, p)
             assert value == [(-a[k]) % p]          # the box gives [c_k / c_l] = [-a_k]
 
 
@@ -159,7 +161,7 @@ def test_the_block_proof_is_a_certificate_the_checker_verifies_and_refutes_when_
     import json
     from hkproof.checker import check_document
     from hkproof.proof.export import document
-    _, cert = prove_group(split_ctx, first_group, random.Random(2))
+    _, cert, _ = prove_group(split_ctx, first_group, random.Random(2))
     (step,) = [s for s in cert.checks if "blocks" in s]
     doc = json.loads(json.dumps(document("group", "the coordinates are integrals", [], certificates=[cert])))
     assert check_document(doc).verdict == "verified"
@@ -181,7 +183,7 @@ def test_a_budget_that_runs_out_in_step_5d_says_how_far_it_got(monkeypatch, caps
     (here the second reconstruction is stopped: 1 of the group's 14), not only with the stage it stopped in."""
     from hkproof.cli import main
     from hkproof.errors import BudgetExhausted
-    from hkproof.pipelines.discover import integral_bases as ib
+    from hkproof.pipelines.discover import group_coordinates as ib
     calls: list[int] = []
     honest = ib.reconstruct
 
@@ -202,7 +204,7 @@ def test_the_coordinates_of_a_group_rebuilt_side_by_side_on_an_executor_are_thos
     import concurrent.futures
     import dataclasses
 
-    from hkproof.pipelines.discover.integral_bases import group_coordinates
+    from hkproof.pipelines.discover.group_coordinates import group_coordinates
     plain = group_coordinates(split_ctx, first_group, random.Random(5))
     with concurrent.futures.ProcessPoolExecutor(max_workers=2) as pool:
         pooled = group_coordinates(dataclasses.replace(split_ctx, mapper=pool.map), first_group, random.Random(5))
@@ -214,15 +216,16 @@ def test_candidates_whose_proof_the_budget_stopped_are_evidence_at_exact_points_
         split_ctx, first_group):
     """When the budget stops the block proof (the row check by Horner of a very large candidate), the candidates are
     checked at random exact points: evidence(exact), never verified; a perturbed one is refuted there."""
-    from hkproof.pipelines.discover.integral_bases import evidence_at_points, group_coordinates
+    from hkproof.hk.block_system import evidence_at_points
+    from hkproof.pipelines.discover.group_coordinates import group_coordinates
     candidate = group_coordinates(split_ctx, first_group, random.Random(3))
     names = [f"a{k}" for k in range(len(candidate))]
-    cert = evidence_at_points(split_ctx, names, candidate, random.Random(4))
+    cert = evidence_at_points(split_ctx.kmap, names, candidate, random.Random(4), {})
     assert cert.status is Status.EVIDENCE_EXACT and cert.steps[-1].points == 2
     ring = split_ctx.kmap.ring
     bumped = list(candidate)
     bumped[0] = candidate[0] + Frac(ring, ring.gen("u1"))
-    assert evidence_at_points(split_ctx, names, bumped, random.Random(4)).status is Status.REFUTED
+    assert evidence_at_points(split_ctx.kmap, names, bumped, random.Random(4), {}).status is Status.REFUTED
 
 
 def test_a_block_proof_stopped_by_the_budget_reports_its_integrals_as_evidence(monkeypatch, capsys):

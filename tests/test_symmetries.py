@@ -1,5 +1,5 @@
 """Symmetries of a quadratic field (hk.symmetries) and the groups of step 5d they carry
-(pipelines.discover.integral_bases.carried_by_symmetry). Each symmetry found is checked on the Kahan map itself;
+(pipelines.discover.groups.carried_by_symmetry). Each symmetry found is checked on the Kahan map itself;
 maps that are not symmetries are refused."""
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.field import QuadraticField
 from hkproof.hk.symmetries import SignedPermutation, field_symmetries
 from hkproof.pipelines.discover.context import SearchContext
-from hkproof.pipelines.discover.integral_bases import Group, IntegralBasis, carried_by_symmetry
+from hkproof.pipelines.discover.groups import Group, IntegralBasis, carried_by_symmetry
 
 
 def _equivariant_by_sympy(field: QuadraticField, sigma: SignedPermutation) -> bool:

@@ -16,6 +16,7 @@ coefficient -1); linear relations may run across blocks (recipe (E)) and have in
 """
 from __future__ import annotations
 
+import random
 from dataclasses import dataclass, field, replace
 from typing import Callable, Mapping, Sequence
 
@@ -23,8 +24,10 @@ import flint
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational
+from hkproof.algebra.sampling import random_point
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import HKProofError
+from hkproof.errors import HKProofError, SingularPointError
+from hkproof.hk.independence import sample_point
 from hkproof.hk.reduced import (
     Relation,
     det_at_point,
@@ -36,9 +39,12 @@ from hkproof.hk.reduced import (
 )
 from hkproof.hk.row_check import row_holds
 from hkproof.hk.translation import ParameterTranslation, check_solution_on_slice, prove_on_slice
-from hkproof.proof.certificate import Certificate
+from hkproof.proof.certificate import Certificate, ProofStopped
+from hkproof.proof.export import prop_even_blocks_step, relation_data
+from hkproof.proof.status import Status
 
-__all__ = ["BlockSymmetry", "BlockSystem", "check_block", "determined_components", "prove_block", "verify_candidate"]
+__all__ = ["BlockSymmetry", "BlockSystem", "EVIDENCE_POINTS", "check_block", "determined_components", "evidence_at_points",
+           "prove_block", "prove_blocks", "verify_candidate"]
 
 
 @dataclass(frozen=True)
@@ -224,3 +230,64 @@ def verify_candidate(cert: Certificate, system: BlockSystem, names: Sequence[str
     for n, a in zip(names, candidate, strict=True):
         cert.formula(n, a)
     return list(candidate)
+
+
+def prove_blocks(cert: Certificate, system: BlockSystem, names: Sequence[str], candidate: Sequence[Frac],
+                 symmetry: BlockSymmetry | None, rng: random.Random) -> tuple[Certificate, str]:
+    """Prop. "prop: even" for the whole block system and a candidate (`verify_candidate`, at a rational point), its
+    re-checkable step recorded in `cert`; (cert, ""). A proof the budget stopped (Certificate.stopped_by_budget)
+    leaves the candidate as evidence(exact) at EVIDENCE_POINTS random exact points instead: (that certificate, why
+    the proof stopped). A proof that failed otherwise keeps its error."""
+    point = sample_point(system.kmap.ring.names, 3)
+    try:
+        verify_candidate(cert, system, names, candidate, point, symmetry)
+        blocks = [(basis[:-1], basis[-1]) for basis in system.bases]
+        rows = [relation_data(r.coefficients, r.rhs) for r in system.relations]
+        cert.checks.append(prop_even_blocks_step(system.kmap.field, blocks, names, candidate, system.iterates, rows,
+                                                 point))
+    except ProofStopped as exc:
+        cert.error = str(exc)
+    except HKProofError as exc:
+        cert.error = f"{type(exc).__name__}: {exc}"
+    if cert.status >= Status.VERIFIED_SPECIALIZED or not cert.stopped_by_budget:
+        return cert, ""
+    stopped = f"the proof by Prop. \"prop: even\" was stopped: {cert.error}"
+    evidence = evidence_at_points(system.kmap, names, candidate, rng, cert.fixed)
+    evidence.notes.append(stopped)
+    return evidence, stopped
+
+
+EVIDENCE_POINTS = 2
+"""Random exact points at which a candidate whose proof the budget stopped is checked (a(f(x)) = a(x))."""
+
+
+def evidence_at_points(kmap: KahanMap, names: Sequence[str], candidate: Sequence[Frac], rng: random.Random,
+                       fixed: Mapping[str, str]) -> Certificate:
+    """Evidence(exact) for candidates whose proof was stopped: a(f(x)) = a(x) exactly at EVIDENCE_POINTS random
+    rational points (x, eps and the parameters random); refuted if one differs. Not a proof."""
+    cert = Certificate("bases (evidence)", "the kernel coordinates of the bases are constant along the map at random "
+                       "exact points", 'sec. 3 (an integral: h o f = h), at points', "Evidence, not proof: each "
+                       "coordinate takes the same exact value at x and at f(x) for random rational x, eps and "
+                       "parameters.", fixed=dict(fixed))
+    controls = [n for n in kmap.ring.names if n not in kmap.variables]
+    try:
+        with cert.step("a(f(x)) = a(x) at random exact points", "exact arithmetic over Q (the map by one linear "
+                       "solve)", f"Q at {EVIDENCE_POINTS} points") as s:
+            checked = 0
+            for _ in range(4 * EVIDENCE_POINTS):
+                point = random_point(rng, [*kmap.variables, *controls], 5, denominator=7)
+                try:
+                    image = {**point, **kmap.step_exact(point)}
+                    values = [(a.evaluate(point), a.evaluate(image)) for a in candidate]
+                except SingularPointError:
+                    continue
+                for n, (here, there) in zip(names, values, strict=True):
+                    s.require(here == there, f"{n} takes {here} at x and {there} at f(x): not an integral")
+                checked += 1
+                if checked == EVIDENCE_POINTS:
+                    break
+            s.require(checked > 0, "the map or a candidate is singular at every random point tried")
+            s.evidence(Status.EVIDENCE_EXACT, points=checked)
+    except ProofStopped as exc:
+        cert.error = str(exc)
+    return cert

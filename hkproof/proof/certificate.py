@@ -12,6 +12,7 @@ import sympy
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.printing import latex, markdown_table
 from hkproof.algebra.ring import Ring
+from hkproof.errors import BudgetExhausted
 from hkproof.proof.status import Status
 
 __all__ = ["Certificate", "describe_ring", "ProofStopped", "Refuted", "Step", "StepRecorder"]
@@ -44,6 +45,7 @@ class Step:
     seconds: float = 0.0
     detail: str = ""
     points: int | None = None
+    stopped_by_budget: bool = False      # a BudgetExhausted stopped this step (unknown: not refuted, not decided)
 
     def to_dict(self) -> dict:
         return {"name": self.name, "method": self.method, "ring": self.ring, "status": self.status.label,
@@ -113,6 +115,11 @@ class Certificate:
     def seconds(self) -> float:
         return sum(s.seconds for s in self.steps)
 
+    @property
+    def stopped_by_budget(self) -> bool:
+        """Whether the proof stopped because the budget ran out in its last step (not refuted, not decided)."""
+        return bool(self.steps) and self.steps[-1].stopped_by_budget
+
     @contextmanager
     def step(self, name: str, method: str, ring: Ring | str,
              fixed: Mapping[str, object] | None = None) -> Iterator[StepRecorder]:
@@ -136,6 +143,7 @@ class Certificate:
         except Exception as exc:  # noqa: BLE001 -- KeyboardInterrupt passes; everything else is recorded
             record.status = Status.UNKNOWN
             record.detail = f"{type(exc).__name__}: {exc}"
+            record.stopped_by_budget = isinstance(exc, BudgetExhausted)
             raise ProofStopped(record.detail) from None
         else:
             record.status = recorder.status
