@@ -1,9 +1,10 @@
 """Exceptions of hkproof: each message says what was wrong and what to do about it."""
 
-__all__ = ["BudgetExhausted", "CertificateError", "DependentBasisError", "FormulaTooLargeError", "HKProofError",
-           "MissingDependencyError", "NotQuadraticError", "ParseError", "ResourceLimitError", "RingMismatchError",
-           "ShapeError", "SingularPointError", "SingularSystemError", "UnknownClaimError", "UnknownSymbolError",
-           "UnknownSystemError", "UnluckyPrimeError", "UsageError"]
+__all__ = ["BudgetExhausted", "CertificateError", "CitationCycleError", "DependenceSearchError", "DependentBasisError",
+           "FormulaTooLargeError", "HKProofError", "MissingDependencyError", "NotHamiltonianError", "NotQuadraticError",
+           "OutputError", "ParseError", "ProofStopped", "Refutation", "Refuted", "RelationSearchError",
+           "ResourceLimitError", "RingMismatchError", "ShapeError", "SingularPointError", "SingularSystemError",
+           "UnknownClaimError", "UnknownSymbolError", "UnknownSystemError", "UnluckyPrimeError", "UsageError"]
 
 
 class HKProofError(Exception):
@@ -99,3 +100,31 @@ class BudgetExhausted(ResourceLimitError):
 class UnluckyPrimeError(SingularPointError):
     """A computation mod p failed where it may succeed over Q (a denominator or det M divisible by p): try another
     prime."""
+
+
+class CitationCycleError(UnknownClaimError):
+    """The declared citations of the registry form a cycle: no claim on it can be proven first."""
+
+
+class DependenceSearchError(HKProofError):
+    """The search could not collect enough exact samples (every point hit a pole)."""
+
+
+class RelationSearchError(HKProofError):
+    """Relation finding could not proceed (no one-dimensional kernel, or not enough good samples)."""
+
+
+class NotHamiltonianError(ParseError):
+    """H, J and the field do not fit: J not constant or not skew, H not cubic, or F != J grad H."""
+
+
+class Refuted(Exception):
+    """Raised inside a proof step when the claim checked there is false (control flow of the proof kernel)."""
+
+
+class ProofStopped(Exception):
+    """A proof step did not verify; the remaining steps are not run (control flow of the proof kernel)."""
+
+
+class Refutation(Exception):
+    """A stated identity of a certificate is false (control flow inside the checker)."""

@@ -26,14 +26,14 @@ import flint
 import numpy as np
 
 from hkproof.algebra.linalg import nullspace_q
+from hkproof.algebra.monomials import Exponents
 from hkproof import budget
 
 __all__ = ["horner", "LatticePlan", "plan_lattice", "vanishes_on_lattice"]
 
-Monomial = tuple[int, ...]
 PARALLEL_POINTS = 64      # fewer lattice points are checked in this process (a fork costs more than they do)
 EXACT_INT64 = 2 ** 62     # exponent sums and weighted sums below this are exact in int64 (Python integers above)
-Terms = Mapping[Monomial, flint.fmpz_mpoly]
+Terms = Mapping[Exponents, flint.fmpz_mpoly]
 
 
 def horner(terms: Terms, factors: Sequence[flint.fmpz_mpoly]) -> flint.fmpz_mpoly:
@@ -211,7 +211,7 @@ def vanishes_on_lattice(terms: Terms, factors: Sequence[flint.fmpz_mpoly], plan:
     start = {mu: p.subs(ones) if ones else p for mu, p in terms.items() if not p.is_zero()}
     moved = [f.subs(ones) if ones else f for f in factors]
 
-    def walk(level: int, left: int, t: dict[Monomial, flint.fmpz_mpoly], f: list[flint.fmpz_mpoly],
+    def walk(level: int, left: int, t: dict[Exponents, flint.fmpz_mpoly], f: list[flint.fmpz_mpoly],
              point: dict[str, int], values: Sequence[int]) -> dict[str, int] | None:
         if level == len(plan.lattice):
             budget.check("checking a row identity at the points of a lattice")

@@ -30,11 +30,11 @@ from typing import Any, Mapping
 
 from hkproof.algebra.formula import check_name
 from hkproof.algebra.fraction import Frac
-from hkproof.checker.kahan import KahanData, Refutation
+from hkproof.checker.kahan import KahanData
 from hkproof.checker.reading import (CONVENTION, FORMAT, MAX_BYTES, VERSIONS, entries, field_key, get, load,
                                      version_gate)
 from hkproof.checker.steps import DET_DF, STEPS, reparametrization
-from hkproof.errors import CertificateError, HKProofError, ResourceLimitError
+from hkproof.errors import CertificateError, HKProofError, Refutation, ResourceLimitError
 
 __all__ = ["check_document", "check_file", "CheckReport", "DET_DF", "KahanData", "MAX_BYTES", "load"]
 

@@ -13,18 +13,15 @@ from hkproof.algebra.formula import check_name, parse_formula, tokens
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Ring
 from hkproof.checker.reading import get, strings
-from hkproof.errors import CertificateError, HKProofError, ResourceLimitError
+from hkproof.errors import CertificateError, HKProofError, Refutation, ResourceLimitError
 
-__all__ = ["EPS", "KahanData", "MAX_DEGREE", "MAX_VARIABLES", "Refutation", "read", "det"]
+__all__ = ["EPS", "KahanData", "MAX_DEGREE", "MAX_VARIABLES", "read", "det"]
 
 EPS = "eps"
 MAX_VARIABLES = 12         # phase variables: the Laplace determinants keep at most 2^12 minors
 MAX_DEGREE = 1000          # degree in the phase variables of a composition h(N/Delta) Delta^d
 Poly = flint.fmpz_mpoly
 
-
-class Refutation(Exception):
-    """A stated identity is false (control flow inside the checker)."""
 
 
 def _limit(what: str, limit: str) -> ResourceLimitError:

@@ -10,9 +10,9 @@ import flint
 from hkproof.algebra.formula import check_name, parse_rational
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Ring
-from hkproof.checker.kahan import EPS, KahanData, Refutation, read
+from hkproof.checker.kahan import EPS, KahanData, read
 from hkproof.checker.reading import entries, get, integers, optional_list, strings
-from hkproof.errors import CertificateError, HKProofError
+from hkproof.errors import CertificateError, HKProofError, Refutation
 
 __all__ = ["DET_DF", "STEPS", "reparametrization"]
 

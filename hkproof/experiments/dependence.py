@@ -17,20 +17,16 @@ import sympy
 
 from hkproof import budget
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.monomials import exponents_upto
+from hkproof.algebra.monomials import Exponents, exponents_upto
 from hkproof.algebra.linalg import nullspace_q
 from hkproof.algebra.ring import Rational, to_fmpq
-from hkproof.errors import HKProofError, SingularPointError
+from hkproof.errors import DependenceSearchError, HKProofError, SingularPointError
 from hkproof.algebra.sampling import random_rational
 
-__all__ = ["DependenceSearch", "DependenceSearchError", "find_rational_relations", "Monomial", "monomials",
+__all__ = ["DependenceSearch", "find_rational_relations", "monomials",
            "RationalRelation"]
 
-Monomial = tuple[int, ...]
 
-
-class DependenceSearchError(HKProofError):
-    """The search could not collect enough exact samples (every point hit a pole)."""
 
 
 @dataclass
@@ -39,11 +35,11 @@ class RationalRelation:
 
     target: str
     names: list[str]
-    denominator: dict[Monomial, flint.fmpq]
-    numerator: dict[Monomial, flint.fmpq]
+    denominator: dict[Exponents, flint.fmpq]
+    numerator: dict[Exponents, flint.fmpq]
     values: dict[str, flint.fmpq]
 
-    def _poly(self, coefficients: Mapping[Monomial, flint.fmpq]) -> sympy.Expr:
+    def _poly(self, coefficients: Mapping[Exponents, flint.fmpq]) -> sympy.Expr:
         syms = sympy.symbols(self.names)
         return sympy.Add(*[sympy.Rational(int(c.p), int(c.q)) * sympy.Mul(*[s ** e for s, e in zip(syms, m, strict=True)])
                            for m, c in coefficients.items() if c != 0])
@@ -72,7 +68,7 @@ class DependenceSearch:
         return len(self.relations)
 
 
-def monomials(names: Sequence[str], degree: int, max_degree: Mapping[str, int] | None = None) -> list[Monomial]:
+def monomials(names: Sequence[str], degree: int, max_degree: Mapping[str, int] | None = None) -> list[Exponents]:
     """Exponent vectors of total degree <= degree, with optional caps per name (e.g. D <= 1 modulo a quadric)."""
     caps = [min(degree, (max_degree or {}).get(n, degree)) for n in names]
     return sorted(m for m in exponents_upto(len(names), degree) if all(e <= c for e, c in zip(m, caps, strict=True)))
@@ -110,7 +106,7 @@ def find_rational_relations(target: Frac, knowns: Mapping[str, Frac], values: Ma
         except SingularPointError:
             continue
 
-        def value(m: Monomial) -> flint.fmpq:
+        def value(m: Exponents) -> flint.fmpq:
             out = flint.fmpq(1)
             for x, e in zip(u, m, strict=True):
                 out *= x ** e

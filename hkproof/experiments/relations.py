@@ -19,19 +19,15 @@ from hkproof.algebra.monomials import exponents_upto, value as monomial_value
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import HKProofError
+from hkproof.errors import HKProofError, RelationSearchError
 from hkproof.algebra.sampling import random_rational, random_rationals
 from hkproof.experiments.profiles import ProfileProblem, kernel_vectors, parse_basis
 from hkproof.experiments.scene import make_scene
 from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.hk.reduced import Relation
 
-__all__ = ["CoordinateSampler", "find_relations", "FoundRelation", "Polynomial", "RelationSearch",
-           "RelationSearchError"]
+__all__ = ["CoordinateSampler", "find_relations", "FoundRelation", "Polynomial", "RelationSearch"]
 
-
-class RelationSearchError(HKProofError):
-    """Relation finding could not proceed (no one-dimensional kernel, or not enough good samples)."""
 
 
 @dataclass

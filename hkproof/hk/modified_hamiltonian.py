@@ -13,20 +13,16 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import cramer, det, lcm
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import ParseError
+from hkproof.errors import NotHamiltonianError, ParseError
 from hkproof.hk.integrals import check_integral
 from hkproof.hk.jacobian import jacobian_determinant, matrix_identity_holds
 from hkproof.proof.certificate import Certificate, Step, describe_ring
 from hkproof.proof.status import Status
 
-__all__ = ["check_inputs", "field_jacobian", "measure_denominator", "modified_hamiltonian", "ModifiedHamiltonianResult",
-           "NotHamiltonianError", "parse_matrix", "verify"]
+__all__ = ["check_inputs", "field_jacobian", "measure_denominator", "modified_hamiltonian", "ModifiedHamiltonianResult", "parse_matrix", "verify"]
 
 CMOQ = "Celledoni, McLachlan, Owren, Quispel, J. Phys. A 46 (2013) 025201; docs/geometry.md"
 
-
-class NotHamiltonianError(ParseError):
-    """H, J and the field do not fit: J not constant or not skew, H not cubic, or F != J grad H."""
 
 
 def parse_matrix(kmap: KahanMap, text: str) -> list[list[Frac]]:

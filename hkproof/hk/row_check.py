@@ -13,15 +13,15 @@ import flint
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.lattice_identity import horner, plan_lattice, vanishes_on_lattice
 from hkproof.algebra.linalg import lcm
+from hkproof.algebra.monomials import Exponents
 from hkproof.algebra.ring import cores, flint_threads
 from hkproof.budget import current
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals
 
-__all__ = ["check_solution_by_rows", "Monomial", "row_holds", "RowCheck", "Route"]
+__all__ = ["check_solution_by_rows", "row_holds", "RowCheck", "Route"]
 
-Monomial = tuple[int, ...]
 Route = Literal["auto", "horner", "lattice"]
 
 
@@ -53,7 +53,7 @@ def row_holds(kmap: KahanMap, basis: Sequence[Frac], target: Frac, i: int, solut
         row, rhs = hk_row(kmap, basis, target, i)
         return RowCheck(linear_combination_equals(row, solution, rhs), f"row i = {i} by substitution")
     ring = kmap.ring
-    coefficients: dict[Monomial, Frac] = {}
+    coefficients: dict[Exponents, Frac] = {}
     for a, phi in [*zip(solution, basis, strict=True), (Frac(ring, -1), target)]:
         for mu, c in _x_coefficients(kmap, phi).items():
             coefficients[mu] = coefficients.get(mu, Frac(ring, 0)) + a * c
@@ -84,12 +84,12 @@ def check_solution_by_rows(kmap: KahanMap, basis: Sequence[Frac], target: Frac, 
     return all(linear_combination_equals(rel.coefficients, solution, rel.rhs) for rel in relations)
 
 
-def _x_coefficients(kmap: KahanMap, phi: Frac) -> dict[Monomial, Frac]:
+def _x_coefficients(kmap: KahanMap, phi: Frac) -> dict[Exponents, Frac]:
     """phi = sum_mu c_mu x^mu with c_mu free of x (phi must be polynomial in x)."""
     ring, idx = kmap.ring, [kmap.ring.index(v) for v in kmap.variables]
     if phi.den_variables_in(kmap.variables):
         raise ValueError(f"{phi} is not polynomial in {kmap.variables}: no row check by monomials")
-    parts: dict[Monomial, dict] = {}
+    parts: dict[Exponents, dict] = {}
     for m, c in phi.num.to_dict().items():
         mu = tuple(m[k] for k in idx)
         rest = list(m)
@@ -99,7 +99,7 @@ def _x_coefficients(kmap: KahanMap, phi: Frac) -> dict[Monomial, Frac]:
     return {mu: Frac(ring, ring.ctx.from_dict(d), phi.den) for mu, d in parts.items()}
 
 
-def _vanishes(terms: dict[Monomial, flint.fmpz_mpoly], factors: Sequence[flint.fmpz_mpoly]) -> bool:
+def _vanishes(terms: dict[Exponents, flint.fmpz_mpoly], factors: Sequence[flint.fmpz_mpoly]) -> bool:
     """Whether sum_mu terms[mu] prod_j factors[j]^mu_j is zero (FLINT's threads on the big products)."""
     with flint_threads():
         return horner(terms, factors).is_zero()

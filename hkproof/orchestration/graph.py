@@ -3,14 +3,11 @@ from __future__ import annotations
 
 from typing import Iterable, Mapping
 
-from hkproof.errors import UnknownClaimError
+from hkproof.errors import CitationCycleError, UnknownClaimError
 from hkproof.orchestration.registry import Claim
 
-__all__ = ["CitationCycleError", "in_dependency_order"]
+__all__ = ["in_dependency_order"]
 
-
-class CitationCycleError(UnknownClaimError):
-    """The declared citations of the registry form a cycle: no claim on it can be proven first."""
 
 
 def in_dependency_order(ids: Iterable[str], registry: Mapping[str, Claim]) -> list[str]:

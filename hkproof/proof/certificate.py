@@ -12,18 +12,12 @@ import sympy
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.printing import latex, markdown_table
 from hkproof.algebra.ring import Ring
-from hkproof.errors import BudgetExhausted
+from hkproof.errors import BudgetExhausted, ProofStopped, Refuted
 from hkproof.proof.status import Status
 
 __all__ = ["Certificate", "describe_ring", "ProofStopped", "Refuted", "Step", "StepRecorder"]
 
 
-class Refuted(Exception):
-    """Raised inside a step when the claim checked there is false."""
-
-
-class ProofStopped(Exception):
-    """A step did not verify; the remaining steps are not run."""
 
 
 def describe_ring(ring: Ring | str, fixed: Mapping[str, object] | None = None) -> str:
