@@ -12,6 +12,7 @@ from typing import Callable
 
 import flint
 
+from hkproof import budget
 from hkproof.algebra.modular import random_prime
 from hkproof.algebra.monomials import Exponents
 from hkproof.algebra.univariate_rational import ThieleInterpolator
@@ -74,7 +75,8 @@ def recipe_b_gradients(values: list[list[int]], gradient: Callable[[int, int], l
     a, cs = solved
     l = len(values[0])
     g = []
-    for i in range(l - 1):
+    for i in range(l - 1):              # l - 1 rows of up to l gradients each: long for a wide basis
+        budget.check("computing the gradients of kernel coordinates mod p")
         row = gradient(l - 1, i)
         for k, ck in enumerate(cs):
             if ck:

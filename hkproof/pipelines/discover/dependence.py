@@ -182,6 +182,7 @@ def _dependent_space(samples: _Samples, points: int) -> list[list[int]]:
     p, n = samples.p, len(samples.kmap.variables)
     equations: list[list[int]] = []
     for _ in range(points):
+        budget.check("collecting gradient conditions for the relations with proven integrals")
         x, orbit = samples.point()
         grads = coordinate_gradients(orbit, samples.basis)
         dk = samples.known_gradients(x) if samples.known else []
@@ -220,6 +221,7 @@ def _choose(rows01: list[list[int]], space: list[list[int]], p: int, width: int)
     for row in sorted(space, key=lambda r: (sum(1 for c in r if c), _pivot(r))):
         if rank == width:
             break
+        budget.check("choosing the relations with proven integrals")
         if rank_mod_p(rows01 + chosen + [row], p) > rank:
             chosen.append(row)
             rank += 1
@@ -240,6 +242,7 @@ class _Point:
 def _data(samples: _Samples, count: int) -> list[_Point]:
     out: list[_Point] = []
     while len(out) < count:
+        budget.check("sampling kernel coordinates and proven integrals mod p")
         x, orbit = samples.point()
         c, k = samples.coordinates(orbit), samples.known_values(x)
         if c is None or k is None:
@@ -264,6 +267,7 @@ def _independent_subsets(gradients: list[list[int]], p: int) -> list[tuple[int, 
     out = []
     for size in range(1, len(gradients) + 1):
         for subset in itertools.combinations(range(len(gradients)), size):
+            budget.check("finding independent subsets of the proven integrals")
             if rank_mod_p([gradients[i] for i in subset], p) == size:
                 out.append(subset)
     return out
@@ -305,6 +309,7 @@ def _express(samples: _Samples, rows: list[list[int]], names: list[str], max_deg
                          for sub in subsets for dn, dd in DEGREES if max(dn, dd) <= max_degree),
                         key=lambda t: t[0])
         for _, subset, degrees in trials:
+            budget.check("fitting a right-hand side through proven integrals")
             ks = [[v[j] for j in subset] for v in values]
             fit = rational_fit_mod_p(ys[:-extra], ks[:-extra], degrees, p)
             if fit is not None and _holds(fit, ys[-extra:], ks[-extra:], p):
@@ -354,6 +359,7 @@ def evaluate_plan(kmap: KahanMap, basis: Sequence[Exponents], known: Mapping[str
     space: list[list[int]] | None = None
     rows = []
     for rel in plan.relations:
+        budget.check("evaluating the relations of a plan mod p")
         support = [k for k, c in enumerate(rel.combination) if c]
         if len(support) == 1:
             rows.append(rel.combination)
@@ -369,12 +375,14 @@ def evaluate_plan(kmap: KahanMap, basis: Sequence[Exponents], known: Mapping[str
     extra = 4
     data: list[tuple[list[int], dict[str, int]]] = []
     while len(data) < unknowns + extra:
+        budget.check("sampling kernel coordinates and proven integrals mod p")
         x, orbit = samples.point()
         c, k = samples.coordinates(orbit), samples.known_values(x)
         if c is not None and k is not None:
             data.append((c, k))
     out: list[ModularRelation] = []
     for i, (rel, row) in enumerate(zip(plan.relations, rows, strict=True)):
+        budget.check("fitting the relations of a plan mod p")
         columns = {n: [k[n] for _, k in data] for n in names}
         for j, prev in enumerate(rows[:i]):
             columns[f"_l{j}"] = [sum(a * b for a, b in zip(prev, c, strict=True)) % p for c, _ in data]
