@@ -6,7 +6,7 @@ from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.catalogue import SO4_SPLIT, SO4_SPLIT_FLOW2, kahan_map
 from hkproof.errors import HKProofError
 from hkproof.hk.conjugacy import LinearChart, conjugacy_mismatches, pull_back
-from hkproof.hk.discover import certify
+from hkproof.hk.certified_integrals import certify
 from hkproof.proof.status import Status
 
 # a claim to check: the ratio of quadrics that `discover so4-euler-top-split` proves from the basis (u1 v1, u2 v2,

@@ -16,7 +16,7 @@ from hkproof.experiments.weights import Weights
 from hkproof.pipelines.discover import discover
 from hkproof.pipelines.discover.circuits import circuits
 from hkproof.pipelines.discover.screen import without_conserved
-from hkproof.hk.discover import certify
+from hkproof.hk.certified_integrals import certify
 from hkproof.hk.integrals import check_integral
 from hkproof.proof.status import Status
 
@@ -219,7 +219,7 @@ def test_discovered_clebsch_integrals_span_the_field_of_the_theorem_modules(cleb
     the theorem modules prove them, and the four integrals discover proves have Jacobian rank 4 together and each set alone (exact ranks at
     random rational points: evidence that they generate the same field of integrals)."""
     from hkproof.api import prove
-    from hkproof.hk.discover import jacobian_points
+    from hkproof.hk.certified_integrals import jacobian_points
     from hkproof.hk.independence import max_jacobian_rank
     f = kahan_map("clebsch")
     wanted = {"J", "d7", "d8", "d9", "A", "B", "C", "D", "a1", "a2", "a3"}
@@ -353,7 +353,7 @@ def test_independent_subset_skips_dependent_functions_and_evaluates_each_gradien
 
     from hkproof.algebra.fraction import Frac
     from hkproof.dynamics.catalogue import kahan_map
-    from hkproof.hk import discover as exact
+    from hkproof.hk import certified_integrals as exact
     ring = kahan_map("euler-top").ring
     texts = ["x1**2 + x2**2", "x2**2 + x3**2", "x1**2 + 2*x2**2 + x3**2", "x1*x2*x3"]
     functions = [Frac.parse(ring, t) for t in texts]

@@ -15,7 +15,7 @@ from typing import Mapping
 from hkproof.dynamics.catalogue import SO4_SPLIT, get_system, kahan_map
 from hkproof.budget import Budget
 from hkproof.hk.conjugacy import LinearChart, conjugacy_mismatches, pull_back
-from hkproof.hk.discover import jacobian_points
+from hkproof.hk.certified_integrals import jacobian_points
 from hkproof.hk.independence import max_jacobian_rank
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.pipelines.discover import DiscoveryReport, discover

@@ -19,7 +19,7 @@ from typing import Sequence
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.monomials import Exponents
 from hkproof.hk.block_system import BlockSymmetry, BlockSystem, prove_blocks
-from hkproof.hk.discover import independent_subset, jacobian_points
+from hkproof.hk.certified_integrals import independent_subset, jacobian_points
 from hkproof.hk.flow_integrals import continuous_integral_circuits
 from hkproof.pipelines.discover.context import SearchContext
 from hkproof.pipelines.discover.group_coordinates import group_coordinates, lift_group_relations

@@ -24,7 +24,7 @@ from hkproof.algebra.dense_reconstruction import ansatz_size, line_degrees
 from hkproof.algebra.monomials import Exponents, text
 from hkproof.algebra.reconstruction import Batch, reconstruct
 from hkproof.errors import BudgetExhausted, HKProofError, ResourceLimitError
-from hkproof.hk.discover import certify, is_phase_constant
+from hkproof.hk.certified_integrals import certify, is_phase_constant
 from hkproof.pipelines.discover.candidates import Candidate, modular_sampler
 from hkproof.pipelines.discover.context import SearchContext
 from hkproof.pipelines.discover.report import DiscoveryReport, FoundIntegral

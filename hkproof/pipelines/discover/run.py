@@ -6,7 +6,7 @@
 2. Minimal HK-bases (bases, circuits): the circuits of the new part of each kernel.
 3. Candidates (candidates): which kernel coordinates carry independent integrals, by gradients mod p.
 4. Reconstruction (reconstruct): dense interpolation of exact samples, or recipe (E) with Prop. "prop: even".
-5. Certification (hkproof.hk.discover): substitution with every parameter symbolic, independence by an exact
+5. Certification (hkproof.hk.certified_integrals): substitution with every parameter symbolic, independence by an exact
    Jacobian rank. Nothing is called an integral before step 5 says so.
 """
 from __future__ import annotations
@@ -28,7 +28,7 @@ from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ParseError, ResourceLimitError
 from hkproof.experiments.scene import make_scene
-from hkproof.hk.discover import certify, independent_subset, jacobian_points
+from hkproof.hk.certified_integrals import certify, independent_subset, jacobian_points
 from hkproof.pipelines.discover.bases import confirm_basis, minimal_bases
 from hkproof.pipelines.discover.context import SearchContext
 from hkproof.pipelines.discover.integral_bases import prove_with_integral_bases
