@@ -264,8 +264,13 @@ def test_a_piece_is_expanded_in_chunks_with_checks_and_refused_above_the_limit(m
     whole.add(piece)
     monkeypatch.setattr(hs, "CHUNK_TERMS", 10)
     checks: list[str] = []
-    chunked = ShiftedPieces(4, [3, 0, 5, 0], p, check=checks.append)
-    chunked.add(piece)
+
+    class Counting(Budget):
+        def check(self, doing: str) -> None:
+            checks.append(doing)
+    chunked = ShiftedPieces(4, [3, 0, 5, 0], p)
+    with Counting(None).active():                  # the active budget is checked between chunks
+        chunked.add(piece)
     assert chunked.total == whole.total and len(checks) >= 3
     bound = min(sum((m[0] + 1) * (m[2] + 1) for m in piece), math.comb(6 + 4, 4))   # x0, x2 shifted; dense cap
     with pytest.raises(ResourceLimitError, match="could reach"):
@@ -493,7 +498,12 @@ def test_a_large_exponential_sum_checks_the_budget_between_chunks(monkeypatch):
     from hkproof.algebra import sparse_interpolation as si
     monkeypatch.setattr(si, "LEAVES", 4)
     calls: list[str] = []
-    ExponentialSum(((1, b) for b in range(1, 18)), 101, calls.append)
+
+    class Counting(Budget):
+        def check(self, doing: str) -> None:
+            calls.append(doing)
+    with Counting(None).active():
+        ExponentialSum(((1, b) for b in range(1, 18)), 101)
     assert len(calls) == 4                       # five chunks of at most 4 terms, a check before each later one
 
 

@@ -16,10 +16,11 @@ from __future__ import annotations
 
 import math
 import sys
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 
 import flint
 
+from hkproof import budget
 from hkproof.errors import ResourceLimitError
 
 __all__ = ["ShiftedPieces"]
@@ -34,11 +35,10 @@ class ShiftedPieces:
 
     `limit` bounds the terms kept: a piece whose expansion could pass it raises ResourceLimitError before it is
     composed (the bound: sum over its terms of prod (e_i + 1) over the shifted variables, at most the number of
-    monomials of its degree); `check` (a budget's) is called between chunks of the composition."""
+    monomials of its degree); the active budget is checked between chunks of the composition."""
 
-    def __init__(self, n: int, shift: Sequence[int], p: int, limit: int = sys.maxsize,
-                 check: Callable[[str], None] | None = None):
-        self.p, self.limit, self.check = p, limit, check
+    def __init__(self, n: int, shift: Sequence[int], p: int, limit: int = sys.maxsize):
+        self.p, self.limit = p, limit
         self.ctx = flint.nmod_mpoly_ctx.get(tuple(f"z{i}" for i in range(n)), p, "deglex")  # type: ignore[call-arg, arg-type]  # flint's stubs lag the API
         self._shifted = [i for i, s in enumerate(shift) if s % p]
         self._moved = [g + (s % p) if s % p else g for g, s in zip(self.ctx.gens(), shift, strict=True)]
@@ -65,8 +65,8 @@ class ShiftedPieces:
         for stop in range(1, len(terms) + 1):
             done += sizes[stop - 1]
             if done >= CHUNK_TERMS or stop == len(terms):
-                if self.check is not None and start:
-                    self.check("expanding a shifted homogeneous piece")
+                if start:
+                    budget.check("expanding a shifted homogeneous piece")
                 self.total += self.ctx.from_dict(dict(terms[start:stop])).compose(*self._moved)
                 start, done = stop, 0
 

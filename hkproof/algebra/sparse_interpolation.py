@@ -18,12 +18,13 @@ from __future__ import annotations
 
 import itertools
 import random
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import flint
 
+from hkproof import budget
 from hkproof.errors import ResourceLimitError, UnluckyPrimeError
 
 __all__ = ["EARLY_TERMINATION", "SPLIT_ATTEMPTS", "ExponentialSum", "GeometricPoints", "ben_or_tiwari",
@@ -174,17 +175,17 @@ def _merged(pairs: list[tuple[flint.nmod_poly, flint.nmod_poly]]) -> tuple[flint
     return pairs[0]
 
 
-def _product_tree_fraction(terms: Iterable[tuple[int, int]], p: int, check: Callable[[str], None] | None
+def _product_tree_fraction(terms: Iterable[tuple[int, int]], p: int
                            ) -> tuple[flint.nmod_poly, flint.nmod_poly, int]:
     """U/V = sum_m w_m / (1 - b_m x) for (w_m, b_m) in terms, and their number: a product tree over chunks of LEAVES
     terms, the chunks' fractions merged like a binary counter (at most one chunk of Python leaves alive at a time);
-    `check` is called between chunks."""
+    the active budget is checked between chunks."""
     stack: list[tuple[int, flint.nmod_poly, flint.nmod_poly]] = []
     count = 0
     it = iter(terms)
     while chunk := list(itertools.islice(it, LEAVES)):
-        if check is not None and count:
-            check("summing the known pieces' values along the lines")
+        if count:
+            budget.check("summing the known pieces' values along the lines")
         count += len(chunk)
         u, v = _merged([(flint.nmod_poly([w % p], p), flint.nmod_poly([1, (-b) % p], p)) for w, b in chunk])
         level = 0
@@ -200,11 +201,11 @@ def _product_tree_fraction(terms: Iterable[tuple[int, int]], p: int, check: Call
 class ExponentialSum:
     """The sequence s_j = sum_m w_m b_m^j mod p, evaluated for a range of j as a power series U/V (product tree)."""
 
-    def __init__(self, terms: Iterable[tuple[int, int]], p: int, check: Callable[[str], None] | None = None):
+    def __init__(self, terms: Iterable[tuple[int, int]], p: int):
         """From the pairs (weight w_m, base b_m), read once (a generator keeps memory to one chunk of leaves);
-        `check` (a budget's) is called between chunks."""
+        the active budget is checked between chunks."""
         self.p = p
-        self._u, self._v, self.terms = _product_tree_fraction(terms, p, check)
+        self._u, self._v, self.terms = _product_tree_fraction(terms, p)
         self._cache: list[int] = []
 
     def values(self, start: int, stop: int) -> list[int]:
@@ -217,11 +218,10 @@ class ExponentialSum:
         return self._cache[start:stop]
 
 
-def distinct_roots(poly: flint.fmpz_mod_poly, p: int, rng: random.Random,
-                   check: Callable[[str], None] | None = None) -> list[int] | None:
+def distinct_roots(poly: flint.fmpz_mod_poly, p: int, rng: random.Random) -> list[int] | None:
     """The roots of a polynomial that splits into distinct non-zero linear factors mod p (equal-degree splitting,
     Cantor–Zassenhaus: gcd with (x + a)^((p-1)/2) - 1 for random a), None when it does not (a factor that resists
-    SPLIT_ATTEMPTS random splittings is taken to be irreducible or repeated); `check` is called between splits."""
+    SPLIT_ATTEMPTS random splittings is taken to be irreducible or repeated); the active budget is checked between splits."""
     f = flint.nmod_poly([int(c) for c in poly.coeffs()], p)
     if f.degree() <= 0:
         return []
@@ -235,8 +235,7 @@ def distinct_roots(poly: flint.fmpz_mod_poly, p: int, rng: random.Random,
             c0, c1 = (int(c) for c in g.coeffs())
             out.append(-c0 * pow(c1, -1, p) % p)
             continue
-        if check is not None:
-            check("splitting the minimal polynomial of a sparse sequence")
+        budget.check("splitting the minimal polynomial of a sparse sequence")
         for _ in range(SPLIT_ATTEMPTS):
             h = flint.nmod_poly([rng.randrange(p), 1], p).pow_mod((p - 1) // 2, g) - 1
             a = g.gcd(h)
@@ -266,7 +265,7 @@ def transposed_vandermonde(bases: Sequence[int], values: Sequence[int], p: int) 
 
 
 def ben_or_tiwari(values: Sequence[int], grid: GeometricPoints, degree: int,
-                  rng: random.Random | None = None, check: Callable[[str], None] | None = None
+                  rng: random.Random | None = None
                   ) -> dict[tuple[int, ...], int] | None:
     """The polynomial of total degree <= `degree` whose values at grid.points(0, len(values)) these are
     (Ben-Or–Tiwari); None while the sequence is too short to have terminated (len < 2L + EARLY_TERMINATION).
@@ -278,7 +277,7 @@ def ben_or_tiwari(values: Sequence[int], grid: GeometricPoints, degree: int,
     order = lam.degree()
     if len(values) < 2 * order + EARLY_TERMINATION:
         return None
-    roots = distinct_roots(lam, p, rng or random.Random(order), check)
+    roots = distinct_roots(lam, p, rng or random.Random(order))
     nvars = len(grid.ratios)
     monomials = None if roots is None else grid.exponents_of(roots, nvars)
     if roots is None or monomials is None or any(sum(m) > degree for m in monomials):

@@ -108,13 +108,11 @@ class _Chain:
     """The t-coefficients c_0..c_d of the numerator (or the denominator) along the lines, for one prime: values
     measured while unknown, homogeneous pieces once solved, and the known coefficients' values as exponential sums."""
 
-    def __init__(self, degree: int, shift: Sequence[int], p: int, grid: GeometricPoints, denominator: bool,
-                 check: Callable[[str], None]):
+    def __init__(self, degree: int, shift: Sequence[int], p: int, grid: GeometricPoints, denominator: bool):
         self.degree, self.shift, self.p, self.grid, self.denominator = degree, list(shift), p, grid, denominator
-        self.check = check
         self.shifted = any(shift)
         self.pieces: dict[int, Polynomial] = {}
-        self.moved = ShiftedPieces(len(shift), shift, p, SHIFTED_TERMS_LIMIT, check)  # sum of the solved P_k(z + s)
+        self.moved = ShiftedPieces(len(shift), shift, p, SHIFTED_TERMS_LIMIT)  # sum of the solved P_k(z + s)
         self.raw: dict[int, list[int]] = {r: [] for r in range(degree + 1)}
         self._sums: dict[int, ExponentialSum] = {}
         self._higher: dict[int, ExponentialSum] = {}
@@ -135,8 +133,7 @@ class _Chain:
 
     def _exponential_sum(self, terms: Iterable[tuple[tuple[int, ...], int]]) -> ExponentialSum:
         """The values along the lines of a polynomial in the n coordinates (the first one is 1 on every line)."""
-        return ExponentialSum(self.grid.exponential_terms(((m[1:], c) for m, c in terms), self.degree), self.p,
-                              self.check)
+        return ExponentialSum(self.grid.exponential_terms(((m[1:], c) for m, c in terms), self.degree), self.p)
 
     def _contributions(self, r: int) -> ExponentialSum:
         """sum over the solved pieces k >= r of [t^r] P_k(t z + s) on the lines: the higher pieces' contributions
@@ -416,14 +413,14 @@ class _Engine:
             raise UnluckyPrimeError(f"no shift s with Q(s) != 0 mod p = {p} was found (a random full shift failed)")
         with self._stage("sparse"):
             grid = GeometricPoints.kronecker(p, self.n - 1, max(degrees) + 1, self.rng)
-        chains = (_Chain(degrees[0], shift, p, grid, False, self.budget.check),
-                  _Chain(degrees[1], shift, p, grid, True, self.budget.check))
+        chains = (_Chain(degrees[0], shift, p, grid, False),
+                  _Chain(degrees[1], shift, p, grid, True))
 
         def solve(chain: _Chain, r: int) -> Polynomial | None:
             # the denominator's constant piece is 1 - (the higher pieces' contributions): a constant, 4 values do
             length = 2 + EARLY_TERMINATION if chain.denominator and r == 0 else chain.measured(r)
             with self._stage("sparse"):
-                found = ben_or_tiwari(chain.cleaned(r, length), grid, r, self.rng, self.budget.check)
+                found = ben_or_tiwari(chain.cleaned(r, length), grid, r, self.rng)
             return None if found is None else {(r - sum(m), *m): c for m, c in found.items()}
 
         def batch(lines: int, unknown: list[tuple[_Chain, int]]) -> int:
@@ -442,8 +439,8 @@ class _Engine:
                     bases = [grid.base_of(m[1:]) for m in poly]
                     if len(set(bases)) < len(bases):
                         raise UnluckyPrimeError(f"two monomials have the same value at the points mod p = {p}")
-        chains = (_Chain(support.degree_num, support.shift, p, grid, False, self.budget.check),
-                  _Chain(support.degree_den, support.shift, p, grid, True, self.budget.check))
+        chains = (_Chain(support.degree_num, support.shift, p, grid, False),
+                  _Chain(support.degree_den, support.shift, p, grid, True))
         size = {id(chains[0]): {r: len(support.num[r]) for r in support.num},
                 id(chains[1]): {r: len(support.den[r]) for r in support.den}}
 
@@ -493,6 +490,10 @@ class _Engine:
 
     # -- the prime loop ------------------------------------------------------------------------------------------
     def run(self) -> Rebuilt:
+        with self.budget.active():          # the one budget rule: code below checks the active budget
+            return self._run()
+
+    def _run(self) -> Rebuilt:
         for _ in range(MAX_SUPPORT_RESTARTS + 1):
             p0 = self.primes.support()
             try:

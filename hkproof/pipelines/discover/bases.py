@@ -7,6 +7,7 @@ import random
 from dataclasses import dataclass, field
 
 
+from hkproof import budget
 from hkproof.algebra.sampling import random_rational
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.modular import rank_mod_p
@@ -65,7 +66,7 @@ def minimal_bases(ctx: SearchContext, probe: Probe, degrees: list[int]) -> Minim
         if not complete:
             out.covered.append(f"degree {d}: circuit enumeration stopped after {MAX_CIRCUIT_TRIALS} trials")
         for s in supports:
-            ctx.budget.check("choosing the normalizations of the minimal HK-bases")
+            budget.check("choosing the normalizations of the minimal HK-bases")
             basis: list[Exponents] = [monos[j] for j in s]
             for j, sizes in normalizations(ctx.kmap, basis, ctx.weights, ctx.free, ctx.rng, len(ctx.free) + n):
                 for cand in ratio_candidates(probe.orbit, basis, j):

@@ -112,7 +112,7 @@ def integral_bases(ctx: SearchContext, monomials: Sequence[Exponents], circuits:
         own = {k for k, h in enumerate(mono_fracs) if _occurs(h, circuit, mod.phase)}
         hits: list[set[int]] = []
         for size in range(1, MAX_BASIS):
-            ctx.budget.check("searching bases with integrals of the flow")
+            budget.check("searching bases with integrals of the flow")
             for subset in itertools.combinations(range(m), size):
                 chosen = set(subset)
                 if own <= chosen or any(h <= chosen for h in hits):
@@ -257,7 +257,7 @@ def find_group(ctx: SearchContext, bases: Sequence[IntegralBasis], rng: random.R
     starts = [b for b in sorted(range(len(bases)), key=lambda b: len(bases[b].functions)) if bases[b].new][:STARTS]
     for b0 in starts:
         for j0 in range(len(bases[b0].functions)):
-            ctx.budget.check("grouping bases with integrals of the flow")
+            budget.check("grouping bases with integrals of the flow")
             members = [(b0, j0)]
             deficit = sampler.deficit(members)
             while deficit > 0 and len(members) < MAX_GROUP:
@@ -306,7 +306,7 @@ def carried_by_symmetry(ctx: SearchContext, group: Group) -> Group:
     phase = set(ctx.kmap.variables)
     best: tuple[SignedPermutation | None, list[tuple[int, int]]] = (None, [])
     for sigma in field_symmetries(ctx.kmap.field):
-        ctx.budget.check("looking for symmetries that carry one basis of the group to another")
+        budget.check("looking for symmetries that carry one basis of the group to another")
         images: list[tuple[int, int]] = []
         for dst in range(1, len(group.members)):
             src = next((s for s in range(dst) if _carries(sigma, group, s, dst, phase)), None)

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
 
+from hkproof import budget
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.modular import rank_mod_p
 from hkproof.algebra.dense_reconstruction import ansatz_size, line_degrees
@@ -115,7 +116,7 @@ def _pass(ctx: SearchContext, report: DiscoveryReport, candidates: list[Candidat
             return
         if rank_mod_p(state.accepted + [cand.gradient], p) <= len(state.accepted):
             continue
-        ctx.budget.check(f"proving integral {len(state.accepted) + 1} of {target}")
+        budget.check(f"proving integral {len(state.accepted) + 1} of {target}")
         found = _dense_or_skip(ctx, report, cand, p, state) if cand.estimate <= DENSE_FIRST else None
         if found is None:
             found = _from_basis(ctx, report, cand, state)

@@ -22,7 +22,7 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.modular import rank_mod_p
 from hkproof.algebra.monomials import count_upto, exponents_upto
 from hkproof.algebra.ring import Rational
-from hkproof.budget import Budget
+from hkproof.budget import Budget, check
 from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
@@ -166,7 +166,7 @@ def _search(ctx: SearchContext, report: DiscoveryReport) -> None:
 
     stages.start("confirm bases", "confirming the minimal HK-bases by algorithm (N)")
     for k, entry in enumerate(report.bases):
-        ctx.budget.check("confirming every minimal HK-basis")
+        check("confirming every minimal HK-basis")
         entry.update(confirm_basis(scene, [Frac.parse(kmap.ring, t) for t in entry["basis"]])
                      if k < MAX_CONFIRMED else
                      {"dimension": None, "status": Status.UNKNOWN.label, "check": "not confirmed (cap)"})

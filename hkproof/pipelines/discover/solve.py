@@ -17,6 +17,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
+from hkproof import budget
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import lcm
 from hkproof.algebra.modular import random_prime
@@ -149,7 +150,7 @@ def _race(ctx: SearchContext, complete: list[tuple[list[Exponents], ModularPlan]
             try:
                 return order, plan, coordinates(ctx, order, rng, budget=attempt)
             except BudgetExhausted:
-                ctx.budget.check("reconstructing the coordinates of a basis")     # the whole budget, or the next try
+                budget.check("reconstructing the coordinates of a basis")     # the whole budget, or the next try
             except ResourceLimitError:          # a size limit (memory), not time: this normalization is out
                 left.remove((order, plan))
                 if not left:
