@@ -123,9 +123,13 @@ class Budget:
         """fn(*args), stopped at the deadline even inside one long FLINT call that no check can interrupt: with a
         deadline it runs in a forked child (which shares this process's memory, so big arguments are not copied)
         killed when the deadline passes (BudgetExhausted); the result, and any exception, must be picklable. A plain
-        os.fork, so that it works inside daemonic worker processes too (multiprocessing forbids their children)."""
-        if not math.isfinite(self.deadline) or not hasattr(os, "fork"):    # no deadline, or no fork (Windows)
-            return fn(*args)
+        os.fork, so that it works inside daemonic worker processes too (multiprocessing forbids their children).
+        Without a deadline it runs in a child too where this process answers SIGTERM or SIGHUP by a Python handler
+        (the command line does): Python runs a handler only between bytecodes, so a FLINT call in this process would
+        hold a SIGTERM off for as long as it runs, while the parent waiting for its child answers at once (the
+        handler's exception kills the child)."""
+        if not hasattr(os, "fork") or not (math.isfinite(self.deadline) or _interrupts_handled()):
+            return fn(*args)                    # no deadline and no handler to keep responsive, or no fork (Windows)
         return self._in_children(doing, [(fn, args)])[0]
 
     def call_each(self, doing: str, fn: Callable[[int], T], jobs: int) -> list[T]:
@@ -206,6 +210,13 @@ def _cap_address_space(memory_mb: float | None) -> None:
         return
     limit = int((size + memory_mb) * 2**20)
     resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+
+
+def _interrupts_handled() -> bool:
+    """Whether SIGTERM or SIGHUP runs a Python handler in this process (hkproof's command line installs one; by
+    default both end the process at once, inside a C call too). SIGINT is not asked: Python always handles it."""
+    return any(callable(signal.getsignal(getattr(signal, name))) for name in ("SIGTERM", "SIGHUP")
+               if hasattr(signal, name))
 
 
 def _call_and_send(fd: int, fn: Callable[..., Any], args: tuple) -> None:
