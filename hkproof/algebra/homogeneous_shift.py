@@ -60,7 +60,7 @@ class ShiftedPieces:
                 f"the shift's contributions to the lower t-coefficients could reach {len(self.total) + bound} terms "
                 f"(limit {self.limit}): the function is too large for this machine's memory with this shift",
                 limit=f"{self.limit} shifted terms per reconstruction",
-                raise_with="no option raises it; fixing parameters (--param) makes the reconstruction smaller")
+                raise_with="no option raises it; fixing parameters makes the reconstruction smaller")
         start = done = 0
         for stop in range(1, len(terms) + 1):
             done += sizes[stop - 1]

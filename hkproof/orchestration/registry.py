@@ -51,7 +51,7 @@ class Claim:
         if seconds is None:
             return self.certify(overrides) if overrides else proven(self.id)
         before = set(_CACHE)
-        with Budget(seconds, raise_with="a larger --seconds (per claim)").active() as budget:
+        with Budget(seconds, raise_with="a larger per-claim time budget").active() as budget:
             cert = self.certify(overrides) if overrides else proven(self.id)
         if budget.expired:      # what ran out is not this run's answer for later citations: forget it
             for cid in set(_CACHE) - before:
@@ -81,7 +81,7 @@ class Claim:
         return cert
 
 
-RAN_OUT = "stopped by the per-claim time budget (--seconds): unknown, not refuted"
+RAN_OUT = "stopped by the per-claim time budget: unknown, not refuted"
 REGISTRY: dict[str, Claim] = {}
 _CACHE: dict[str, Certificate] = {}  # the run's certificates of unperturbed claims, by id
 _PROVING: ContextVar[Certificate | None] = ContextVar("hkproof_proving", default=None)

@@ -471,5 +471,5 @@ def _not_covered(exc: BudgetExhausted, atoms: Sequence[Atom], monos: Sequence[Ex
     cofactors = ", ".join(sorted({c.text(atoms) for c, _, _ in left}))
     return BudgetExhausted(f"{exc}; {len(left)} Darboux polynomial(s) found mod p were not {what} (degrees "
                            f"{', '.join(map(str, degrees))}; cofactors {cofactors}): give more time, a smaller "
-                           "--degree, or fix parameters with --param", limit=exc.limit, raise_with=exc.raise_with)
+                           "degree, or fixed parameters", limit=exc.limit, raise_with=exc.raise_with)
 

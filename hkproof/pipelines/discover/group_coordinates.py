@@ -1,6 +1,6 @@
 """A group's relations and coordinates made exact, with eps and the parameters symbolic (step 4 of `discover`'s last
 stage): the relations' entries rebuilt on shared probes (hkproof.algebra.reconstruction, method "dense"), the
-coordinates one sparse reconstruction each (independent jobs: side by side on the executor of --jobs), each restored
+coordinates one sparse reconstruction each (independent jobs: side by side on the executor), each restored
 to its weight; a member carried by a symmetry gets the images of its source's coordinates. Candidates: the block
 proof (hk.block_system.prove_blocks) decides."""
 from __future__ import annotations
@@ -93,7 +93,7 @@ def lift_group_relations(ctx: SearchContext, group: Group, rng: random.Random) -
 @dataclass(frozen=True)
 class _Coordinate:
     """One unknown of a group rebuilt by sparse reconstruction over prime fields: a picklable job, so that the
-    coordinates of a group can run side by side on the executor of --jobs (each one's probes then run in its job)."""
+    coordinates of a group can run side by side on the executor (each one's probes then run in its job)."""
     box: KernelBlackBox
     seed: int
     budget: Budget

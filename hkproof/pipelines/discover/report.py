@@ -53,13 +53,13 @@ class FoundIntegral:
         return self.frac is not None and len(self.frac.num) + len(self.frac.den) > SHOWN_TERMS
 
     def summary(self) -> str:
-        """What a report read by a person says of a formula too large to print: its size (the whole is in --json and
-        in the certificate)."""
+        """What a report read by a person says of a formula too large to print: its size (the whole is in the JSON
+        output and in the certificate)."""
         h = self.frac
         if h is None:
             return "not reconstructed"
         return (f"a rational function of {len(h.num)} + {len(h.den)} terms, total degrees {h.num.total_degree()} / "
-                f"{h.den.total_degree()}: the formula is in --json and in --certificate")
+                f"{h.den.total_degree()}: the formula is in the JSON output and in the certificate")
 
     def shown(self) -> str:
         """The formula as text, or <its summary> when it is too large to read."""
