@@ -13,6 +13,7 @@ from typing import Mapping
 
 import numpy as np
 
+from hkproof import budget
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
 
@@ -47,6 +48,7 @@ def solve_projective(a: Array, b: Array, p: int) -> tuple[Array, Array]:
     a, b = a.copy(), b.copy()
     count, n, _ = a.shape
     for k in range(n):
+        budget.check("solving a batch of kernel systems mod p")       # n^2 array operations: long for a wide basis
         pivot = a[:, k, k].copy()
         for i in range(k + 1, n):
             minus = (p - a[:, i, k]) % p
@@ -55,6 +57,7 @@ def solve_projective(a: Array, b: Array, p: int) -> tuple[Array, Array]:
     nums = np.zeros((count, n), dtype=np.int64)
     den = np.ones(count, dtype=np.int64)
     for j in range(n - 1, -1, -1):
+        budget.check("solving a batch of kernel systems mod p")
         acc = mulmod(b[:, j], den, p)
         for k in range(j + 1, n):
             acc = (acc + mulmod((p - a[:, j, k]) % p, nums[:, k], p)) % p

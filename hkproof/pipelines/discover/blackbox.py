@@ -13,6 +13,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
+from hkproof import budget
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.monomials import Exponents
 from hkproof.dynamics.batch_map import BatchKahanMap, mulmod, power_table, solve_projective
@@ -92,6 +93,7 @@ class KernelBlackBox:
         names = self.kmap.ring.names
         c_pow = {i: power_table(values[names[i]], self.control_degree, p) for i in self.controls}
         for i, (xs, w) in enumerate(orbit[:l - 1]):
+            budget.check("evaluating the functions of a basis along orbits mod p")     # l - 1 rows of l functions
             ok &= w != 0
             x_pow = [power_table(x, self.degree, p) for x in xs]
             w_pow = power_table(w, self.degree, p)

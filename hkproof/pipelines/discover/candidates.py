@@ -150,6 +150,7 @@ def line_degrees(kmap: KahanMap, basis: list[Exponents], weights: Weights, free:
     l = len(basis)
     fractions: list[tuple[flint.nmod_poly, flint.nmod_poly] | None] = []
     for k in range(l):                         # c_k / c_l as P_k / Q_k (c_l / c_l = 1)
+        budget.check("reading the degrees of kernel coordinates along a line")
         if k == l - 1:
             fractions.append((flint.nmod_poly([1], p), flint.nmod_poly([1], p)))
             continue
@@ -167,6 +168,7 @@ def line_degrees(kmap: KahanMap, basis: list[Exponents], weights: Weights, free:
         fractions.append((flint.nmod_poly(num, p), flint.nmod_poly(den, p)))
     out: dict[tuple[int, int], tuple[int, int] | None] = {}
     for j in range(l):
+        budget.check("reading the degrees of kernel coordinates along a line")
         for k in range(l):
             if k == j:
                 continue

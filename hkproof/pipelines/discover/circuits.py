@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import itertools
 
+from hkproof import budget
 from hkproof.algebra.modular import kernel_mod_p
 
 __all__ = ["MAX_CIRCUIT_TRIALS", "circuits", "support_vector"]
@@ -27,6 +28,7 @@ def circuits(kernel: list[list[int]], p: int, cap: int = MAX_CIRCUIT_TRIALS) -> 
         if trials >= cap:
             complete = False
             break
+        budget.check("enumerating the minimal HK-bases (circuits of a kernel)")
         if d == 1:
             lam = [[1]]
         else:
