@@ -144,22 +144,27 @@ class Budget:
         """fn(*args) for each call, each in a forked child (which shares this process's memory, so big arguments are
         not copied), the answers read in order until the deadline; every child is killed and reaped at the end."""
         self.check(doing)
-        children = []
-        for fn, args in calls:
-            read_end, write_end = os.pipe()
-            pid = os.fork()
-            if pid == 0:                                # the child: compute, send, leave without any clean-up
-                os.close(read_end)
-                try:
-                    os.dup2(2, 1)     # a library's last words (FLINT aborts on stdout) go to stderr: stdout is ours
-                    _cap_address_space(self.memory_mb)
-                    _call_and_send(write_end, fn, args)
-                finally:
-                    os._exit(0)
-            os.close(write_end)
-            children.append((pid, os.fdopen(read_end, "rb")))
+        children: list[tuple[int, Any]] = []
         answers = []
         try:
+            for fn, args in calls:
+                read_end, write_end = os.pipe()
+                held = _hold_interrupts()       # a signal between the fork and `append` would leave the child behind
+                try:
+                    pid = os.fork()
+                    if pid == 0:                # the child: compute, send, leave without any clean-up
+                        try:
+                            os.close(read_end)
+                            _release_interrupts(held)
+                            os.dup2(2, 1)    # a library's last words (FLINT aborts on stdout) go to stderr
+                            _cap_address_space(self.memory_mb)
+                            _call_and_send(write_end, fn, args)
+                        finally:
+                            os._exit(0)
+                    children.append((pid, os.fdopen(read_end, "rb")))
+                finally:
+                    _release_interrupts(held)
+                    os.close(write_end)
             for _, answer in children:
                 wait = self.remaining() if math.isfinite(self.deadline) else None
                 if not select.select([answer], [], [], wait)[0]:
@@ -210,6 +215,19 @@ def _cap_address_space(memory_mb: float | None) -> None:
         return
     limit = int((size + memory_mb) * 2**20)
     resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+
+
+_INTERRUPTS = tuple(getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name))
+
+
+def _hold_interrupts() -> set | None:
+    """Hold interrupt signals back (delivered by `_release_interrupts`): the mask to restore (None: no masks)."""
+    return signal.pthread_sigmask(signal.SIG_BLOCK, _INTERRUPTS) if hasattr(signal, "pthread_sigmask") else None
+
+
+def _release_interrupts(held: set | None) -> None:
+    if held is not None:
+        signal.pthread_sigmask(signal.SIG_SETMASK, held)
 
 
 def _interrupts_handled() -> bool:
