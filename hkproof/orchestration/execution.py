@@ -8,6 +8,8 @@ import itertools
 import logging
 import multiprocessing
 import multiprocessing.connection
+import os
+import signal
 import uuid
 from multiprocessing.connection import Connection
 from contextlib import contextmanager
@@ -15,7 +17,7 @@ from typing import Any, Callable, Hashable, Iterable, Iterator, Mapping, Sequenc
 
 from hkproof.errors import HKProofError
 from hkproof.orchestration.graph import in_dependency_order
-from hkproof.orchestration.interrupts import as_worker, interrupts_blocked
+from hkproof.orchestration.interrupts import as_worker, interrupts_blocked, interrupts_deferred
 from hkproof.orchestration.registry import REGISTRY, cached, get_claim, load_all, remember
 from hkproof.proof.certificate import Certificate
 
@@ -81,8 +83,14 @@ class InProcessExecutor(Executor):
         return [(h, self._done.pop(h)) for h in handles]
 
 
-def _serve(conn: Connection) -> None:
-    """A worker process: prove the claims the parent sends, one at a time, until it sends None or is gone."""
+def _serve(conn: Connection, parent_end: Connection | None = None) -> None:
+    """A worker process: prove the claims the parent sends, one at a time, until it sends None or is gone. The
+    parent's end of the pipe, which a forked worker inherits, is closed first: open here, it would keep the pipe open
+    after the parent's death, and the worker would wait for a task for ever. (A worker also inherits the parent's
+    ends of the pipes of the workers started before it; it closes them by ending, and so on down to the first.)"""
+    if parent_end is not None:
+        parent_end.close()
+    _own_group(0)
     as_worker()
     while True:
         try:
@@ -101,15 +109,36 @@ def _serve(conn: Connection) -> None:
             conn.send(worker_failed(claim_id, exc))
 
 
+def _own_group(pid: int) -> None:
+    """Make the worker `pid` (0: this process) the leader of a process group of its own, which the processes it
+    forks (`Budget.call`) join: stopping the group stops them too, where stopping the worker alone would leave them
+    computing, holding the output pipes. Set by the parent and by the worker, whichever runs first (POSIX only)."""
+    try:
+        os.setpgid(pid, 0)
+    except (OSError, AttributeError):   # the worker has already ended; no process groups (Windows)
+        pass
+
+
 class _Worker:
     """One worker process and the pipe to it."""
 
     def __init__(self) -> None:
         self.conn, child = multiprocessing.Pipe()
-        self.process = multiprocessing.Process(target=_serve, args=(child,), daemon=True)
+        self.process = multiprocessing.Process(target=_serve, args=(child, self.conn), daemon=True)
         with interrupts_blocked():       # until the worker has its own signal dispositions
             self.process.start()
+        _own_group(cast(int, self.process.pid))
         child.close()
+
+    def stop(self, sig: int = signal.SIGTERM) -> None:
+        """Send `sig` to the worker and to the processes it forked (its process group)."""
+        try:
+            os.killpg(cast(int, self.process.pid), sig)
+        except (OSError, AttributeError):   # no group of its own yet (it forks nothing before it has one); Windows
+            if sig == getattr(signal, "SIGKILL", None):
+                self.process.kill()
+            else:
+                self.process.terminate()
 
 
 class _Task:
@@ -129,14 +158,19 @@ class ProcessPoolExecutor(Executor):
         self._busy: list[_Worker] = []
 
     def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
-        worker = self._idle.pop() if self._idle else _Worker()
-        try:
-            worker.conn.send((claim_id, dict(cited), self.seconds))
-        except OSError:  # the worker died while idle
-            self._discard(worker)
-            worker = _Worker()
-            worker.conn.send((claim_id, dict(cited), self.seconds))
-        self._busy.append(worker)
+        # every worker is in _busy or _idle whenever an interrupt can take effect, so that `close` stops it: an
+        # interrupt raised while one was being started would leave it waiting for a task, holding the output pipe
+        with interrupts_deferred():
+            worker = self._idle.pop() if self._idle else _Worker()
+            self._busy.append(worker)
+            try:
+                worker.conn.send((claim_id, dict(cited), self.seconds))
+            except OSError:  # the worker died while idle
+                self._busy.remove(worker)
+                self._discard(worker)
+                worker = _Worker()
+                self._busy.append(worker)
+                worker.conn.send((claim_id, dict(cited), self.seconds))
         return _Task(claim_id, worker)
 
     def wait(self, handles: Sequence[Hashable]) -> list[tuple[Hashable, Certificate]]:
@@ -144,26 +178,28 @@ class ProcessPoolExecutor(Executor):
         done: list[tuple[Hashable, Certificate]] = []
         for conn in multiprocessing.connection.wait(list(tasks)):
             task = tasks[cast(Any, conn)]
-            self._busy.remove(task.worker)
             try:
-                cert = task.worker.conn.recv()
+                cert = task.worker.conn.recv()      # interrupted here, the worker is still busy: `close` stops it
             except (EOFError, OSError) as exc:
+                self._busy.remove(task.worker)
                 self._discard(task.worker)
                 cert = worker_failed(task.claim_id, exc if str(exc) else
                                      RuntimeError(f"exit code {task.worker.process.exitcode}"))
             else:
+                self._busy.remove(task.worker)
                 self._idle.append(task.worker)
             done.append((task, cert))
         return done
 
     def _discard(self, worker: _Worker) -> None:
-        worker.process.kill()
+        worker.stop(getattr(signal, "SIGKILL", signal.SIGTERM))
+        worker.process.join()
         worker.conn.close()
 
     def close(self, interrupted: bool = False) -> None:
         for worker in self._busy + self._idle:
             if interrupted or worker in self._busy:
-                worker.process.terminate()
+                worker.stop()
             else:
                 worker.conn.send(None)
         for worker in self._busy + self._idle:
