@@ -12,13 +12,14 @@ import pkgutil
 import signal
 import sys
 import traceback
+from contextlib import nullcontext
 from typing import NoReturn, Sequence
 
 from hkproof.algebra.printing import to_json
 from hkproof.commands import command_budget
 from hkproof.errors import HKProofError, ResourceLimitError, UsageError
 from hkproof.exit_codes import ExitCode, exit_code_for
-from hkproof.orchestration.interrupts import from_signal, interrupt_label, interrupts_raised
+from hkproof.orchestration.interrupts import from_signal, interrupt_label, interrupts_live, interrupts_raised
 from hkproof.orchestration.output import emit
 
 __all__ = ["build_parser", "interrupt_without_signal", "main", "out_of_memory"]
@@ -103,8 +104,13 @@ def _quiet_stdout() -> None:
 
 
 def _run(argv: list[str]) -> int:
+    """Run a command. Interrupts are held (main) while the command line is read and while the answer is printed, so
+    that an interrupt never cuts a document in half; they take effect while the command runs -- for the commands
+    that prove claims (`holds_interrupts`: prove, report) only while claims are proven, so that an interrupt at any
+    moment gives their one document with the certificates finished so far."""
     args = build_parser().parse_args(argv)
-    with command_budget(args).active():
+    live = nullcontext() if getattr(args, "holds_interrupts", False) else interrupts_live()
+    with command_budget(args).active(), live:
         result = args.run(args)
     if args.json:
         emit(to_json(result.payload, indent=2))
@@ -121,7 +127,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = [a for a in argv if a != "--debug"]
     as_json = "--json" in argv
     try:
-        with interrupts_raised() as handled:
+        with interrupts_raised(hold=True) as handled:
             try:
                 return _run(argv)
             except KeyboardInterrupt as exc:

@@ -49,7 +49,7 @@ def test_measure_returns_what_it_found_when_the_budget_runs_out(capsys):
 def test_prove_gives_each_claim_its_budget(capsys):
     """--seconds on prove is per claim: a claim that runs out is unknown (its certificate says why), exit 4."""
     code = main(["prove", "flow-theta-all", "--jobs", "1", "--seconds", "1", "--json"])
-    cert = next(r for r in json.loads(capsys.readouterr().out) if r["id"] == "flow-theta-all")
+    cert = next(r for r in json.loads(capsys.readouterr().out)["certificates"] if r["id"] == "flow-theta-all")
     assert code == 4 and cert["status"] == "unknown" and "unknown" in cert["error"]     # a cited claim ran out
     from hkproof.orchestration.registry import cached
     assert all(cached(cid) is None for cid in ("flow-theta-all", "flow-second-theta"))  # not this run's answer

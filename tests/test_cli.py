@@ -25,7 +25,9 @@ def test_list_json():
 def test_prove_json_has_formulas():
     out = hk("prove", "et-first-hk-basis", "et-second-hk-basis", "--json")
     assert out.returncode == 0, out.stderr
-    certs = {c["id"]: c for c in json.loads(out.stdout)}
+    document = json.loads(out.stdout)
+    assert document["interrupted"] is False and document["exit_code"] == 0 and document["finished"] == 2
+    certs = {c["id"]: c for c in document["certificates"]}
     assert certs["et-first-hk-basis"]["status"] == "verified"
     import sympy
     c1 = sympy.sympify(certs["et-first-hk-basis"]["formulas"]["c1"])

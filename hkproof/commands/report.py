@@ -26,6 +26,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-slow", action="store_true", help="do not run claims marked slow")
     add_run_options(p)
     add_progress_option(p)
+    p.set_defaults(holds_interrupts=True)   # an interrupt takes effect only while claims are proven (cli.main)
 
 
 def writable_target(name: str) -> Path:
@@ -98,12 +99,13 @@ def run_report(args: argparse.Namespace) -> Result:
     with progress_bar(args, "report", "claims", total=len(chosen)) as shown:
         show = message_bar(shown)
         run = execute(chosen, run_options(args), lambda cert: show(f"{cert.claim_id}: {cert.status.label}"))
-    statuses = {cid: cert.status.label for cid, cert in run.certs.items()}
+    # one shape whether interrupted or not: the summary record of the run, the file written and each status
+    payload = {**run.summary_record(), "written": None,
+               "statuses": {cid: cert.status.label for cid, cert in run.certs.items()}}
     if run.interrupted:
-        return Result({"written": None, "interrupted": True, "statuses": statuses},
-                      f"{run.summary().strip()}; nothing written", run.exit_code)
+        return Result(payload, f"{run.summary().strip()}; nothing written", run.exit_code)
     text = theorems_markdown(claims, run.certs)
     if target is not None:
         write_atomically(target, text)
-    payload = {"written": args.write, "statuses": statuses}
+    payload["written"] = args.write
     return Result(payload, f"wrote {args.write}" if args.write else text, run.exit_code)

@@ -10,8 +10,8 @@ from hkproof.commands import Result, add_budget_option, add_command, add_run_opt
 from hkproof.commands._certificates import (add_certificate_option, certificate_target, theorem_document,
                                             write_certificate)
 from hkproof.errors import HKProofError
-from hkproof.exit_codes import ExitCode, exit_code_for
-from hkproof.orchestration.interrupts import interrupt_label, interrupts_raised
+from hkproof.exit_codes import exit_code_for
+from hkproof.orchestration.interrupts import interrupts_raised
 from hkproof.orchestration.output import emit
 from hkproof.orchestration.registry import Claim, select
 from hkproof.orchestration.runner import certificate_payload, execute
@@ -33,6 +33,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="print each certificate as one JSON line as it completes, then a summary line")
     add_certificate_option(p)
     add_run_options(p)
+    p.set_defaults(holds_interrupts=True)   # an interrupt takes effect only while claims are proven (cli.main)
 
 
 def run_list(args: argparse.Namespace) -> Result:
@@ -59,7 +60,8 @@ def run_prove(args: argparse.Namespace) -> Result:
 
 
 def streaming(args: argparse.Namespace) -> Callable[[Certificate], None]:
-    """What to print as each certificate completes: its text, a JSON line, or nothing (--json prints at the end)."""
+    """What to print as each certificate completes: its text, a JSON line, or nothing (--json prints one document at
+    the end)."""
     if getattr(args, "jsonl", False):
         return lambda cert: emit(to_json(certificate_payload(cert)))
     if args.json:
@@ -68,11 +70,12 @@ def streaming(args: argparse.Namespace) -> Callable[[Certificate], None]:
 
 
 def prove_claims(claims: Sequence[Claim], args: argparse.Namespace,
-                 keep: Callable[[Certificate], None] | None = None) -> tuple[list[dict], str, int]:
-    """Prove, streaming each certificate (and handing it to `keep`); the JSON payload, the closing text (summary;
-    with --jsonl a JSON line), and the exit code (0 all succeeded, 1 some did not, 130 interrupted)."""
+                 keep: Callable[[Certificate], None] | None = None) -> tuple[dict, str, int]:
+    """Prove, streaming each certificate (and handing it to `keep`); the JSON document (`Run.document`: the summary
+    record and the certificates, one shape whether interrupted or not), the closing text (summary; with --jsonl a
+    JSON line), and the exit code (0 all succeeded, 1 some did not, 4 a budget ran out, 130 interrupted)."""
     if args.json and getattr(args, "jsonl", False):
-        raise HKProofError("--json (one JSON array at the end) and --jsonl (one JSON object per line) exclude each "
+        raise HKProofError("--json (one JSON document at the end) and --jsonl (one JSON object per line) exclude each "
                            "other: choose one")
     show = streaming(args)
 
@@ -84,7 +87,7 @@ def prove_claims(claims: Sequence[Claim], args: argparse.Namespace,
     if run.interrupted and args.json:
         print(run.summary().strip(), file=sys.stderr)
     closing = to_json(run.summary_record()) if getattr(args, "jsonl", False) else run.summary()
-    return run.payload(), closing, run.exit_code
+    return run.document(), closing, run.exit_code
 
 
 def run_script(groups: Sequence[str], argv: Sequence[str] | None = None) -> int:
@@ -92,19 +95,22 @@ def run_script(groups: Sequence[str], argv: Sequence[str] | None = None) -> int:
     --jobs/--executor/--scheduler for where they run."""
     parser = argparse.ArgumentParser(description=f"Certify the theorems of group(s) {', '.join(groups)}.")
     output = parser.add_mutually_exclusive_group()
-    output.add_argument("--json", action="store_true", help="print the certificates as one JSON array at the end")
+    output.add_argument("--json", action="store_true",
+                        help="print one JSON document at the end: the summary and the certificates")
     output.add_argument("--jsonl", action="store_true", help="print each certificate as a JSON line as it completes")
     parser.add_argument("--no-slow", action="store_true", help="skip claims marked slow")
     add_run_options(parser)
-    args = parser.parse_args(argv)
     try:
-        with interrupts_raised():
+        with interrupts_raised(hold=True):   # an interrupt takes effect only while claims are proven
+            args = parser.parse_args(argv)
             payload, closing, code = prove_claims(select(groups=groups, include_slow=not args.no_slow), args)
             emit(to_json(payload, indent=2) if args.json else closing)
     except HKProofError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return exit_code_for(exc)
-    except KeyboardInterrupt as exc:    # before any claim ran
-        print(f"interrupted ({interrupt_label(exc)})", file=sys.stderr)
-        return ExitCode.INTERRUPTED
+    except KeyboardInterrupt:   # no signal raises outside the run (they are held): a library gave up while starting
+        from hkproof.cli import interrupt_without_signal
+        limit = interrupt_without_signal()
+        print(f"error: {limit}", file=sys.stderr)
+        return exit_code_for(limit)
     return code

@@ -3,6 +3,12 @@
 stopped, the partial results printed and the exit code is 130. A signal that the process was started with ignored
 (a background job of a non-interactive shell, `nohup`) stays ignored.
 
+`interrupts_raised(hold=True)` holds them instead: a signal is recorded, and takes effect only inside
+`interrupts_live()` (at its start if it came before). A command that proves claims runs held, and live only while
+its claims are proven (`runner.execute`): an interrupt at any moment -- while the command line is read, between
+claims, while the answer is printed -- then gives the same document, never an error object in its place nor a
+document cut in half.
+
 >>> Interrupted(signal.SIGTERM).label, Interrupted(signal.SIGINT).label, interrupt_label(KeyboardInterrupt())
 ('SIGTERM', 'Ctrl-C', 'Ctrl-C')
 """
@@ -15,7 +21,7 @@ from types import FrameType
 from typing import Iterator
 
 __all__ = ["INTERRUPT_SIGNALS", "Interrupted", "as_worker", "from_signal", "interrupt_label", "interrupts_blocked",
-           "interrupts_deferred", "interrupts_ignored", "interrupts_raised"]
+           "interrupts_deferred", "interrupts_ignored", "interrupts_live", "interrupts_raised"]
 
 INTERRUPT_SIGNALS: tuple[signal.Signals, ...] = tuple(
     getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name))
@@ -51,7 +57,14 @@ def from_signal(exc: KeyboardInterrupt, handled: frozenset[int]) -> bool:
     return signal.SIGINT not in handled and signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
-def _raise_interrupted(signum: int, frame: FrameType | None) -> None:
+# the signals held since `interrupts_raised(hold=True)` (None: a signal raises at once); main thread only
+_held: list[int] | None = None
+
+
+def _on_interrupt(signum: int, frame: FrameType | None) -> None:
+    if _held is not None:
+        _held.append(signum)
+        return
     raise Interrupted(signum)
 
 
@@ -60,19 +73,45 @@ def _in_main_thread() -> bool:
 
 
 @contextmanager
-def interrupts_raised() -> Iterator[frozenset[int]]:
-    """Inside the block every interrupt signal left at its default raises Interrupted; yields the signals so handled
-    (none outside the main thread, where Python cannot install handlers)."""
+def interrupts_raised(hold: bool = False) -> Iterator[frozenset[int]]:
+    """Inside the block every interrupt signal left at its default raises Interrupted -- with `hold`, only inside
+    `interrupts_live()`; yields the signals so handled (none outside the main thread, where Python cannot install
+    handlers)."""
+    global _held
     previous = {}
+    held = _held
     if _in_main_thread():
+        _held = [] if hold else None
         for s in INTERRUPT_SIGNALS:
             if signal.getsignal(s) in (signal.SIG_DFL, signal.default_int_handler):
-                previous[s] = signal.signal(s, _raise_interrupted)
+                previous[s] = signal.signal(s, _on_interrupt)
     try:
         yield frozenset(previous)
     finally:
         for s, handler in previous.items():
             signal.signal(s, handler)
+        if _in_main_thread():
+            _held = held
+
+
+@contextmanager
+def interrupts_live() -> Iterator[None]:
+    """Inside `interrupts_raised(hold=True)`: the interrupt signals raise Interrupted inside the block, and one held
+    before it raises at its start. Elsewhere nothing changes."""
+    global _held
+    held = _held
+    if held is None or not _in_main_thread():
+        yield
+        return
+    _held = None
+    try:
+        if held:
+            signum = held[0]
+            held.clear()
+            raise Interrupted(signum)
+        yield
+    finally:
+        _held = held
 
 
 def _handled() -> list[signal.Signals]:

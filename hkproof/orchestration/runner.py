@@ -9,7 +9,7 @@ from typing import Callable, Sequence
 from hkproof.exit_codes import ExitCode
 from hkproof.orchestration.execution import make_executor, run_graph
 from hkproof.orchestration.graph import in_dependency_order
-from hkproof.orchestration.interrupts import interrupt_label, interrupts_deferred, interrupts_ignored
+from hkproof.orchestration.interrupts import interrupt_label, interrupts_deferred, interrupts_ignored, interrupts_live
 from hkproof.orchestration.registry import RAN_OUT, REGISTRY, Claim, cached
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
@@ -79,6 +79,11 @@ class Run:
                 "finished": len(self.certs), "exit_code": int(self.exit_code),
                 "failed": [c.id for c, cert in self.finished if not c.succeeded(cert)]}
 
+    def document(self) -> dict:
+        """The one JSON document of `--json`, of one shape whether the run ended or was interrupted (before its first
+        claim finished or after some): the summary record, then the certificates that completed."""
+        return {**self.summary_record(), "certificates": self.payload()}
+
 
 def certificate_payload(cert: Certificate) -> dict:
     """A certificate as JSON, with what its claim promises."""
@@ -100,8 +105,9 @@ def execute(claims: Sequence[Claim], options: RunOptions = RunOptions(),
 
     executor = None
     try:
-        executor = make_executor(options.executor, options.jobs, options.scheduler, tasks, options.seconds)
-        run_graph(ids, executor, done)
+        with interrupts_live():     # a signal held before the run (while the command line was read) stops it here
+            executor = make_executor(options.executor, options.jobs, options.scheduler, tasks, options.seconds)
+            run_graph(ids, executor, done)
     except KeyboardInterrupt as exc:
         run.interrupted, run.interrupted_by = True, interrupt_label(exc)
     finally:
