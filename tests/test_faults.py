@@ -162,6 +162,20 @@ def test_an_output_error_that_is_no_full_disk_is_exit_2():
     assert isinstance(output_error(OSError(errno.ENOSPC, "No space left on device"), "x"), ResourceLimitError)
 
 
+def _waits_on(kernel_function: str, pid: int) -> bool | None:
+    """Whether the process `pid` sleeps in a kernel function named like `kernel_function` (Linux /proc/PID/wchan:
+    pipe_write, or anon_pipe_write on newer kernels); None where that cannot be seen (no /proc, or a kernel that
+    hides where a process sleeps), and then the caller cannot wait for the state."""
+    try:
+        wchan = Path(f"/proc/{pid}/wchan").read_text().strip()
+        state = Path(f"/proc/{pid}/stat").read_text().rpartition(")")[2].split()[0]
+    except (OSError, IndexError):
+        return None
+    if kernel_function in wchan:
+        return True
+    return None if state == "S" and wchan in ("", "0") else False
+
+
 def test_a_line_is_written_whole_when_a_signal_interrupts_it():
     """CPython's text layer drops the rest of a long line when a signal interrupts the write to a full pipe."""
     child = ("import signal, sys, time\n"
@@ -173,7 +187,11 @@ def test_a_line_is_written_whole_when_a_signal_interrupts_it():
                             env={**os.environ, "PYTHONPATH": str(ROOT)})
     assert proc.stdout.readline() == b"ready\n"
     import time
-    time.sleep(0.5)                        # the child now waits on a full pipe
+    deadline = time.monotonic() + 300      # a hang guard, not a timing claim
+    while (blocked := _waits_on("pipe_write", proc.pid)) is False and time.monotonic() < deadline:
+        time.sleep(0.01)                   # until the child waits on the full pipe (a state, not a time)
+    if blocked is None:
+        time.sleep(0.5)                    # the state cannot be seen here: most likely reached by then
     proc.send_signal(signal.SIGUSR1)
     out, _ = proc.communicate(timeout=60)
     assert out == b"0" * 300000 + b"\n"
