@@ -2,8 +2,9 @@
 basis by Prop. "prop: even" (hkproof.pipelines.discover.solve), never by expanding a big h o f.
 
 Candidates are taken simplest first while they add a new independent gradient. A ratio c_k / c_j whose dense ansatz
-is small is sampled exactly (kernels over Q at rational points, eps and the parameters varying; names that scaling
-symmetries allow are set to 1 and restored by weighted homogeneity), fitted, and proven by exact substitution. Any
+is small is rebuilt from its values mod primes by the dense method of hkproof.algebra.reconstruction (few values of
+eps and the parameters, many points each; names that scaling symmetries allow are set to 1 and restored by weighted
+homogeneity), and proven by exact substitution. Any
 other is proven with its basis: relations with the integrals proven so far, the coordinates by sparse reconstruction
 over prime fields, the proof by Prop. "prop: even". A basis that needs integrals not yet proven waits, and is tried
 again whenever a new integral is proven. When a pass proves nothing new, a last pass rebuilds each ratio still open

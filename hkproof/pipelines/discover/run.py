@@ -5,7 +5,7 @@
 1. Screening (hkproof.pipelines.discover.screen): algorithm (N) mod p on all monomials of degree <= D.
 2. Minimal HK-bases (bases, circuits): the circuits of the new part of each kernel.
 3. Candidates (candidates): which kernel coordinates carry independent integrals, by gradients mod p.
-4. Reconstruction (reconstruct): dense interpolation of exact samples, or recipe (E) with Prop. "prop: even".
+4. Reconstruction (reconstruct): a dense ansatz on values mod primes, or recipe (E) with Prop. "prop: even".
 5. Certification (hkproof.hk.certified_integrals): substitution with every parameter symbolic, independence by an exact
    Jacobian rank. Nothing is called an integral before step 5 says so.
 """
