@@ -12,12 +12,26 @@ from hkproof.algebra.fraction import Frac, homogenized_compose
 from hkproof.algebra.linalg import det
 from hkproof.dynamics.kahan import KahanMap
 
-__all__ = ["det_m", "jacobian_determinant", "matrix_identity_holds"]
+__all__ = ["det_m", "jacobian_determinant", "matrix_identity_holds", "pulled_matrix"]
 
 
 def det_m(kmap: KahanMap) -> flint.fmpz_mpoly:
     """det M(x, eps) in Z[x, eps, params]."""
     return det(kmap.matrix[0])
+
+
+def pulled_matrix(kmap: KahanMap) -> list[list[flint.fmpz_mpoly]]:
+    """M(f(x), -eps) Delta(x): each entry of M is affine in x, one homogenized compose of degree 1."""
+    r = kmap.ring
+    nums, delta = kmap.explicit
+    out = []
+    for row in kmap.matrix[0]:
+        line = []
+        for e in row:
+            q, d = homogenized_compose(r, kmap.negate_eps(e), kmap.variables, nums, delta)
+            line.append(q * delta ** (1 - d))
+        out.append(line)
+    return out
 
 
 def matrix_identity_holds(kmap: KahanMap) -> bool:
@@ -27,14 +41,7 @@ def matrix_identity_holds(kmap: KahanMap) -> bool:
     m = kmap.matrix[0]
     nums, delta = kmap.explicit
     n = len(kmap.variables)
-    # M(f(x), -eps) * Delta: each entry is affine in x, one homogenized compose of degree 1
-    pulled = []
-    for row in m:
-        out = []
-        for e in row:
-            q, d = homogenized_compose(r, kmap.negate_eps(e), kmap.variables, nums, delta)
-            out.append(q * delta ** (1 - d))
-        pulled.append(out)
+    pulled = pulled_matrix(kmap)
     for j, v in enumerate(kmap.variables):
         k = r.index(v)
         col = [p.derivative(k) * delta - p * delta.derivative(k) for p in nums]

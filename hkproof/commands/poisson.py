@@ -1,0 +1,44 @@
+"""`hkproof poisson SYSTEM [--degree D]`: invariant Poisson bivectors Q/D of the Kahan map, proven or excluded."""
+from __future__ import annotations
+
+import argparse
+
+from hkproof.budget import current
+from hkproof.commands import (Result, add_budget_option, add_command, add_param_option, add_progress_option,
+                              add_system_argument, at_least, integer, progress_bar, specialized_map)
+from hkproof.commands._geometry import EPS_CONVENTION
+from hkproof.exit_codes import ExitCode
+from hkproof.experiments.progress import message_bar
+from hkproof.pipelines.poisson import MAX_POISSON_DEGREE, search_poisson, with_integrals
+
+__all__ = ["register", "run_poisson"]
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = add_command(sub, "poisson", "Invariant bivectors Pi = Q/D with Pi(f(x)) = Df Pi(x) Df^T, deg Q <= D: the "
+                    "rank of the invariance rows mod p (one block per sign symmetry), the kernel rebuilt with eps and "
+                    "the parameters symbolic and proven (invariance, Jacobi, rank, Casimirs, compatibility, "
+                    "involution), or the whole class excluded by a full column rank mod p (a theorem). "
+                    f"{EPS_CONVENTION}.", run_poisson)
+    add_budget_option(p, 600.0)
+    add_system_argument(p)
+    p.add_argument("--degree", type=at_least(0, MAX_POISSON_DEGREE), default=3,
+                   help=f"largest degree of Q (default 3, at most {MAX_POISSON_DEGREE})")
+    p.add_argument("--denominator", action="append", default=[], metavar="FORMULA",
+                   help="a candidate denominator D (a polynomial; repeatable); default 1 and the denominators of "
+                   "the integrals `discover` proves, and their squares")
+    p.add_argument("--integrals-degree", type=at_least(0, 4), default=2,
+                   help="degree of discover's search for the integrals (Casimirs, involution, denominators); 0: none")
+    add_param_option(p)
+    p.add_argument("--seed", type=integer, default=0, help="seed of the values, prime and points (default 0)")
+    add_progress_option(p)
+
+
+def run_poisson(args: argparse.Namespace) -> Result:
+    _, f, fixed = specialized_map(args)
+    denominators = [f.field.parse(text) for text in args.denominator]
+    with progress_bar(args, "poisson", "events") as shown:
+        report = with_integrals(f, args.degree, denominators, args.integrals_degree, seed=args.seed, fixed=fixed,
+                                progress=message_bar(shown), budget=current())
+    code = ExitCode.VERIFIED if report.complete else ExitCode.LIMIT
+    return Result(report.to_dict(), report.text(), code)

@@ -1,0 +1,226 @@
+"""Invariant Poisson bivectors Pi = Q / D of a Kahan map and their exact proofs (docs/poisson.md).
+
+Invariance Pi(f(x)) = Df(x) Pi(x) Df(x)^T is checked through the Kahan equations: with the lemma
+M(x, eps) Df(x) = M(f(x), -eps) (hkproof.hk.jacobian.matrix_identity_holds) it is the polynomial identity
+
+    M(x, eps) Q(x~) M(x, eps)^T D(x) Delta^(dD + 2) = D~ M~ Q(x) M~^T Delta^dQ,   x~ = N / Delta,
+
+where Q(x~) Delta^dQ, D(x~) Delta^dD = D~ and M(x~, -eps) Delta = M~ are homogenized compositions (no Df, no gcd).
+Jacobi is the Schouten bracket [Pi, Pi] = 0, compatibility [Pi1, Pi2] = 0 (Magri), each cleared of D.
+Casimirs (Pi grad C = 0) and involution ({I, J} = grad I . Pi grad J = 0) are exact identities in Q(x, eps, params).
+"""
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+from typing import Sequence
+
+import flint
+
+from hkproof.algebra.fraction import Frac, homogenized_compose, poly_str
+from hkproof.algebra.linalg import lcm, rank_over_fraction_field
+from hkproof.algebra.ring import Ring
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.errors import ShapeError
+from hkproof.hk.jacobian import pulled_matrix
+
+__all__ = ["Bivector", "bracket", "casimir_combination", "compatible", "generic_rank", "invariance_holds", "is_casimir", "is_poisson",
+           "pairs", "schouten"]
+
+
+def pairs(n: int) -> list[tuple[int, int]]:
+    """The index pairs i < j of a bivector's independent entries, in order."""
+    return list(itertools.combinations(range(n), 2))
+
+
+@dataclass(frozen=True)
+class Bivector:
+    """Pi = Q / D: the entries Q_ij (i < j) of an antisymmetric matrix of polynomials over one denominator D."""
+
+    ring: Ring
+    variables: tuple[str, ...]
+    upper: tuple[flint.fmpz_mpoly, ...]     # Q_ij for the pairs i < j, in the order of `pairs(n)`
+    denominator: flint.fmpz_mpoly
+
+    def __post_init__(self) -> None:
+        if len(self.upper) != len(pairs(len(self.variables))):
+            raise ShapeError(f"a bivector in {len(self.variables)} variables has {len(pairs(len(self.variables)))} "
+                             f"entries above the diagonal, got {len(self.upper)}")
+        if self.denominator.is_zero():
+            raise ShapeError("the denominator of a bivector is zero")
+
+    @classmethod
+    def from_matrix(cls, ring: Ring, variables: Sequence[str], matrix: Sequence[Sequence[Frac]]) -> Bivector:
+        """The bivector of an antisymmetric matrix of rational functions (over the lcm of its denominators)."""
+        n = len(variables)
+        if len(matrix) != n or any(len(row) != n for row in matrix):
+            raise ShapeError(f"a bivector in {n} variables is an {n} x {n} matrix")
+        for i, j in itertools.product(range(n), repeat=2):
+            if matrix[i][j] != -matrix[j][i]:
+                raise ShapeError(f"the matrix is not antisymmetric at ({i + 1}, {j + 1})")
+        entries = [matrix[i][j] for i, j in pairs(n)]
+        den = lcm([e.den for e in entries]) if entries else ring.constant(1)
+        return cls(ring, tuple(variables), tuple(e.num * (den / e.den) for e in entries), den)
+
+    def entry(self, i: int, j: int) -> flint.fmpz_mpoly:
+        """Q_ij (antisymmetric)."""
+        if i == j:
+            return self.ring.constant(0)
+        k = pairs(len(self.variables)).index((min(i, j), max(i, j)))
+        return self.upper[k] if i < j else -self.upper[k]
+
+    def fracs(self) -> list[list[Frac]]:
+        """Pi as a matrix of fractions in lowest terms."""
+        n = len(self.variables)
+        return [[Frac(self.ring, self.entry(i, j), self.denominator) for j in range(n)] for i in range(n)]
+
+    def texts(self) -> list[list[str]]:
+        """Pi_ij as formulas hkproof's parser reads."""
+        return [[str(e) for e in row] for row in self.fracs()]
+
+    def degree(self) -> int:
+        """The largest total degree of the Q_ij in the phase variables."""
+        idx = [self.ring.index(v) for v in self.variables]
+        return max((sum(m[i] for i in idx) for q in self.upper for m in q.monoms()), default=0)
+
+    def scaled(self, c: flint.fmpz_mpoly) -> Bivector:
+        """c Pi for a polynomial c."""
+        return Bivector(self.ring, self.variables, tuple(q * c for q in self.upper), self.denominator)
+
+    def plus(self, other: Bivector) -> Bivector:
+        """Pi + Pi' over the product of the denominators (or the common one)."""
+        if other.denominator == self.denominator:
+            return Bivector(self.ring, self.variables, tuple(a + b for a, b in zip(self.upper, other.upper,
+                                                                                   strict=True)), self.denominator)
+        return Bivector(self.ring, self.variables,
+                        tuple(a * other.denominator + b * self.denominator
+                              for a, b in zip(self.upper, other.upper, strict=True)),
+                        self.denominator * other.denominator)
+
+    def __str__(self) -> str:
+        entries = ", ".join(f"{{{self.variables[i]}, {self.variables[j]}}} = {poly_str(q)}"
+                            for (i, j), q in zip(pairs(len(self.variables)), self.upper, strict=True) if not q.is_zero())
+        return f"({entries}) / ({poly_str(self.denominator)})"
+
+
+# ---- invariance ---------------------------------------------------------------------------------------------------
+def invariance_holds(kmap: KahanMap, pi: Bivector) -> bool:
+    """Pi(f(x)) = Df Pi(x) Df^T exactly, as the polynomial identity of the module docstring (given the lemma
+    M(x, eps) Df = M(f(x), -eps), which the caller proves once with matrix_identity_holds)."""
+    ring, n = kmap.ring, len(kmap.variables)
+    nums, delta = kmap.explicit
+    m = kmap.matrix[0]
+    mt = pulled_matrix(kmap)                       # M(x~, -eps) Delta
+    composed = [homogenized_compose(ring, q, kmap.variables, nums, delta) for q in pi.upper]
+    dq = max((d for q, d in composed if not q.is_zero()), default=0)
+    qt = [q * delta ** (dq - d) for q, d in composed]                   # Q(x~) Delta^dQ
+    dt, dd = homogenized_compose(ring, pi.denominator, kmap.variables, nums, delta)   # D(x~) Delta^dD
+    full = lambda entries: [[_entry(entries, i, j, ring) for j in range(n)] for i in range(n)]  # noqa: E731
+    left = _congruence(m, full(qt), ring)
+    right = _congruence(mt, full(list(pi.upper)), ring)
+    scale_l = pi.denominator * delta ** (dd + 2)
+    scale_r = dt * delta ** dq
+    return all(left[i][j] * scale_l == right[i][j] * scale_r for i, j in pairs(n))
+
+
+def _entry(upper: Sequence[flint.fmpz_mpoly], i: int, j: int, ring: Ring) -> flint.fmpz_mpoly:
+    if i == j:
+        return ring.constant(0)
+    n = int((1 + (1 + 8 * len(upper)) ** 0.5) / 2)
+    k = pairs(n).index((min(i, j), max(i, j)))
+    return upper[k] if i < j else -upper[k]
+
+
+def _congruence(a: Sequence[Sequence[flint.fmpz_mpoly]], q: Sequence[Sequence[flint.fmpz_mpoly]], ring: Ring
+                ) -> list[list[flint.fmpz_mpoly]]:
+    """A Q A^T for polynomial matrices."""
+    n = len(a)
+    zero = ring.constant(0)
+    aq = [[sum((a[i][k] * q[k][j] for k in range(n) if not q[k][j].is_zero()), zero) for j in range(n)]
+          for i in range(n)]
+    return [[sum((aq[i][k] * a[j][k] for k in range(n)), zero) for j in range(n)] for i in range(n)]
+
+
+# ---- Schouten bracket, rank, Casimirs, involution ----------------------------------------------------------------------
+def schouten(a: Bivector, b: Bivector) -> list[flint.fmpz_mpoly]:
+    """[Pi_a, Pi_b]^ijk (i < j < k) times D_a^2 D_b^2: sum over cyclic (i, j, k) and l of
+    Pi_a^il d_l Pi_b^jk + Pi_b^il d_l Pi_a^jk (zero for both iff the two are compatible; [Pi, Pi] = 0 is Jacobi)."""
+    ring, n = a.ring, len(a.variables)
+    idx = [ring.index(v) for v in a.variables]
+    da, db = a.denominator, b.denominator
+    grad_da = [da.derivative(k) for k in idx]
+    grad_db = [db.derivative(k) for k in idx]
+
+    def half(p: Bivector, q: Bivector, dp: flint.fmpz_mpoly, dq: flint.fmpz_mpoly, grad_dq: list,
+             i: int, j: int, k: int) -> flint.fmpz_mpoly:
+        # sum_l Q_p^il (D_q d_l Q_q^jk - Q_q^jk d_l D_q), times D_p D_q^2 relative to Pi_p^il d_l Pi_q^jk
+        qjk = q.entry(j, k)
+        return sum((p.entry(i, l) * (dq * qjk.derivative(idx[l]) - qjk * grad_dq[l]) for l in range(n)
+                    if l != i), ring.constant(0))
+    out = []
+    for i, j, k in itertools.combinations(range(n), 3):
+        total = ring.constant(0)
+        for r, s, t in ((i, j, k), (j, k, i), (k, i, j)):
+            total += half(a, b, da, db, grad_db, r, s, t) * da + half(b, a, db, da, grad_da, r, s, t) * db
+        out.append(total)
+    return out
+
+
+def is_poisson(pi: Bivector) -> bool:
+    """The Jacobi identity [Pi, Pi] = 0, exactly."""
+    return all(c.is_zero() for c in schouten(pi, pi))
+
+
+def compatible(a: Bivector, b: Bivector) -> bool:
+    """[Pi_a, Pi_b] = 0 exactly: with Jacobi for both, every Pi_a + t Pi_b is Poisson (a bi-Hamiltonian pair)."""
+    return all(c.is_zero() for c in schouten(a, b))
+
+
+def generic_rank(pi: Bivector) -> int:
+    """The rank of Pi over Q(x, eps, params), exactly (fraction-free elimination)."""
+    return rank_over_fraction_field(pi.fracs())
+
+
+def _gradient(h: Frac, variables: Sequence[str]) -> list[Frac]:
+    return [h.derivative(v) for v in variables]
+
+
+def is_casimir(pi: Bivector, c: Frac) -> bool:
+    """Pi grad C = 0 exactly (D cleared: Q grad C = 0)."""
+    grad = _gradient(c, pi.variables)
+    n = len(pi.variables)
+    return all(sum((Frac(pi.ring, pi.entry(i, j)) * grad[j] for j in range(n)), Frac(pi.ring, 0)).is_zero()
+               for i in range(n))
+
+
+def bracket(pi: Bivector, f: Frac, g: Frac) -> Frac:
+    """{f, g} = grad f . Pi grad g, exactly."""
+    gf, gg = _gradient(f, pi.variables), _gradient(g, pi.variables)
+    n = len(pi.variables)
+    total = Frac(pi.ring, 0)
+    for i, j in pairs(n):
+        total += Frac(pi.ring, pi.entry(i, j)) * (gf[i] * gg[j] - gf[j] * gg[i])
+    return total / Frac(pi.ring, pi.denominator)
+
+
+def casimir_combination(pi: Bivector, g: Frac, h: Frac | None = None) -> Frac | None:
+    """g itself when Pi grad g = 0; else g - c h when Pi grad g = c Pi grad h with c free of the phase variables
+    (then g - c h is a Casimir, checked exactly); None otherwise."""
+    n = len(pi.variables)
+
+    def hamiltonian(f: Frac) -> list[Frac]:
+        grad = _gradient(f, pi.variables)
+        return [sum((Frac(pi.ring, pi.entry(i, j)) * grad[j] for j in range(n)), Frac(pi.ring, 0)) for i in range(n)]
+    u = hamiltonian(g)
+    if all(x.is_zero() for x in u):
+        return g
+    if h is None:
+        return None
+    w = hamiltonian(h)
+    k = next((i for i, x in enumerate(w) if not x.is_zero()), None)
+    if k is None:
+        return None
+    c = u[k] / w[k]
+    if c.variables() & set(pi.variables):
+        return None
+    return g - c * h if all((a - c * b).is_zero() for a, b in zip(u, w, strict=True)) else None

@@ -1,0 +1,150 @@
+"""Certificates of invariant bivectors: invariance, Jacobi, rank, Casimirs, compatibility, involution, and the
+exclusion of a whole class Q/D by a full column rank mod p (docs/poisson.md; the rules of docs/method.md)."""
+from __future__ import annotations
+
+import itertools
+from contextlib import suppress
+from dataclasses import dataclass, field
+from typing import Any, Mapping, Sequence
+
+import flint
+
+from hkproof.algebra.fraction import Frac, poly_str
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.hk.poisson import Bivector, bracket, casimir_combination, compatible, generic_rank, invariance_holds, is_casimir, is_poisson
+from hkproof.proof.certificate import Certificate, ProofStopped
+from hkproof.proof.status import Status
+
+__all__ = ["BlockRank", "LEMMA", "METHOD_INVARIANCE", "StructureProof", "compatibility_step", "exclusion_certificate",
+           "involution_certificate", "prove_structure"]
+
+LEMMA = "M(x, eps) Df(x) = M(f(x), -eps) (the Kahan equations differentiated; hk.jacobian.matrix_identity_holds)"
+METHOD_INVARIANCE = ("through the Kahan equations: M(x, eps) Q(x~) M(x, eps)^T D(x) Delta^(dD+2) = "
+                     "D(x~) Delta^dD M(x~, -eps) Delta Q(x) (M(x~, -eps) Delta)^T Delta^dQ at x~ = N/Delta, homogenized "
+                     "compositions, no Df and no gcd")
+
+
+@dataclass
+class StructureProof:
+    """One invariant bivector with its certificate and what was proven about it."""
+    bivector: Bivector
+    certificate: Certificate
+    poisson: bool | None = None           # Jacobi: True, False (the bracket is not zero, exactly), None (not decided)
+    rank: int | None = None
+    casimirs: list[tuple[str, Frac]] = field(default_factory=list)
+
+    @property
+    def status(self) -> Status:
+        return self.certificate.status
+
+
+def prove_structure(kmap: KahanMap, pi: Bivector, integrals: Sequence[tuple[str, Frac]], lemma: bool,
+                    fixed: Mapping[str, Any] | None = None, name: str = "Pi") -> StructureProof:
+    """Invariance (the claim), then Jacobi, the exact rank and which integrals are Casimirs, each a step."""
+    fixed_text = {k: str(v) for k, v in (fixed or {}).items()}
+    cert = Certificate(f"poisson:{kmap.field.name}", f"an invariant bivector of the Kahan map of {kmap.field.name}",
+                       "issue 38; docs/poisson.md", f"{name} = {pi} satisfies {name}(f(x)) = Df {name}(x) Df^T",
+                       fixed=fixed_text)
+    for (i, j), row in ((ij, pi.fracs()[ij[0]][ij[1]]) for ij in itertools.combinations(range(len(pi.variables)), 2)):
+        cert.formula(f"{name}[{pi.variables[i]},{pi.variables[j]}]", row)
+    out = StructureProof(pi, cert)
+    with suppress(ProofStopped):
+        with cert.step("M(x, eps) Df(x) = M(f(x), -eps)", LEMMA, kmap.ring) as s:
+            s.require(lemma, "the matrix identity of the Kahan equations fails")
+        with cert.step(f"{name}(f(x)) = Df {name}(x) Df^T", METHOD_INVARIANCE, kmap.ring) as s:
+            s.require(invariance_holds(kmap, pi), f"{name} is not invariant: the identity has a non-zero residue")
+        with cert.step("Jacobi: [Pi, Pi] = 0", "Schouten bracket, D cleared, expanded exactly", kmap.ring) as s:
+            out.poisson = is_poisson(pi)
+            s.note("[Pi, Pi] = 0: Pi is Poisson" if out.poisson else
+                   "[Pi, Pi] != 0 (exact): an invariant bivector that is NOT a Poisson structure")
+        with cert.step("rank of Pi", "fraction-free elimination over Q(x, eps, params)", kmap.ring) as s:
+            out.rank = generic_rank(pi)
+            s.note(f"rank {out.rank}")
+        for cname, c in casimirs(pi, integrals):
+            with cert.step(f"{cname} is a Casimir: Pi grad ({cname}) = 0", "exact", kmap.ring) as s:
+                s.require(is_casimir(pi, c), f"Pi grad ({cname}) != 0")
+                s.note(f"{cname} = {c}")
+            out.casimirs.append((cname, c))
+    if out.poisson is False:
+        cert.statement += "; [Pi, Pi] != 0: not a Poisson structure"
+    return out
+
+
+def casimirs(pi: Bivector, integrals: Sequence[tuple[str, Frac]]) -> list[tuple[str, Frac]]:
+    """Casimirs among the integrals, their reciprocals and ratios, and combinations g - c h of two of these with c free
+    of x (the first found):
+    candidates, each checked exactly by the caller."""
+    candidates = list(integrals) + [(f"1/{a}", 1 / f) for a, f in integrals if not f.is_zero()]
+    candidates += [(f"{a}/{b}", f / g) for (a, f), (b, g) in itertools.permutations(integrals, 2) if not g.is_zero()]
+    found: list[tuple[str, Frac]] = []
+    for name, g in candidates:
+        c = casimir_combination(pi, g)
+        if c is not None:
+            found.append((name, c))
+    if found:
+        return found[:1]
+    for (a, g), (b, h) in itertools.combinations(candidates, 2):
+        c = casimir_combination(pi, g, h)
+        if c is not None:
+            return [(f"{a} - c ({b})", c)]
+    return []
+
+
+def involution_certificate(kmap: KahanMap, pi: Bivector, integrals: Sequence[tuple[str, Frac]],
+                           fixed: Mapping[str, Any] | None = None) -> Certificate:
+    """{I_k, I_l}_Pi = 0 for every pair of the given integrals, exactly."""
+    names = ", ".join(n for n, _ in integrals)
+    cert = Certificate(f"involution:{kmap.field.name}", f"integrals in involution for an invariant Poisson structure "
+                       f"of {kmap.field.name}", "issue 38; docs/poisson.md",
+                       f"{{I_k, I_l}} = 0 for I in ({names}) and Pi = {pi}",
+                       fixed={k: str(v) for k, v in (fixed or {}).items()})
+    with suppress(ProofStopped):
+        for (a, f), (b, g) in itertools.combinations(integrals, 2):
+            with cert.step(f"{{{a}, {b}}} = 0", "grad f . Pi grad g, exact", kmap.ring) as s:
+                value = bracket(pi, f, g)
+                s.require(value.is_zero(), f"{{{a}, {b}}} = {value}")
+        if len(integrals) < 2:
+            with cert.step("no pair of integrals", "nothing to check", kmap.ring) as s:
+                s.note("fewer than two integrals: involution holds trivially")
+    return cert
+
+
+def compatibility_step(cert: Certificate, kmap: KahanMap, a: tuple[str, Bivector], b: tuple[str, Bivector]) -> bool:
+    """[Pi_a, Pi_b] = 0 as a step of `cert` (a bi-Hamiltonian pair when both are Poisson); its truth value."""
+    ok = compatible(a[1], b[1])
+    with suppress(ProofStopped), cert.step(f"[{a[0]}, {b[0]}] = 0", "Schouten bracket, exact", kmap.ring) as s:
+        s.note("compatible" if ok else "[Pi_a, Pi_b] != 0 (exact): not compatible")
+    return ok
+
+
+@dataclass(frozen=True)
+class BlockRank:
+    """One character block of an excluded class: its columns, the rows, the rank mod p and the points."""
+    character: tuple[int, ...]
+    columns: int
+    rows: int
+    rank: int
+    points: tuple[tuple[int, ...], ...]
+
+
+def exclusion_certificate(kmap: KahanMap, denominator: flint.fmpz_mpoly, degree: int, prime: int,
+                          values: Mapping[str, flint.fmpq], symmetries: Sequence[str], ranks: Sequence[BlockRank],
+                          fixed: Mapping[str, Any] | None = None) -> Certificate:
+    """No invariant Q/D with deg Q <= degree over Q(eps, params): each block has full column rank mod p."""
+    cert = Certificate(f"poisson-exclusion:{kmap.field.name}",
+                       f"no invariant bivector Q/D, deg Q <= {degree}, of the Kahan map of {kmap.field.name}",
+                       "issue 38, item 4; docs/poisson.md",
+                       f"no Q != 0 (antisymmetric, polynomial of degree <= {degree} in the phase variables, "
+                       f"coefficients in Q(eps, parameters)) with Pi = Q/({poly_str(denominator)}) invariant",
+                       fixed={k: str(v) for k, v in (fixed or {}).items()})
+    with suppress(ProofStopped):
+        if symmetries:
+            with cert.step("sign symmetries split the columns", "exact identities of the Kahan equations",
+                           kmap.ring) as s:
+                s.note("; ".join(symmetries))
+        at = ", ".join(f"{k} = {v}" for k, v in values.items())
+        with cert.step("full column rank mod p", f"nmod_mat.rank at {at} mod {prime}", kmap.ring) as s:
+            for b in ranks:
+                s.require(b.rank == b.columns, f"block {b.character}: rank {b.rank} < {b.columns} columns")
+            s.note(f"{len(ranks)} block(s), columns {[b.columns for b in ranks]}, rows {[b.rows for b in ranks]}")
+    return cert

@@ -1,0 +1,389 @@
+"""`poisson`: invariant Poisson bivectors Pi = Q / D of a Kahan map, searched mod p, rebuilt, proven, or excluded.
+
+For each candidate denominator D and each degree d = 0, 1, ... up to the asked one, the invariance rows
+Q(f(x)) D(x) = D(f(x)) Df Q(x) Df^T (hkproof.hk.poisson_system) at random points mod p, one block per character of the
+map's sign symmetries, have their rank computed by FLINT. Full column rank in every block at the last degree is a
+theorem (the class is excluded, hkproof.hk.poisson_proofs.exclusion_certificate); a kernel at the lowest degree d is
+rebuilt with eps and the parameters symbolic by sparse functional reconstruction (its rref basis is canonical), and
+each basis bivector is proven invariant, tested for Jacobi, its rank and Casimirs, pairs for compatibility, and the
+integrals `discover` proves for involution (hkproof.hk.poisson_proofs).
+"""
+from __future__ import annotations
+
+import itertools
+import random
+import time
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping, Sequence
+
+import flint
+import numpy as np
+
+from hkproof.algebra.fraction import Frac, poly_str
+from hkproof.algebra.linalg import lcm
+from hkproof.algebra.modular import free_kernel_mod_p, random_prime
+from hkproof.algebra.monomials import Exponents
+from hkproof.algebra.ring import get_ring
+from hkproof.algebra.sampling import random_point
+from hkproof.budget import Budget, current
+from hkproof.dynamics.field import EPS, STEP_CONVENTION
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.errors import BudgetExhausted, HKProofError, SingularSystemError, UnluckyPrimeError
+from hkproof.experiments.weights import Weights, scaling_weights
+from hkproof.hk.jacobian import matrix_identity_holds
+from hkproof.hk.poisson import Bivector, pairs
+from hkproof.hk.poisson_proofs import (BlockRank, StructureProof, compatibility_step, exclusion_certificate,
+                                       involution_certificate, prove_structure)
+from hkproof.hk.poisson_system import (Block, SignSymmetry, blocks, denominator_character, sign_symmetries,
+                                       system_mod_p)
+from hkproof.pipelines.stages import Progress, Stages
+from hkproof.proof.certificate import Certificate
+from hkproof.proof.status import Status, specialized_label
+
+__all__ = ["ExcludedClass", "MAX_POISSON_DEGREE", "PoissonReport", "search_poisson", "with_integrals"]
+
+MAX_POISSON_DEGREE = 12
+Integrals = Callable[[KahanMap], list[tuple[str, Frac]]]
+
+
+@dataclass
+class ExcludedClass:
+    """A class Q/D, deg Q <= degree, with no invariant bivector: full column rank mod p in every block."""
+    denominator: flint.fmpz_mpoly
+    degree: int
+    prime: int
+    values: dict[str, flint.fmpq]
+    blocks: list[BlockRank]
+    symmetries: list[SignSymmetry]
+    certificate: Certificate
+
+
+@dataclass
+class PoissonReport:
+    """Everything `hkproof poisson` reports (JSON: docs/poisson.md)."""
+    system: str
+    variables: list[str]
+    degree: int
+    structures: list[StructureProof] = field(default_factory=list)
+    excluded: list[ExcludedClass] = field(default_factory=list)
+    compatibility: list[tuple[int, int, bool]] = field(default_factory=list)
+    integrals: list[tuple[str, Frac]] = field(default_factory=list)
+    involution: list[tuple[int, Certificate]] = field(default_factory=list)
+    costs: list[dict[str, Any]] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    fixed: dict[str, flint.fmpq] = field(default_factory=dict)
+    seconds: dict[str, float] = field(default_factory=dict)
+    stopped: str = ""
+
+    @property
+    def complete(self) -> bool:
+        return not self.stopped
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON of `hkproof poisson`."""
+        label = lambda status: specialized_label(status, self.fixed)  # noqa: E731
+        return {
+            "system": self.system, "degree": self.degree, "eps_convention": STEP_CONVENTION,
+            "fixed": {k: str(v) for k, v in self.fixed.items()},
+            "structures": [{"name": f"Pi{k + 1}", "matrix": s.bivector.texts(), "status": label(s.status),
+                            "poisson": s.poisson, "rank": s.rank, "casimirs": [str(c) for _, c in s.casimirs],
+                            "casimir_names": [n for n, _ in s.casimirs], "denominator": poly_str(s.bivector.denominator),
+                            "certificate": s.certificate.to_dict()} for k, s in enumerate(self.structures)],
+            "compatible": [{"pair": [f"Pi{a + 1}", f"Pi{b + 1}"], "compatible": ok} for a, b, ok in self.compatibility],
+            "excluded": [{"denominator": poly_str(e.denominator), "degree": e.degree, "status": label(e.certificate.status),
+                          "prime": e.prime, "values": {k: str(v) for k, v in e.values.items()},
+                          "symmetries": [list(s.signs) for s in e.symmetries],
+                          "blocks": [{"character": list(b.character), "columns": b.columns, "rows": b.rows,
+                                      "rank": b.rank, "points": [list(x) for x in b.points]} for b in e.blocks]}
+                         for e in self.excluded],
+            "integrals": [{"name": n, "expr": str(h)} for n, h in self.integrals],
+            "involution": [{"structure": f"Pi{k + 1}", "status": label(c.status), "statement": c.statement}
+                           for k, c in self.involution],
+            "costs": self.costs, "seconds": {k: round(v, 3) for k, v in self.seconds.items()},
+            "notes": self.notes, "complete": self.complete, "stopped": self.stopped or None}
+
+    def text(self) -> str:
+        """The report for a person."""
+        d = self.to_dict()
+        lines = [f"Kahan map of {self.system} ({STEP_CONVENTION}): invariant bivectors Pi = Q/D, deg Q <= "
+                 f"{self.degree}"]
+        for s in d["structures"]:
+            jac = {True: "Poisson", False: "NOT Poisson ([Pi, Pi] != 0)", None: "Jacobi not decided"}[s["poisson"]]
+            lines.append(f"  [{s['status']}] {s['name']}: invariant, {jac}, rank {s['rank']}, Casimirs "
+                         f"{', '.join(s['casimir_names']) or 'none among the integrals'}")
+            lines += [f"      {{{self.variables[i]}, {self.variables[j]}}} = {s['matrix'][i][j]}"
+                      for i, j in pairs(len(self.variables)) if s["matrix"][i][j] != "0"]
+        for c in d["compatible"]:
+            lines.append(f"  [{'Pi' if c['compatible'] else 'not '}compatible] {c['pair'][0]}, {c['pair'][1]}"
+                         .replace("[Pi", "["))
+        for name, h in self.integrals:
+            lines.append(f"  integral {name} = {h}")
+        for inv in d["involution"]:
+            lines.append(f"  [{inv['status']}] involution for {inv['structure']}: {inv['statement']}")
+        for e in d["excluded"]:
+            lines.append(f"  [{e['status']}] excluded: no invariant Q/({e['denominator']}) with deg Q <= {e['degree']} "
+                         f"(full column rank mod {e['prime']} in {len(e['blocks'])} block(s), columns "
+                         f"{[b['columns'] for b in e['blocks']]})")
+        for c in self.costs:
+            lines.append(f"  cost: D = {c['denominator']}, degree {c['degree']}: {c['columns']} unknowns in "
+                         f"{c['blocks']} block(s), {c['rows']} rows, kernel {c['kernel']}, {c['seconds']:.2f} s")
+        lines += [f"  note: {n}" for n in self.notes]
+        if self.stopped:
+            lines.append(f"INCOMPLETE: {self.stopped}")
+        return "\n".join(lines)
+
+
+# ---- the modular search ---------------------------------------------------------------------------------------------
+@dataclass
+class _Scene:
+    """The map mod p at the search's values, the denominator there, and the symmetries that keep D."""
+    kmap: KahanMap
+    prime: int
+    values: dict[str, flint.fmpq]
+    denominator: flint.fmpz_mpoly
+    symmetries: list[SignSymmetry]
+
+    def system(self, block: Block, rng: random.Random) -> tuple[np.ndarray, list[list[int]]]:
+        mmap = self.kmap.mod(self.prime, self.values)
+        return system_mod_p(mmap, mmap.reduce(self.denominator), block, rng)
+
+
+def search_poisson(kmap: KahanMap, degree: int = 3, *, denominators: Sequence[flint.fmpz_mpoly] | None = None,
+                   seed: int = 0, integrals: Integrals | None = None, progress: Progress | None = None,
+                   fixed: Mapping[str, flint.fmpq] | None = None, budget: Budget | None = None) -> PoissonReport:
+    """Invariant bivectors Q/D with deg Q <= `degree` for each D in `denominators` (default: 1), proven or excluded.
+    `integrals(kmap)` gives the proven integrals for Casimirs and involution (asked only when a structure is found)."""
+    if not 0 <= degree <= MAX_POISSON_DEGREE:
+        raise HKProofError(f"the degree of Q must be between 0 and {MAX_POISSON_DEGREE}, got {degree}")
+    if len(kmap.variables) < 2:
+        raise HKProofError("a bivector needs at least two phase variables")
+    budget = budget or current()
+    report = PoissonReport(kmap.field.name, list(kmap.variables), degree, fixed=dict(fixed or {}))
+    stages = Stages("poisson", progress)
+    rng = random.Random(seed)
+    prime = random_prime(rng, 31)
+    values = random_point(rng, (EPS,) + kmap.field.parameters, 10**6)
+    symmetries = sign_symmetries(kmap)
+    lemma = matrix_identity_holds(kmap)
+    try:
+        for den in denominators or [kmap.ring.constant(1)]:
+            keep = [s for s in symmetries if denominator_character(kmap, den, s) is not None]
+            scene = _Scene(kmap, prime, values, den, keep)
+            _search_class(scene, degree, rng, report, stages, budget, lemma, integrals)
+    except BudgetExhausted as exc:
+        report.stopped = str(exc)
+    stages.stop()
+    report.seconds = dict(stages.seconds)
+    return report
+
+
+def _search_class(scene: _Scene, degree: int, rng: random.Random, report: PoissonReport, stages: Stages,
+                  budget: Budget, lemma: bool, integrals: Integrals | None) -> None:
+    """Degrees 0..degree for one D: the first with a kernel is rebuilt and proven; none: the class is excluded."""
+    kmap, den = scene.kmap, scene.denominator
+    for d in range(degree + 1):
+        stages.start("rank mod p", f"D = {_short(poly_str(den))}, degree {d}: rank mod p")
+        start = time.perf_counter()
+        ranks: list[BlockRank] = []
+        with_kernel: list[tuple[Block, np.ndarray]] = []
+        for block in blocks(kmap, d, scene.symmetries):
+            budget.check(f"the invariance rows of degree {d}")
+            rows, points = scene.system(block, rng)
+            rank = budget.call(f"the rank mod p of {rows.shape[0]} x {rows.shape[1]} invariance rows",
+                               _rank, rows, scene.prime)
+            ranks.append(BlockRank(block.character, len(block.columns), rows.shape[0], rank,
+                                   tuple(tuple(x) for x in points)))
+            if rank < len(block.columns):
+                with_kernel.append((block, rows))
+        report.costs.append({"denominator": poly_str(den), "degree": d, "columns": sum(b.columns for b in ranks),
+                             "blocks": len(ranks), "rows": sum(b.rows for b in ranks),
+                             "kernel": sum(b.columns - b.rank for b in ranks),
+                             "seconds": round(time.perf_counter() - start, 4)})
+        if with_kernel:
+            _found(scene, d, with_kernel, rng, report, stages, budget, lemma, integrals)
+            return
+        if d == degree:
+            cert = exclusion_certificate(kmap, den, d, scene.prime, scene.values,
+                                         [s.how for s in scene.symmetries], ranks, report.fixed)
+            report.excluded.append(ExcludedClass(den, d, scene.prime, dict(scene.values), ranks,
+                                                 list(scene.symmetries), cert))
+
+
+def _short(text: str, limit: int = 60) -> str:
+    return text if len(text) <= limit else text[:limit] + "..."
+
+
+def _rank(rows: np.ndarray, p: int) -> int:
+    return int(flint.nmod_mat(rows.tolist(), p).rank())
+
+
+def _found(scene: _Scene, degree: int, with_kernel: Sequence[tuple[Block, np.ndarray]], rng: random.Random,
+           report: PoissonReport, stages: Stages, budget: Budget, lemma: bool, integrals: Integrals | None) -> None:
+    """Rebuild each block's kernel with eps and the parameters symbolic, prove each basis bivector, pairs, integrals."""
+    kmap = scene.kmap
+    stages.start("reconstruction", f"degree {degree}: rebuilding {len(with_kernel)} kernel block(s)")
+    built: list[Bivector] = []
+    for block, rows in with_kernel:
+        built += _rebuild_block(scene, block, rows, rng, budget)
+    stages.start("proofs", f"proving {len(built)} invariant bivector(s)")
+    if integrals is not None and not report.integrals:
+        report.integrals = integrals(kmap)
+    first = len(report.structures)
+    for k, pi in enumerate(built):
+        budget.check("proving invariant bivectors")
+        report.structures.append(prove_structure(kmap, pi, report.integrals, lemma, report.fixed,
+                                                 name=f"Pi{first + k + 1}"))
+    proven = [(first + k, s) for k, s in enumerate(report.structures[first:]) if s.status.is_verified and s.poisson]
+    for (a, sa), (b, sb) in itertools.combinations(proven, 2):
+        ok = compatibility_step(sa.certificate, kmap, (f"Pi{a + 1}", sa.bivector), (f"Pi{b + 1}", sb.bivector))
+        report.compatibility.append((a, b, ok))
+    for k, s in proven:
+        others = [(n, h) for n, h in report.integrals if n not in {c for c, _ in s.casimirs}]
+        report.involution.append((k, involution_certificate(kmap, s.bivector, others, report.fixed)))
+    if len(built) > 1:
+        report.notes.append(f"the invariant bivectors of degree {degree} form a space of dimension {len(built)} over "
+                            "Q(eps, params); a member sum c_k Pi_k is Poisson iff sum c_a c_b [Pi_a, Pi_b] = 0 "
+                            "(the basis members and compatible pairs are listed)")
+
+
+# ---- reconstruction of a kernel block ------------------------------------------------------------------------------------
+def _rebuild_block(scene: _Scene, block: Block, rows: np.ndarray, rng: random.Random, budget: Budget
+                   ) -> list[Bivector]:
+    """The rref kernel basis of the block (canonical, so each coordinate is a rational function of eps and the
+    parameters), rebuilt by sparse reconstruction with the weights of the scaling symmetries normalized."""
+    kmap, p = scene.kmap, scene.prime
+    reference = free_kernel_mod_p(rows.tolist(), p, free_value=1)
+    frees = [f for f, _ in reference]
+    targets = [(k, c) for k, (f, v) in enumerate(reference) for c, x in enumerate(v) if x and c != f]
+    weights = scaling_weights(kmap, [Frac(kmap.ring, scene.denominator)])
+    normalized = list(weights.normalized)
+    sampled = [n for n in kmap.field.control_names if n not in normalized]
+    seed = rng.randrange(2**32)
+
+    def box(q: int, points: Sequence[Sequence[int]]) -> list[list[int] | None]:
+        out: list[list[int] | None] = []
+        local = random.Random(seed)
+        for t in points:
+            controls = {**{n: 1 for n in normalized}, **dict(zip(sampled, t))}
+            try:
+                mmap = kmap.mod(q, controls)
+                matrix, _ = system_mod_p(mmap, mmap.reduce(scene.denominator), block, local)
+            except (UnluckyPrimeError, ZeroDivisionError):
+                out.append(None)
+                continue
+            kernel = free_kernel_mod_p(matrix.tolist(), q, free_value=1)
+            if [f for f, _ in kernel] != frees:
+                out.append(None)
+                continue
+            out.append([kernel[k][1][c] for k, c in targets])
+        return out
+    values = _reconstruct(box, max(1, len(sampled)), len(targets), rng, budget)
+    names = tuple(sampled) if sampled else ("_unused",)
+    small = get_ring(names)
+    ring = kmap.ring
+    coefficients: list[dict[int, Frac]] = [{f: Frac(ring, 1)} for f in frees]
+    for (k, c), (num, den) in zip(targets, values, strict=True):
+        h = Frac(ring, small.project(small.ctx.from_dict(num), ring) if sampled else ring.constant(_const(num)),
+                 small.project(small.ctx.from_dict(den), ring) if sampled else ring.constant(_const(den)))
+        restored = weights.restore_frac(h, _weight(weights, kmap, block, frees[k], c))
+        if restored is None:
+            raise SingularSystemError(f"a rebuilt coefficient {h} is not weighted homogeneous")
+        coefficients[k][c] = restored
+    return [_bivector(kmap, block, coeffs, scene.denominator) for coeffs in coefficients]
+
+
+def _const(poly: Mapping[Exponents, int]) -> int:
+    if any(any(m) for m in poly):
+        raise SingularSystemError("a coefficient expected constant depends on the dummy variable")
+    return int(sum(poly.values()))
+
+
+def _weight(weights: Weights, kmap: KahanMap, block: Block, free: int, col: int) -> list[flint.fmpq]:
+    """w(free column) - w(column), w(ij, x^m) = w(x^m) - w(x_i) - w(x_j): the weight of the coefficient."""
+    def w(c: int) -> list[flint.fmpq]:
+        k, m = block.columns[c]
+        i, j = pairs(len(kmap.variables))[k]
+        exps = dict(zip(kmap.variables, m, strict=True))
+        exps[kmap.variables[i]] -= 1
+        exps[kmap.variables[j]] -= 1
+        return weights.of_monomial(exps)
+    return [a - b for a, b in zip(w(free), w(col), strict=True)]
+
+
+def _bivector(kmap: KahanMap, block: Block, coeffs: Mapping[int, Frac], den: flint.fmpz_mpoly) -> Bivector:
+    """Q = sum_c coeff_c x^m e_ij over the columns, cleared of the coefficients' denominators and content, over D."""
+    ring = kmap.ring
+    common = lcm([c.den for c in coeffs.values()])
+    upper = [ring.constant(0) for _ in pairs(len(kmap.variables))]
+    for c, h in coeffs.items():
+        k, m = block.columns[c]
+        mono = ring.constant(1)
+        for v, e in zip(kmap.variables, m, strict=True):
+            mono *= ring.gen(v) ** e
+        upper[k] += h.num * (common / h.den) * mono
+    content: flint.fmpz = flint.fmpz(0)          # an integer only: a factor with x would change the bivector
+    for q in upper:
+        for coefficient in q.coeffs():
+            content = content.gcd(coefficient)
+    return Bivector(ring, tuple(kmap.variables), tuple(q / content if content > 1 else q for q in upper), den)
+
+
+def _reconstruct(box: Callable[[int, Sequence[Sequence[int]]], list[list[int] | None]], n: int, count: int,
+                 rng: random.Random, budget: Budget) -> list[tuple[dict, dict]]:
+    """The one call of the sparse reconstruction engine: `count` rational functions of n variables (num, den), one
+    at a time with the same seed, so that components of equal degrees probe the same points (memoized vectors)."""
+    try:
+        from hkproof.algebra.reconstruction import reconstruct        # the one interface, once it lands
+    except ImportError:                                                # before: the sparse engine itself
+        reconstruct = None                                             # type: ignore[assignment]
+    memo: dict[tuple[int, tuple[int, ...]], list[int] | None] = {}
+
+    def vectors(q: int, points: Sequence[Sequence[int]]) -> list[list[int] | None]:
+        missing = [tuple(t) for t in points if (q, tuple(t)) not in memo]
+        for t, v in zip(missing, box(q, missing) if missing else [], strict=True):
+            memo[(q, t)] = v
+        return [memo[(q, tuple(t))] for t in points]
+    seed = rng.randrange(2**32)
+    out = []
+    for k in range(count):
+        budget.check("rebuilding the coordinates of invariant bivectors")
+
+        def component(q: int, points: Sequence[Sequence[int]], k: int = k) -> list[list[int] | None]:
+            return [None if v is None else [v[k]] for v in vectors(q, points)]
+        if reconstruct is not None:
+            r = reconstruct(component, n, 1, method="sparse", rng=random.Random(seed), budget=budget)[0]
+        else:
+            from hkproof.algebra.functional_reconstruction import (  # type: ignore[import-not-found, unused-ignore]
+                reconstruct_rational)
+            r = reconstruct_rational(lambda q, pts: [None if v is None else v[0] for v in component(q, pts)], n,
+                                     rng=random.Random(seed), budget=budget)
+        out.append((r.numerator, r.denominator))
+    return out
+
+
+def with_integrals(kmap: KahanMap, degree: int, denominators: Sequence[Frac] = (), integrals_degree: int = 2, *,
+                   seed: int = 0, fixed: Mapping[str, flint.fmpq] | None = None, progress: Progress | None = None,
+                   budget: Budget | None = None) -> PoissonReport:
+    """search_poisson with the integrals `discover` proves (degree `integrals_degree`, 0: none) for Casimirs and
+    involution, and as denominators: 1, the given ones, and each integral's denominator and its square."""
+    from hkproof.pipelines.discover import discover
+    budget = budget or current()
+    found: list[tuple[str, Frac]] = []
+    if integrals_degree > 0:
+        rep = discover(kmap.field, integrals_degree, seed=seed, budget=budget, progress=progress)
+        found = [(i.name, i.frac) for i in rep.integrals if i.frac is not None and i.status.is_verified]
+    candidates = [kmap.ring.constant(1)]
+    for given in denominators:
+        if not given.is_polynomial():
+            raise HKProofError(f"a denominator must be a polynomial, got {given}")
+        candidates.append(given.num)
+    for _, h in found:
+        candidates += [h.den, h.den ** 2]
+    unique: list[flint.fmpz_mpoly] = []
+    for d in candidates:
+        if d.is_constant() and d != kmap.ring.constant(1):
+            continue
+        if d not in unique and -d not in unique:
+            unique.append(d)
+    return search_poisson(kmap, degree, denominators=unique, seed=seed, integrals=lambda _: found, progress=progress,
+                          fixed=fixed, budget=budget)
