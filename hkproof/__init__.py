@@ -12,13 +12,13 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 __all__ = ["KahanMap", "QuadraticField", "check_integral", "degrees", "discover", "kahan_map", "measure", "orbit",
-           "orbit_figure", "prove", "sage", "scan", "system", "to_sympy"]
+           "orbit_figure", "poisson", "prove", "sage", "scan", "system", "to_sympy"]
 
 _HOMES = {"KahanMap": "hkproof.dynamics.kahan", "QuadraticField": "hkproof.dynamics.field"}
 
 if TYPE_CHECKING:
-    from hkproof.api import (check_integral, degrees, discover, kahan_map, measure, orbit, orbit_figure, prove, scan,
-                             system, to_sympy)
+    from hkproof.api import (check_integral, degrees, discover, kahan_map, measure, orbit, orbit_figure, poisson, prove,
+                             scan, system, to_sympy)
     from hkproof.dynamics.field import QuadraticField
     from hkproof.dynamics.kahan import KahanMap
     from hkproof import sage

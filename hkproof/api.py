@@ -40,6 +40,7 @@ from hkproof.orchestration.registry import select
 from hkproof.orchestration.runner import RunOptions, execute
 from hkproof.pipelines import display
 from hkproof.pipelines.darboux import DarbouxSearch, search_darboux
+from hkproof.pipelines.poisson import PoissonReport, with_integrals
 from hkproof.pipelines.discover import DiscoveryReport
 from hkproof.pipelines.discover import discover as _discover
 from hkproof.pipelines.stages import Progress
@@ -49,8 +50,8 @@ from hkproof.proof.status import Status
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["check_integral", "degrees", "discover", "kahan_map", "measure", "orbit", "orbit_figure", "prove", "scan",
-           "system", "to_sympy"]
+__all__ = ["check_integral", "degrees", "discover", "kahan_map", "measure", "orbit", "orbit_figure", "poisson", "prove",
+           "scan", "system", "to_sympy"]
 
 System = str | QuadraticField
 
@@ -96,6 +97,16 @@ def measure(source: System, degree: int = 4, *, params: Mapping[str, Rational] |
     f, fixed = _specialized(source, params)
     _show_reports_in_ipython()
     return search_darboux(f, degree, seed=seed, fixed=fixed)
+
+
+def poisson(source: System, degree: int = 3, *, params: Mapping[str, Rational] | None = None,
+            denominators: Sequence[str] = (), integrals_degree: int = 2, seconds: float | None = None,
+            seed: int = 0) -> PoissonReport:
+    """Invariant Poisson bivectors Q/D with deg Q <= `degree`, proven, or their classes excluded (docs/poisson.md)."""
+    f, fixed = _specialized(source, params)
+    dens = [f.field.parse(d) for d in denominators]
+    return with_integrals(f, degree, dens, integrals_degree, seed=seed, fixed=fixed,
+                          budget=Budget(seconds, raise_with="a larger `seconds`"))
 
 
 def degrees(source: System, iterates: int = 8, *, values: Mapping[str, Rational] | None = None, seed: int = 0,
