@@ -23,6 +23,7 @@ from hkproof.algebra.fraction import Frac, poly_str
 from hkproof.algebra.linalg import lcm
 from hkproof.algebra.modular import free_kernel_mod_p, random_prime
 from hkproof.algebra.monomials import Exponents
+from hkproof.algebra.reconstruction import reconstruct
 from hkproof.algebra.ring import get_ring
 from hkproof.algebra.sampling import random_point
 from hkproof.budget import Budget, current
@@ -330,12 +331,9 @@ def _bivector(kmap: KahanMap, block: Block, coeffs: Mapping[int, Frac], den: fli
 
 def _reconstruct(box: Callable[[int, Sequence[Sequence[int]]], list[list[int] | None]], n: int, count: int,
                  rng: random.Random, budget: Budget) -> list[tuple[dict, dict]]:
-    """The one call of the sparse reconstruction engine: `count` rational functions of n variables (num, den), one
-    at a time with the same seed, so that components of equal degrees probe the same points (memoized vectors)."""
-    try:
-        from hkproof.algebra.reconstruction import reconstruct        # the one interface, once it lands
-    except ImportError:                                                # before: the sparse engine itself
-        reconstruct = None                                             # type: ignore[assignment]
+    """The one call of the reconstruction interface (method "sparse"): `count` rational functions of n variables
+    (num, den), one at a time with the same seed, so that components of equal degrees probe the same points (memoized
+    vectors)."""
     memo: dict[tuple[int, tuple[int, ...]], list[int] | None] = {}
 
     def vectors(q: int, points: Sequence[Sequence[int]]) -> list[list[int] | None]:
@@ -350,13 +348,7 @@ def _reconstruct(box: Callable[[int, Sequence[Sequence[int]]], list[list[int] | 
 
         def component(q: int, points: Sequence[Sequence[int]], k: int = k) -> list[list[int] | None]:
             return [None if v is None else [v[k]] for v in vectors(q, points)]
-        if reconstruct is not None:
-            r = reconstruct(component, n, 1, method="sparse", rng=random.Random(seed), budget=budget)[0]
-        else:
-            from hkproof.algebra.functional_reconstruction import (  # type: ignore[import-not-found, unused-ignore]
-                reconstruct_rational)
-            r = reconstruct_rational(lambda q, pts: [None if v is None else v[0] for v in component(q, pts)], n,
-                                     rng=random.Random(seed), budget=budget)
+        r = reconstruct(component, n, 1, method="sparse", rng=random.Random(seed), budget=budget)[0]
         out.append((r.numerator, r.denominator))
     return out
 
