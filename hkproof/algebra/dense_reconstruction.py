@@ -36,9 +36,15 @@ def ansatz_size(variables: int, degrees: tuple[int, int]) -> int:
     return sum(count_upto(variables, d) for d in degrees)
 
 
+CHUNK = 16
+"""Points per call of the black box: the budget is checked between calls (one probe can cost a linear solve)."""
+
+
 def _probe(black_box: Batch, p: int, points: Sequence[Sequence[int]], count: int) -> list[list[int] | None]:
-    budget.check("probing a small vector of functions mod p")
-    values = black_box(p, points)
+    values: list[list[int] | None] = []
+    for start in range(0, len(points), CHUNK):
+        budget.check("probing a small vector of functions mod p")
+        values += black_box(p, points[start:start + CHUNK])
     if any(v is not None and len(v) != count for v in values):
         raise HKProofError(f"the black box gave a vector of another length than {count}")
     return values
