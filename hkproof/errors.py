@@ -1,8 +1,10 @@
 """Exceptions of hkproof: each message says what was wrong and what to do about it."""
 
+import signal
+
 __all__ = ["BudgetExhausted", "CertificateError", "CitationCycleError", "DependenceSearchError", "DependentBasisError",
-           "FormulaTooLargeError", "HKProofError", "MissingDependencyError", "NotHamiltonianError", "NotQuadraticError",
-           "OutputError", "ParseError", "ProofStopped", "Refutation", "Refuted", "RelationSearchError",
+           "FormulaTooLargeError", "HKProofError", "Interrupted", "MissingDependencyError", "NotHamiltonianError",
+           "NotQuadraticError", "OutputError", "ParseError", "ProofStopped", "Refutation", "Refuted", "RelationSearchError",
            "ResourceLimitError", "RingMismatchError", "ShapeError", "SingularPointError", "SingularSystemError",
            "UnknownClaimError", "UnknownSymbolError", "UnknownSystemError", "UnluckyPrimeError", "UsageError"]
 
@@ -128,3 +130,19 @@ class ProofStopped(Exception):
 
 class Refutation(Exception):
     """A stated identity of a certificate is false (control flow inside the checker)."""
+
+
+class Interrupted(KeyboardInterrupt):
+    """An interrupt signal arrived; a KeyboardInterrupt, so everything that stops cleanly on Ctrl-C stops on it."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+    def __reduce__(self) -> tuple:
+        return type(self), (self.signum,)
+
+    @property
+    def label(self) -> str:
+        """How the summary names the interrupt: Ctrl-C for SIGINT, the signal's name otherwise."""
+        return "Ctrl-C" if self.signum == signal.SIGINT else signal.Signals(self.signum).name

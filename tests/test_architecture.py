@@ -158,3 +158,49 @@ def test_public_modules_declare_all():
         module = importlib.import_module(name)
         unknown += [f"{name}.{n}" for n in module.__all__ if not hasattr(module, n)]
     assert missing == [] and unknown == []
+
+
+def _exception_classes() -> set[str]:
+    """The names of the exception classes: Python's and those of hkproof.errors."""
+    import builtins
+
+    import hkproof.errors as errors
+    names = {n for n in dir(builtins) if isinstance(getattr(builtins, n), type)
+             and issubclass(getattr(builtins, n), BaseException)}
+    return names | {n for n in dir(errors) if isinstance(getattr(errors, n), type)}
+
+
+def exceptions_outside_errors(paths: list[Path]) -> list[str]:
+    """Classes derived from an exception class, defined outside hkproof/errors.py."""
+    known = _exception_classes()
+    return [f"{path.name}: {node.name}" for path in paths if path.name != "errors.py"
+            for node in ast.walk(ast.parse(path.read_text())) if isinstance(node, ast.ClassDef)
+            and any(ast.unparse(b).split(".")[-1] in known for b in node.bases)]
+
+
+def test_every_exception_class_lives_in_errors(tmp_path):
+    assert exceptions_outside_errors(sorted(PACKAGE.rglob("*.py"))) == []
+    probe = tmp_path / "probe.py"
+    probe.write_text("from hkproof.errors import HKProofError\nclass LocalError(HKProofError):\n    pass\n")
+    assert exceptions_outside_errors([probe]) == ["probe.py: LocalError"]        # the check can fail
+
+
+def private_imports(paths: list[Path]) -> list[str]:
+    """`from hkproof.x import _name`: a private name imported across modules."""
+    return [f"{path.name} imports {a.name} from {node.module}" for path in paths
+            for node in ast.walk(ast.parse(path.read_text())) if isinstance(node, ast.ImportFrom)
+            and node.module and node.module.startswith("hkproof") for a in node.names if a.name.startswith("_")]
+
+
+def test_no_private_name_is_imported_across_modules(tmp_path):
+    assert private_imports(sorted(PACKAGE.rglob("*.py"))) == []
+    probe = tmp_path / "probe.py"
+    probe.write_text("from hkproof.budget import _reap\n")
+    assert private_imports([probe]) == ["probe.py imports _reap from hkproof.budget"]
+
+
+def test_every_module_of_discover_is_named_in_the_architecture():
+    text = (ROOT / "docs" / "architecture.md").read_text()
+    modules = [p.stem for p in sorted((PACKAGE / "pipelines" / "discover").glob("*.py")) if p.stem != "__init__"]
+    assert [m for m in modules if m not in text] == []
+    assert all(len(p.read_text().splitlines()) <= 450 for p in (PACKAGE / "pipelines" / "discover").glob("*.py"))

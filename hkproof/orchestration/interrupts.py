@@ -20,27 +20,13 @@ from contextlib import contextmanager
 from types import FrameType
 from typing import Iterator
 
+from hkproof.errors import Interrupted
+
 __all__ = ["INTERRUPT_SIGNALS", "Interrupted", "as_worker", "from_signal", "interrupt_label", "interrupts_blocked",
            "interrupts_deferred", "interrupts_ignored", "interrupts_live", "interrupts_raised"]
 
 INTERRUPT_SIGNALS: tuple[signal.Signals, ...] = tuple(
     getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name))
-
-
-class Interrupted(KeyboardInterrupt):
-    """An interrupt signal arrived; a KeyboardInterrupt, so everything that stops cleanly on Ctrl-C stops on it."""
-
-    def __init__(self, signum: int) -> None:
-        super().__init__(signal.Signals(signum).name)
-        self.signum = signum
-
-    def __reduce__(self) -> tuple:
-        return type(self), (self.signum,)
-
-    @property
-    def label(self) -> str:
-        """How the summary names the interrupt: Ctrl-C for SIGINT, the signal's name otherwise."""
-        return "Ctrl-C" if self.signum == signal.SIGINT else signal.Signals(self.signum).name
 
 
 def interrupt_label(exc: KeyboardInterrupt) -> str:
