@@ -13,11 +13,11 @@ from typing import Callable
 import flint
 
 from hkproof import budget
+from hkproof.algebra.dense_reconstruction import ansatz_size
 from hkproof.algebra.modular import random_prime
 from hkproof.algebra.monomials import Exponents
-from hkproof.algebra.univariate_rational import ThieleInterpolator
+from hkproof.algebra.reconstruction import fractions_on_line
 from hkproof.errors import HKProofError
-from hkproof.experiments.reconstruction import dense_size
 from hkproof.experiments.scene import make_scene
 from hkproof.experiments.weights import Weights
 from hkproof.dynamics.kahan import KahanMap
@@ -145,27 +145,19 @@ def line_degrees(kmap: KahanMap, basis: list[Exponents], weights: Weights, free:
     box = KernelBlackBox(kmap, basis, 0, len(basis) - 1, inputs, {n: 1 for n in weights.normalized})
     a = [rng.randrange(1, p) for _ in inputs]
     b = [rng.randrange(1, p) for _ in inputs]
-    ts = list(range(1, 2 * max_degree + 8))
-    coords, ok = box.vectors(p, [[(x + t * y) % p for x, y in zip(a, b, strict=True)] for t in ts])
     l = len(basis)
-    fractions: list[tuple[flint.nmod_poly, flint.nmod_poly] | None] = []
-    for k in range(l):                         # c_k / c_l as P_k / Q_k (c_l / c_l = 1)
-        budget.check("reading the degrees of kernel coordinates along a line")
-        if k == l - 1:
-            fractions.append((flint.nmod_poly([1], p), flint.nmod_poly([1], p)))
-            continue
-        thiele = ThieleInterpolator(p)
-        for i, t in enumerate(ts):
-            bottom = int(coords[l - 1][i])
-            if ok[i] and bottom:
-                thiele.add(t, int(coords[k][i]) * pow(bottom, -1, p) % p)
-            if thiele.terminated:
-                break
-        if not thiele.terminated:
-            fractions.append(None)
-            continue
-        num, den = thiele.fraction()
-        fractions.append((flint.nmod_poly(num, p), flint.nmod_poly(den, p)))
+
+    def ratios(ts: list[int]) -> list[list[int] | None]:           # c_k / c_l at x = a + t b, k < l
+        coords, ok = box.vectors(p, [[(x + t * y) % p for x, y in zip(a, b, strict=True)] for t in ts])
+        bottoms = [int(v) for v in coords[l - 1]]
+        return [[int(coords[k][i]) * pow(bottoms[i], -1, p) % p for k in range(l - 1)] if ok[i] and bottoms[i]
+                else None for i in range(len(ts))]
+    nodes = iter(range(1, 1 << 62))
+    found = fractions_on_line(ratios, p, l - 1, lambda k: [next(nodes) for _ in range(k)], max_degree,
+                              first=2 * max_degree + 7)
+    fractions: list[tuple[flint.nmod_poly, flint.nmod_poly] | None] = [
+        None if f is None else (flint.nmod_poly(f[0], p), flint.nmod_poly(f[1], p)) for f in found]
+    fractions.append((flint.nmod_poly([1], p), flint.nmod_poly([1], p)))         # c_l / c_l = 1
     out: dict[tuple[int, int], tuple[int, int] | None] = {}
     for j in range(l):
         budget.check("reading the degrees of kernel coordinates along a line")
@@ -190,7 +182,7 @@ def normalizations(kmap: KahanMap, basis: list[Exponents], weights: Weights, fre
     l = len(basis)
     options = []
     for j in range(l - 1, -1, -1):
-        sizes = {k: 10**12 if d is None else dense_size(nvars, d)
+        sizes = {k: 10**12 if d is None else ansatz_size(nvars, d)
                  for k, d in ((k, degrees[(k, j)]) for k in range(l) if k != j)}
         options.append((sum(sorted(sizes.values())[:max(1, len(sizes) // 2)]), j, sizes))   # the simpler half
     best = min(options, key=lambda o: o[0])
