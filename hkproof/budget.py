@@ -1,10 +1,18 @@
 """A cooperative budget: a deadline (and a memory ceiling) that long computations check inside their loops.
 
-A pipeline runs its work inside `with budget.active():`; every long loop of hkproof (exact orbits, eliminations,
-reconstructions, Groebner steps, sampling) calls the module-level `check(what)`, which consults the budget active in
-this thread (none: no limit). When the deadline has passed, `BudgetExhausted` says what was being done, and the
-pipeline reports what it covered. The front end says how to raise the budget (`raise_with`); nothing below it names
-an option.
+The one rule, followed everywhere:
+
+1. Code checks the **active** budget: every long loop of hkproof (exact orbits, eliminations, reconstructions, Groebner
+   steps, sampling) calls the module-level `check(what)`, which consults the budget active in this thread (none: no
+   limit). No check callable is threaded through arguments.
+2. Whoever owns a budget activates it: the command line around each command, a pipeline (or an engine given a
+   `budget=`) around its work with `with budget.active():`, and **every job that runs in another process** (a worker
+   of a pool or of Dask, a job of `Budget.call`) at its entry: a Budget is sent with the job (its deadline travels as
+   wall-clock time) and activated there, since the active budget of one process means nothing in another.
+3. One long call that no loop can interrupt (a big FLINT compose or gcd) runs through `Budget.call`, in a forked child
+   held to the deadline and the memory ceiling.
+4. When the deadline has passed, `BudgetExhausted` says what was being done, and the pipeline reports what it covered.
+   The front end says how to raise the budget (`raise_with`); nothing below `hkproof.commands` names an option.
 
 >>> b = Budget(None)
 >>> b.check("nothing"); b.expired, b.remaining() == float("inf")
