@@ -17,7 +17,7 @@ from timebox import in_child
 
 from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.dynamics.degrees import degree_growth
+from hkproof.dynamics.degree_growth import degree_growth
 from hkproof.pipelines.darboux import search_darboux
 from hkproof.hk.modified_hamiltonian import parse_matrix, verify
 

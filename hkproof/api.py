@@ -30,7 +30,7 @@ from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.dynamics.orbits import ExactOrbit, exact_orbit
 from hkproof.dynamics.values import parse_point
-from hkproof.experiments.degrees import DegreeReport, degree_report
+from hkproof.experiments.degree_report import DegreeReport, degree_report
 from hkproof.experiments.orbit_plot import orbit_figure as _orbit_figure
 from hkproof.experiments.points import random_values
 from hkproof.experiments.scan import ScanResult

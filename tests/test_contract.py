@@ -51,7 +51,7 @@ from hkproof.errors import ParseError, SingularPointError, UnluckyPrimeError
 from hkproof.experiments.approximate import Approximate, Float64, MPMath
 from hkproof.experiments.arithmetics import Arithmetic, ExactQ, FieldArithmetic
 from hkproof.experiments.choice import get_arithmetic
-from hkproof.experiments.modular import ModP
+from hkproof.experiments.profiles_mod_p import ModP
 from hkproof.experiments.profiles import AMBIGUOUS, HK_BASIS, NO_BASIS, SINGULAR, KernelProfile, ProfileProblem, \
     parse_basis
 from hkproof.experiments.scene import Scene, make_scene

@@ -9,7 +9,7 @@ import pytest
 
 from hkproof.cli import main
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.dynamics.degrees import degree_growth, fit_growth
+from hkproof.dynamics.degree_growth import degree_growth, fit_growth
 
 RIGID = str(Path(__file__).resolve().parent.parent / "docs" / "examples" / "rigid-body.toml")
 

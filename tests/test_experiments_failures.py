@@ -12,7 +12,7 @@ import pytest
 from hkproof.algebra.linalg import rank_q
 from hkproof.dynamics import kahan_map
 from hkproof.experiments import ExactQ, Float64, Modular, MPMath, ProfileProblem, make_scene, parse_basis
-from hkproof.experiments.modular import ModP, UnluckyPrimeError
+from hkproof.experiments.profiles_mod_p import ModP, UnluckyPrimeError
 from hkproof.algebra.sampling import random_rationals
 from hkproof.experiments.points import near_singular_point
 from hkproof.experiments.profiles import AMBIGUOUS, SINGULAR

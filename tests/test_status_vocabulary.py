@@ -6,7 +6,7 @@ from pathlib import Path
 
 from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.experiments.degrees import degree_report
+from hkproof.experiments.degree_report import degree_report
 from hkproof.experiments.scan import scan
 from hkproof.hk.modified_hamiltonian import parse_matrix, verify
 from hkproof.pipelines.darboux import search_darboux

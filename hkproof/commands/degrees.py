@@ -8,8 +8,8 @@ from hkproof.commands import (Result, add_budget_option, add_command, add_system
 from hkproof.commands._certificates import add_certificate_option, certificate_target, write_certificate
 from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.dynamics.degrees import MAX_DEGREE
-from hkproof.experiments.degrees import degree_report
+from hkproof.dynamics.degree_growth import MAX_DEGREE
+from hkproof.experiments.degree_report import degree_report
 from hkproof.proof.export import degrees_step, document
 from hkproof.proof.status import Status
 

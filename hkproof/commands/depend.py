@@ -11,7 +11,7 @@ from hkproof.commands import (Result, add_budget_option, add_command, add_system
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ParseError
-from hkproof.experiments.dependence import find_rational_relations
+from hkproof.experiments.rational_relations import find_rational_relations
 from hkproof.experiments.points import random_values
 from hkproof.orchestration.registry import proven
 

@@ -2,7 +2,7 @@
 from hkproof.experiments.approximate import Float64, MPMath
 from hkproof.experiments.arithmetics import ExactQ
 from hkproof.experiments.choice import get_arithmetic
-from hkproof.experiments.modular import Modular
+from hkproof.experiments.profiles_mod_p import Modular
 from hkproof.experiments.profiles import KernelProfile, ProfileProblem, fundamental_finite, parse_basis
 from hkproof.experiments.scan import ScanResult, scan
 from hkproof.experiments.scene import Scene, make_scene

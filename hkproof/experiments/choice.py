@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from hkproof.experiments.approximate import Float64, MPMath
 from hkproof.experiments.arithmetics import Arithmetic, ExactQ
-from hkproof.experiments.modular import Modular
+from hkproof.experiments.profiles_mod_p import Modular
 
 __all__ = ["get_arithmetic"]
 

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from hkproof.algebra.fraction import Frac
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import SingularPointError
-from hkproof.experiments.modular import ModP, random_prime
+from hkproof.experiments.profiles_mod_p import ModP, random_prime
 from hkproof.algebra.sampling import random_rationals
 from hkproof.experiments.points import random_values
 from hkproof.experiments.scene import make_scene, point_values

@@ -14,7 +14,7 @@ from hkproof.algebra.modular import rank_mod_p
 from hkproof.algebra.monomials import Exponents, exponents_upto, text
 from hkproof.errors import ResourceLimitError
 from hkproof.experiments.arithmetics import ExactQ
-from hkproof.experiments.modular import Modular
+from hkproof.experiments.profiles_mod_p import Modular
 from hkproof.experiments.profiles import HK_BASIS, ProfileProblem
 from hkproof.experiments.scene import Scene
 from hkproof.pipelines.discover.candidates import Candidate, normalizations, ratio_candidates

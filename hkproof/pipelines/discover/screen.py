@@ -19,7 +19,7 @@ from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.modular_map import ModularKahanMap
 from hkproof.errors import SingularPointError, UnluckyPrimeError
 from hkproof.experiments.arithmetics import pivot_columns
-from hkproof.experiments.modular import ModP
+from hkproof.experiments.profiles_mod_p import ModP
 from hkproof.experiments.profiles import fundamental_finite
 from hkproof.experiments.scene import Scene
 

@@ -1,7 +1,7 @@
 """A minimal HK-basis proven whole: every kernel coordinate an integral, by Prop. "prop: even", with relations whose
 right-hand sides are integrals proven before; the proof never expands h o f.
 
-1. A plan mod p (hkproof.pipelines.discover.dependence): combinations l.c that are functions R of the proven
+1. A plan mod p (hkproof.pipelines.discover.relation_plan): combinations l.c that are functions R of the proven
    integrals K (constant relations, recipe (E), among them), enough of them to make the rows i = 0, 1 square.
 2. The plan with eps and the parameters symbolic (hkproof.pipelines.discover.symbolic): l, R, and R composed with K.
 3. The coordinates by sparse reconstruction over prime fields (the same module).
@@ -31,7 +31,7 @@ from hkproof.hk.row_check import check_solution_by_rows
 from hkproof.algebra.dense_reconstruction import ansatz_size
 from hkproof.pipelines.discover.candidates import line_degrees
 from hkproof.pipelines.discover.context import SearchContext
-from hkproof.pipelines.discover.dependence import ModularPlan, SamplePool, plan_mod_p
+from hkproof.pipelines.discover.relation_plan import ModularPlan, SamplePool, plan_mod_p
 from hkproof.pipelines.discover.symbolic import PRIME_BITS, SymbolicRelation, coordinates, lift_relations
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status

@@ -5,7 +5,7 @@ symbolic (the candidates that hkproof.pipelines.discover.solve hands to Prop. "p
   (hkproof.algebra.reconstruction, method "sparse"), the black box being recipe (B) on batches of orbits mod p
   (hkproof.pipelines.discover.blackbox); the names that scaling symmetries allow are set to 1 while sampling and
   restored by weighted homogeneity.
-- The relations l.c = R(K') of a plan found mod p (hkproof.pipelines.discover.dependence): the entries of l and the
+- The relations l.c = R(K') of a plan found mod p (hkproof.pipelines.discover.relation_plan): the entries of l and the
   coefficients of R are small functions of eps and the parameters, rebuilt together on shared probes
   (method "dense"), each restored to its weight; R is then composed with the proven
   integrals (one homogenized compose, hkproof.hk.transport.Substitution).
@@ -29,7 +29,7 @@ from hkproof.budget import Budget
 from hkproof.errors import HKProofError
 from hkproof.pipelines.discover.blackbox import KernelBlackBox
 from hkproof.pipelines.discover.context import SearchContext
-from hkproof.pipelines.discover.dependence import ModularPlan, ModularRelation, evaluate_plan
+from hkproof.pipelines.discover.relation_plan import ModularPlan, ModularRelation, evaluate_plan
 
 __all__ = ["PRIME_BITS", "SymbolicRelation", "coordinate_weights", "coordinates", "lift_relations", "restored"]
 

@@ -10,7 +10,7 @@ import pytest
 
 from hkproof.cli import main
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.experiments.dependence import DependenceSearchError, find_rational_relations, monomials
+from hkproof.experiments.rational_relations import DependenceSearchError, find_rational_relations, monomials
 from hkproof.algebra.sampling import random_rational
 from hkproof.orchestration.registry import proven
 from hkproof.theorems._clebsch import X, named, recall

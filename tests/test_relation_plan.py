@@ -1,5 +1,5 @@
-"""Plans mod p (hkproof.pipelines.discover.dependence): relations l.c = R(K) that make a basis' reduced system square.
-The shortcuts of the planner (one pool of points per basis, one subset of knowns where their gradients are
+"""Plans mod p (hkproof.pipelines.discover.relation_plan): relations l.c = R(K) that make a basis' reduced system
+square. The shortcuts of the planner (one pool of points per basis, one subset of knowns where their gradients are
 independent) are checked against the exhaustive search they replace, on the split so(4) map."""
 from __future__ import annotations
 
@@ -10,9 +10,9 @@ import pytest
 from hkproof.algebra.modular import random_prime
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.errors import HKProofError
-from hkproof.pipelines.discover import dependence
+from hkproof.pipelines.discover import relation_plan
 from hkproof.pipelines.discover.context import SearchContext
-from hkproof.pipelines.discover.dependence import SamplePool, plan_mod_p
+from hkproof.pipelines.discover.relation_plan import SamplePool, plan_mod_p
 from hkproof.pipelines.discover.solve import BasisProof, prove_basis
 from hkproof.proof.status import Status
 
@@ -25,14 +25,14 @@ SQUARES = [tuple(2 * int(i == k) for i in range(6)) for k in range(6)]
 def test_one_subset_where_the_gradients_are_independent() -> None:
     g = [[1, 0, 0, 2], [0, 1, 0, 5], [0, 0, 1, 7]]
     target = [(2 * a + 3 * c) % P for a, c in zip(g[0], g[2])]
-    assert dependence._subsets_for(g, target, P) == [(0, 2)]
-    assert dependence._subsets_for(g, [0, 0, 0, 0], P) == [()]          # a constant combination
-    assert dependence._subsets_for(g, [0, 0, 0, 1], P) == []            # outside the span: no R at all
+    assert relation_plan._subsets_for(g, target, P) == [(0, 2)]
+    assert relation_plan._subsets_for(g, [0, 0, 0, 0], P) == [()]          # a constant combination
+    assert relation_plan._subsets_for(g, [0, 0, 0, 1], P) == []            # outside the span: no R at all
 
 
 def test_every_independent_subset_where_the_gradients_are_dependent() -> None:
     g = [[1, 0, 3], [2, 0, 6], [0, 1, 0]]
-    assert dependence._subsets_for(g, [1, 1, 3], P) == dependence._independent_subsets(g, P)
+    assert relation_plan._subsets_for(g, [1, 1, 3], P) == relation_plan._independent_subsets(g, P)
 
 
 def test_a_pool_serves_one_length_of_orbits() -> None:
@@ -71,7 +71,7 @@ def test_the_shortcuts_lose_no_plan(pairs_integral, monkeypatch) -> None:
     ctx, known = pairs_integral
     fast = _plans(ctx, known, shared=True)
     assert any(complete for _, complete in fast)
-    monkeypatch.setattr(dependence, "_subsets_for", lambda g, target, p: dependence._independent_subsets(g, p))
+    monkeypatch.setattr(relation_plan, "_subsets_for", lambda g, target, p: relation_plan._independent_subsets(g, p))
     assert _plans(ctx, known, shared=False) == fast
 
 

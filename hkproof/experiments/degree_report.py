@@ -7,7 +7,7 @@ from typing import Mapping
 
 from hkproof.algebra.printing import markdown_table
 from hkproof.algebra.ring import Rational
-from hkproof.dynamics.degrees import DegreeGrowth, degree_growth, fit_growth, symbolic_degree
+from hkproof.dynamics.degree_growth import DegreeGrowth, degree_growth, fit_growth, symbolic_degree
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.proof.certificate import Certificate, Step
 from hkproof.proof.status import Status
