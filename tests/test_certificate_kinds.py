@@ -159,7 +159,7 @@ def test_every_darboux_mutation_is_refused(lotka, euler, name):
 
 def test_a_density_step_writes_det_df_for_the_checker_to_compute(lotka):
     assert lotka["steps"][2]["cofactor"] == "det Df" and lotka["steps"][2]["densities"]
-    assert lotka["version"] == 6
+    assert lotka["version"] == 7
 
 
 @pytest.fixture(scope="module")

@@ -9,7 +9,9 @@ sides by its own Cramer's rule (kahan.py), and every identity it reports as veri
 together), darboux (P o f = K P; integrals and invariant densities from Darboux polynomials; a cofactor "det Df" is
 computed here), recipe-g (D delta = sum lambda_i E_i, cofactors polynomial in x~), degrees (deg f^n by exact iterates)
 and reparametrization (integrals of another field carried by a substitution of its parameters that sends its
-right-hand sides to this field's). Every claimed integral and density names its field (version 6), and a step
+right-hand sides to this field's); from version 7 the bivector steps of bivectors.py: bivector-invariance (Pi o f =
+Df Pi Df^T), jacobi (Schouten brackets), casimir, involution and exclusion (a full column rank mod p of rows the
+checker computes itself; the claim may name bivectors). Every claimed integral and density names its field (version 6), and a step
 concludes for its own field only. What it cannot check, it refuses (malformed, exit 2); what is too large to check
 here, it refuses with a ResourceLimitError (exit 4).
 
@@ -30,6 +32,7 @@ from typing import Any, Mapping
 
 from hkproof.algebra.formula import check_name
 from hkproof.algebra.fraction import Frac
+from hkproof.checker.bivectors import BIVECTOR_STEPS, Matrix
 from hkproof.checker.kahan import KahanData
 from hkproof.checker.reading import (CONVENTION, FORMAT, MAX_BYTES, VERSIONS, entries, field_key, get, load,
                                      version_gate)
@@ -102,7 +105,10 @@ def _check(doc: Any, report: CheckReport) -> None:
     fields = {field_key(k, version): KahanData(k, v) for k, v in get(doc, "fields", dict, "certificate").items()}
     claimed = _claimed(get(doc, "claim", dict, "certificate"), fields, version)
     proven: dict[str, tuple[str, Frac]] = {}            # integral name -> (field key, value)
+    bivectors: dict[str, tuple[str, Matrix]] = {}       # bivector name -> (field key, matrix), version 7
+    kinds = (*STEPS, *BIVECTOR_STEPS, "reparametrization")
     densities: dict[str, tuple[str, Frac]] = {}
+    facts: list[str] = []
     steps = entries(doc, "steps", "certificate")
     if not steps:
         raise CertificateError("the certificate has no steps")
@@ -111,11 +117,22 @@ def _check(doc: Any, report: CheckReport) -> None:
         key, kind = get(step, "field", str, where), get(step, "kind", str, where)
         if key not in fields:
             raise CertificateError(f"{where}: no field {key!r} in 'fields'")
-        if kind not in (*STEPS, "reparametrization"):
+        if kind not in kinds:
             raise CertificateError(f"{where}: cannot check this step kind {kind!r} (this checker knows "
-                                   f"{', '.join(sorted((*STEPS, 'reparametrization')))})")
+                                   f"{', '.join(sorted(kinds))})")
         _gate(step, kind, version, where)
         f = fields[key]
+        if kind in BIVECTOR_STEPS:
+            if step.get("integrals") or "densities" in step:
+                raise CertificateError(f"{where}: a {kind} step concludes no integral or density")
+            new, fact = BIVECTOR_STEPS[kind](f, step, _of(proven, key), _of(bivectors, key), where)
+            for name, m in new.items():
+                if name in {**proven, **densities, **bivectors}:
+                    raise CertificateError(f"{where}: the name {name!r} is already taken")
+                bivectors[name] = (key, m)
+            facts.append(f"field {key}: {_shown(fact)}")
+            report.lines.append(f"{where} ({kind}, field {key}): verified; {_shown(fact, 120)}")
+            continue
         if kind == "reparametrization":
             source = get(step, "source", str, where)
             if source not in fields or source == key:
@@ -123,7 +140,7 @@ def _check(doc: Any, report: CheckReport) -> None:
             local = reparametrization(f, fields[source], step, _of(proven, source), where)
         else:
             local = STEPS[kind](f, step, _of(proven, key), where)
-        taken = {**proven, **densities}
+        taken = {**proven, **densities, **bivectors}
         for entry in entries(step, "integrals", where):
             name, value = _conclude(f, entry, local, taken, where, optional=kind == "reparametrization")
             proven[name] = taken[name] = (key, value)
@@ -135,21 +152,25 @@ def _check(doc: Any, report: CheckReport) -> None:
                    f"deg f^n = {step['degrees']}; " if kind == "degrees" else "")
         report.lines.append(f"{where} ({kind}, field {key}): verified; {checked}concludes {', '.join(concluded) or '-'}")
     for what, name, key in claimed:
-        have = (proven if what == "integral" else densities).get(name)
+        have = bivectors.get(name) if what == "bivector" else (proven if what == "integral" else densities).get(name)
         if have is None:
             raise CertificateError(f"the claim names the {what} {name}, which no step concludes")
         if have[0] != key:
             raise CertificateError(f"the claim says {name} is an {what} of field {key}, but the step that concludes it "
                                    f"speaks of field {have[0]}")
-        report.facts.append(f"{what} {name} of field {key}: {_shown(str(have[1]))}")
-    report.facts += [f"field {key}: {fields[key].summary()}" for key in dict.fromkeys(k for _, _, k in claimed)]
+        report.facts.append(f"{what} {name} of field {key}: {_shown(_text(have[1]))}")
+    report.facts += facts
+    shown = [*(k for _, _, k in claimed), *(fact.split(":")[0][len("field "):] for fact in facts)]
+    report.facts += [f"field {key}: {fields[key].summary()}" for key in dict.fromkeys(shown)]
 
 
 def _claimed(claim: dict, fields: Mapping[str, KahanData], version: int) -> list[tuple[str, str, str]]:
     """(integral or density, name, field key) for each quantity the claim names. From version 6 each entry names its
     field; an older file (a list of names) is read only when it has one field, the only reading it then has."""
     out = []
-    for what, key in (("integral", "integrals"), ("density", "densities")):
+    if "bivectors" in claim:
+        version_gate("bivectors", version, "claim")
+    for what, key in (("integral", "integrals"), ("density", "densities"), ("bivector", "bivectors")):
         items = get(claim, key, list, "claim") if key == "integrals" or key in claim else []
         for item in items:
             if version >= 6:
@@ -179,9 +200,14 @@ def _gate(step: dict, kind: str, version: int, where: str) -> None:
         version_gate("det Df", version, where)
 
 
-def _of(proven: Mapping[str, tuple[str, Frac]], key: str) -> dict[str, Frac]:
-    """The integrals proven so far for the field `key`."""
+def _of(proven: Mapping[str, tuple[str, Any]], key: str) -> dict[str, Any]:
+    """The integrals (or bivectors) proven so far for the field `key`."""
     return {n: v for n, (g, v) in proven.items() if g == key}
+
+
+def _text(value: Frac | Matrix) -> str:
+    """A concluded quantity as text: a formula, or a bivector's rows."""
+    return str(value) if isinstance(value, Frac) else "[" + ", ".join(f"[{', '.join(map(str, r))}]" for r in value) + "]"
 
 
 def _shown(text: str, width: int = 200) -> str:

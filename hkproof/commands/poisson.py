@@ -6,10 +6,12 @@ import argparse
 from hkproof.budget import current
 from hkproof.commands import (Result, add_budget_option, add_command, add_param_option, add_progress_option,
                               add_system_argument, at_least, integer, progress_bar, specialized_map)
+from hkproof.commands._certificates import add_certificate_option, certificate_target, write_certificate
 from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.exit_codes import ExitCode
 from hkproof.experiments.progress import message_bar
 from hkproof.pipelines.poisson import MAX_POISSON_DEGREE, search_poisson, with_integrals
+from hkproof.pipelines.poisson_certificate import poisson_document
 
 __all__ = ["register", "run_poisson"]
 
@@ -32,13 +34,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_param_option(p)
     p.add_argument("--seed", type=integer, default=0, help="seed of the values, prime and points (default 0)")
     add_progress_option(p)
+    add_certificate_option(p)
 
 
 def run_poisson(args: argparse.Namespace) -> Result:
+    target = certificate_target(args)
     _, f, fixed = specialized_map(args)
     denominators = [f.field.parse(text) for text in args.denominator]
     with progress_bar(args, "poisson", "events") as shown:
         report = with_integrals(f, args.degree, denominators, args.integrals_degree, seed=args.seed, fixed=fixed,
                                 progress=message_bar(shown), budget=current())
     code = ExitCode.VERIFIED if report.complete else ExitCode.LIMIT
-    return Result(report.to_dict(), report.text(), code)
+    payload = report.to_dict()
+    text = report.text() + (write_certificate(target, poisson_document(f, report), payload) if target else "")
+    return Result(payload, text, code)

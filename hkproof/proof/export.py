@@ -16,12 +16,14 @@ from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import QuadraticField
 from hkproof.proof.certificate import Certificate
 
-__all__ = ["claimed", "CONVENTION", "Conclusion", "field_key", "darboux_step", "degrees_step", "document", "field_data", "FORMAT",
+__all__ = ["bivector_invariance_step", "casimir_step", "exclusion_step", "involution_step", "jacobi_step",
+           "claimed", "CONVENTION", "Conclusion", "field_key", "darboux_step", "degrees_step", "document", "field_data", "FORMAT",
            "prop_even_blocks_step", "prop_even_step", "recipe_g_step", "relation_data", "substitution_step", "VERSION"]
 
 FORMAT = "hkproof-certificate"
-VERSION = 6                   # 2: darboux, recipe-g, densities; 3: degrees, cofactor "det Df"; 4: prop-even blocks;
-# 5: reparametrization; 6: the claim names the field of each integral and density, field keys ASCII
+VERSION = 7                   # 2: darboux, recipe-g, densities; 3: degrees, cofactor "det Df"; 4: prop-even blocks;
+# 5: reparametrization; 6: the claim names the field of each integral and density, field keys ASCII; 7: the bivector
+# steps (bivector-invariance, jacobi, casimir, involution, exclusion) and the claim's bivectors
 Conclusion = tuple[str, Frac, str]      # (name, value, the value written in the step's own names)
 CONVENTION = "eps = h/2"      # x~ - x = 2 eps F(x, x~): hkproof's eps is half the time step h
 
@@ -105,6 +107,46 @@ def recipe_g_step(field: QuadraticField, name: str, h: Frac, generators: Sequenc
             "integrals": [{"name": name, "formula": str(h), "from": name}]}
 
 
+def bivector_invariance_step(field: QuadraticField, name: str, matrix: Sequence[Sequence[object]]) -> dict:
+    """The step "Pi(f(x)) = Df Pi(x) Df^T" (version 7): the bivector `name`, an antisymmetric matrix of formulas."""
+    return {"kind": "bivector-invariance", "field": field_data(field), "name": name,
+            "matrix": [[str(e) for e in row] for row in matrix],
+            "identity": f"{name}(f(x)) = Df(x) {name}(x) Df(x)^T entry by entry", "integrals": []}
+
+
+def jacobi_step(field: QuadraticField, names: Sequence[str]) -> dict:
+    """The step "[Pi, Pi] = 0" (one name: Jacobi) or "[Pi_a, Pi_b] = 0" (two: compatibility), version 7."""
+    return {"kind": "jacobi", "field": field_data(field), "bivectors": list(names),
+            "identity": f"the Schouten bracket [{names[0]}, {names[-1]}] = 0", "integrals": []}
+
+
+def casimir_step(field: QuadraticField, bivector: str, functions: Sequence[object]) -> dict:
+    """The step "Pi grad C = 0" for each C (formulas in x, eps, parameters and integrals proven before), version 7."""
+    return {"kind": "casimir", "field": field_data(field), "bivector": bivector,
+            "functions": [str(c) for c in functions], "identity": f"{bivector} grad C = 0 for each C", "integrals": []}
+
+
+def involution_step(field: QuadraticField, bivector: str, functions: Sequence[object]) -> dict:
+    """The step "{I, J} = 0" for every pair of the functions (the Poisson bracket of `bivector`), version 7."""
+    return {"kind": "involution", "field": field_data(field), "bivector": bivector,
+            "functions": [str(c) for c in functions],
+            "identity": f"grad I . {bivector} grad J = 0 for every pair", "integrals": []}
+
+
+def exclusion_step(field: QuadraticField, denominator: object, degree: int, prime: int,
+                   values: Mapping[str, Rational], symmetries: Sequence[Sequence[int]],
+                   blocks: Sequence[tuple[Sequence[int], Sequence[Sequence[int]]]]) -> dict:
+    """The step "no invariant Q/D with deg Q <= degree" (version 7): the checker computes the invariance rows at each
+    block's points (residues mod `prime`, eps and the parameters at `values`) and requires full column rank."""
+    return {"kind": "exclusion", "field": field_data(field), "denominator": str(denominator), "degree": int(degree),
+            "prime": int(prime), "values": {k: str(to_fmpq(v)) for k, v in values.items()},
+            "symmetries": [[int(s) for s in signs] for signs in symmetries],
+            "blocks": [{"character": [int(c) for c in ch], "points": [[int(v) for v in x] for x in points]}
+                       for ch, points in blocks],
+            "identity": "rank mod p of Q(f(x)) D(x) - D(f(x)) Df Q(x) Df^T at the points = the number of columns",
+            "integrals": []}
+
+
 def _conclusion(c: Conclusion) -> dict:
     return {"name": c[0], "formula": str(c[1]), "from": c[2]}
 
@@ -131,10 +173,12 @@ def document(title: str, statement: str, steps: Sequence[dict], fixed: Mapping[s
             if kind in step or kind == "integrals":
                 step[kind] = [{**e, "name": _fresh(e["name"], taken)} for e in step.get(kind, [])]
         out.append({"field": key, **step})
+    bivectors = [{"name": s["name"], "field": s["field"]} for s in out if s["kind"] == "bivector-invariance"]
     return {"format": FORMAT, "version": VERSION, "convention": CONVENTION,
             "claim": {"title": title, "statement": statement, "fixed": dict(fixed or {}),
                       "integrals": [claimed(s, e) for s in out for e in s["integrals"]],
-                      "densities": [claimed(s, e) for s in out for e in s.get("densities", [])]},
+                      "densities": [claimed(s, e) for s in out for e in s.get("densities", [])],
+                      **({"bivectors": bivectors} if bivectors else {})},
             "fields": fields, "steps": out}
 
 

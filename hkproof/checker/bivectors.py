@@ -1,0 +1,274 @@
+"""Step kinds on bivectors (version 7, docs/certificates.md): invariance Pi(f(x)) = Df Pi(x) Df^T, Jacobi and
+compatibility (Schouten brackets), Casimirs, involution, and the exclusion of a class Q/D by a full column rank mod p
+of invariance rows that the checker computes itself from its own Kahan map (no row is ever read from the file)."""
+from __future__ import annotations
+
+import itertools
+from typing import Any, Callable, Mapping
+
+import flint
+
+from hkproof.algebra.formula import check_name, parse_rational
+from hkproof.algebra.fraction import Frac
+from hkproof.checker.kahan import EPS, KahanData, read
+from hkproof.checker.reading import entries, get, integers, strings
+from hkproof.errors import CertificateError, Refutation, ResourceLimitError
+
+__all__ = ["BIVECTOR_STEPS", "Matrix", "MAX_COLUMNS", "MAX_ROWS"]
+
+Matrix = list[list[Frac]]
+MAX_COLUMNS = 20_000       # unknowns of one block of an exclusion (its rank mod p is computed here)
+MAX_ROWS = 60_000          # rows of one block of an exclusion
+Outcome = tuple[dict[str, Matrix], str]    # the bivectors a step concludes, and the fact it checked
+
+
+def _pairs(n: int) -> list[tuple[int, int]]:
+    return list(itertools.combinations(range(n), 2))
+
+
+def _matrix(f: KahanData, step: Any, where: str) -> Matrix:
+    """The n x n matrix of formulas `matrix`, antisymmetric exactly."""
+    rows = get(step, "matrix", list, where)
+    n = len(f.variables)
+    if len(rows) != n or not all(isinstance(r, list) and len(r) == n for r in rows):
+        raise CertificateError(f"{where}: 'matrix' must be {n} rows of {n} formulas")
+    m = [[f.parse(t, where) if isinstance(t, str) else _bad(where) for t in r] for r in rows]
+    if any(m[i][j] != -m[j][i] for i in range(n) for j in range(n)):
+        raise CertificateError(f"{where}: the bivector's matrix is not antisymmetric")
+    return m
+
+
+def _bad(where: str) -> Frac:
+    raise CertificateError(f"{where}: every entry of 'matrix' must be a formula (a string)")
+
+
+def _differential(f: KahanData) -> tuple[list[list[flint.fmpz_mpoly]], flint.fmpz_mpoly]:
+    """Df = J / Delta^2 with J = Delta dN - N grad(Delta)^T, from the checker's own map."""
+    idx = [f.ring.index(v) for v in f.variables]
+    return [[f.delta * p.derivative(k) - p * f.delta.derivative(k) for k in idx] for p in f.nums], f.delta ** 2
+
+
+def _invariance(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mapping[str, Matrix], where: str
+                ) -> Outcome:
+    """Pi(f(x)) = Df Pi(x) Df^T entry by entry: Pi_ij o f by the checker's composition, Df Pi Df^T as
+    J Q J^T / (L Delta^4) over the common denominator L of Pi."""
+    name = check_name(get(step, "name", str, where), "bivector name")
+    if name in have or name in known or name in f.ring.names:
+        raise CertificateError(f"{where}: the bivector name {name!r} is already taken")
+    pi = _matrix(f, step, where)
+    n = len(f.variables)
+    if all(pi[i][j].is_zero() for i, j in _pairs(n)):
+        raise CertificateError(f"{where}: the zero bivector is invariant for every map: it proves nothing")
+    common = f.ring.constant(1)
+    for i, j in _pairs(n):
+        common = common * pi[i][j].den / common.gcd(pi[i][j].den)
+    q = [[pi[i][j].num * (common / pi[i][j].den) for j in range(n)] for i in range(n)]
+    jac, square = _differential(f)
+    jq = [[sum((jac[i][k] * q[k][j] for k in range(n)), f.ring.constant(0)) for j in range(n)] for i in range(n)]
+    for i, j in _pairs(n):
+        right = sum((jq[i][k] * jac[j][k] for k in range(n)), f.ring.constant(0))
+        if f.pull(pi[i][j], 1) != Frac(f.ring, right, common * square ** 2):
+            raise Refutation(f"{where}: {name}(f(x)) != Df {name}(x) Df^T at the entry ({f.variables[i]}, "
+                             f"{f.variables[j]})")
+    return {name: pi}, f"{name}(f(x)) = Df {name}(x) Df^T"
+
+
+def _named(step: Any, key: str, have: Mapping[str, Matrix], where: str) -> list[str]:
+    names = strings(step, key, where) if key == "bivectors" else [get(step, key, str, where)]
+    for b in names:
+        if b not in have:
+            raise CertificateError(f"{where}: no earlier bivector-invariance step of this field proves {b!r}")
+    return names
+
+
+def _schouten(a: Matrix, b: Matrix, f: KahanData) -> list[Frac]:
+    """[Pi_a, Pi_b]^ijk, i < j < k: the cyclic sum over (i, j, k) of sum_l Pi_a^il d_l Pi_b^jk + Pi_b^il d_l Pi_a^jk."""
+    n, xs = len(f.variables), f.variables
+    out = []
+    for i, j, k in itertools.combinations(range(n), 3):
+        total = Frac(f.ring, 0)
+        for r, s, t in ((i, j, k), (j, k, i), (k, i, j)):
+            for ll in range(n):
+                total += a[r][ll] * b[s][t].derivative(xs[ll]) + b[r][ll] * a[s][t].derivative(xs[ll])
+        out.append(total)
+    return out
+
+
+def _jacobi(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mapping[str, Matrix], where: str) -> Outcome:
+    """[Pi, Pi] = 0 (one name: Pi is Poisson) or [Pi_a, Pi_b] = 0 (two names: compatible), exactly."""
+    names = _named(step, "bivectors", have, where)
+    if len(names) not in (1, 2):
+        raise CertificateError(f"{where}: a jacobi step names one bivector (Jacobi) or two (compatibility)")
+    a, b = have[names[0]], have[names[-1]]
+    if not all(c.is_zero() for c in _schouten(a, b, f)):
+        raise Refutation(f"{where}: the Schouten bracket [{names[0]}, {names[-1]}] is not 0")
+    return {}, (f"{names[0]} is Poisson: [{names[0]}, {names[0]}] = 0" if len(names) == 1 else
+                f"{names[0]} and {names[1]} are compatible: [{names[0]}, {names[1]}] = 0")
+
+
+def _functions(f: KahanData, step: Any, known: Mapping[str, Frac], where: str) -> list[tuple[str, Frac]]:
+    """Formulas in the phase variables, eps, the parameters and integrals proven before; none free of x."""
+    out = [(t, read(f.ring, t, where, known)) for t in strings(step, "functions", where)]
+    if not out or any(not (h.variables() & set(f.variables)) for _, h in out):
+        raise CertificateError(f"{where}: 'functions' must be non-empty and each must depend on the phase variables")
+    return out
+
+
+def _casimir(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mapping[str, Matrix], where: str) -> Outcome:
+    """Pi grad C = 0 for each stated C, exactly."""
+    name = _named(step, "bivector", have, where)[0]
+    pi, n = have[name], len(f.variables)
+    for text, c in _functions(f, step, known, where):
+        grad = [c.derivative(v) for v in f.variables]
+        if not all(sum((pi[i][j] * grad[j] for j in range(n)), Frac(f.ring, 0)).is_zero() for i in range(n)):
+            raise Refutation(f"{where}: {name} grad ({text[:80]}) != 0")
+    return {}, f"Casimirs of {name}: {', '.join(t for t, _ in _functions(f, step, known, where))}"
+
+
+def _involution(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mapping[str, Matrix], where: str
+                ) -> Outcome:
+    """{I, J} = grad I . Pi grad J = 0 for every pair of the stated functions, exactly."""
+    name = _named(step, "bivector", have, where)[0]
+    pi, n = have[name], len(f.variables)
+    found = _functions(f, step, known, where)
+    grads = [[h.derivative(v) for v in f.variables] for _, h in found]
+    for (s, gs), (t, gt) in itertools.combinations(zip([t for t, _ in found], grads, strict=True), 2):
+        value = sum((pi[i][j] * (gs[i] * gt[j] - gs[j] * gt[i]) for i, j in _pairs(n)), Frac(f.ring, 0))
+        if not value.is_zero():
+            raise Refutation(f"{where}: {{{s[:60]}, {t[:60]}}} != 0 for {name}")
+    return {}, f"in involution for {name}: {', '.join(t for t, _ in found)}"
+
+
+# ---- exclusion by a full column rank mod p ---------------------------------------------------------------------------
+def _exclusion(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mapping[str, Matrix], where: str
+               ) -> Outcome:
+    """No Q != 0 (antisymmetric, degree <= d in x, coefficients in Q(eps, params)) with Q/D invariant. The checker
+    builds the rows Q(f(x)) D(x) - D(f(x)) Df Q(x) Df^T at the stated integer points from its own map, reduced at the
+    stated values mod the stated prime, and requires full column rank in every block: a non-zero maximal minor mod p
+    is the image of a maximal minor over Q(eps, params) (denominators: powers of Delta(x_k), units mod p). Blocks are
+    the characters of sign symmetries S that it proves itself (S f(Sx) = f(x) or f^-1(x), D(Sx) = +-D(x)): each S
+    maps invariant Q/D to invariant ones, so an invariant Q has an invariant part on the columns of one character."""
+    if "rows" in step:
+        raise CertificateError(f"{where}: an exclusion step carries no rows: the checker computes them from the field")
+    p = get(step, "prime", int, where)
+    if not 2 < p < 2**62 or not flint.fmpz(p).is_prime():
+        raise CertificateError(f"{where}: the modulus {p} is not an odd prime below 2^62")
+    degree = get(step, "degree", int, where)
+    if not 0 <= degree <= 12:
+        raise CertificateError(f"{where}: the degree of Q must be between 0 and 12")
+    denominator = f.parse(get(step, "denominator", str, where), where)
+    if not denominator.is_polynomial() or denominator.is_zero():
+        raise CertificateError(f"{where}: the denominator D must be a non-zero polynomial")
+    values = get(step, "values", dict, where)
+    if sorted(values) != sorted([EPS, *f.parameters]):
+        raise CertificateError(f"{where}: 'values' must fix eps and every parameter, nothing else")
+    fixed = []
+    for name in f.ring.names[len(f.variables):]:
+        v = parse_rational(get(values, name, str, where))
+        if v.q % p == 0:
+            raise CertificateError(f"{where}: the value of {name} has a denominator divisible by {p}")
+        fixed.append(int(v.p) * pow(int(v.q), -1, p) % p)
+    symmetries = [_symmetry(f, s, denominator, where) for s in _sign_lists(step, len(f.variables), where)]
+    columns = _columns(len(f.variables), degree, symmetries)
+    stated = {}
+    for block in entries(step, "blocks", where):
+        character = tuple(integers(block, "character", where))
+        if character in stated:
+            raise CertificateError(f"{where}: the character {list(character)} is stated twice")
+        stated[character] = block
+    if set(stated) != set(columns):
+        raise CertificateError(f"{where}: the blocks must be exactly the characters {sorted(columns)} of the columns")
+    rows_of = _Rows(f, denominator.num, fixed, p)
+    for character, cols in columns.items():
+        points = [integers({"x": x}, "x", where) for x in get(stated[character], "points", list, where)]
+        if len(cols) > MAX_COLUMNS or len(points) * len(_pairs(len(f.variables))) > MAX_ROWS:
+            raise ResourceLimitError(f"{where}: a block of {len(cols)} columns and {len(points)} points is above the "
+                                     f"checker's limit ({MAX_COLUMNS} columns, {MAX_ROWS} rows)",
+                                     limit=f"{MAX_COLUMNS} columns", raise_with="no option raises it")
+        matrix = [row for x in points for row in rows_of.at(x, cols, where)]
+        if not matrix or flint.nmod_mat(matrix, p).rank() != len(cols):
+            raise CertificateError(f"{where}: the rows at the stated points do not have full column rank "
+                                   f"{len(cols)} mod {p} in block {list(character)}: this refutes nothing, and "
+                                   "excludes nothing")
+    sizes = [len(c) for c in columns.values()]
+    return {}, (f"no invariant bivector Q/({denominator}) with deg Q <= {degree} (full column rank mod {p} in "
+                f"{len(sizes)} block(s) of {sizes} columns)")
+
+
+def _sign_lists(step: Any, n: int, where: str) -> list[list[int]]:
+    out = []
+    for s in get(step, "symmetries", list, where):
+        signs = integers({"s": s}, "s", where)
+        if len(signs) != n or any(v not in (1, -1) for v in signs) or all(v == 1 for v in signs):
+            raise CertificateError(f"{where}: a symmetry is a list of {n} signs +-1, not all +1")
+        out.append(signs)
+    return out
+
+
+def _symmetry(f: KahanData, signs: list[int], denominator: Frac, where: str) -> list[int]:
+    """Require S f(Sx) = f(x) or f^-1(x) and D(Sx) = +-D(x), exactly; then S maps invariant Q/D to invariant ones."""
+    flip = {v: -f.ring.gen(v) for v, s in zip(f.variables, signs, strict=True) if s < 0}
+    moved = Frac(f.ring, f.ring.substitute(denominator.num, flip))
+    if moved != Frac(f.ring, denominator.num) and moved != -Frac(f.ring, denominator.num):
+        raise CertificateError(f"{where}: D(Sx) != +-D(x) for S = {signs}")
+    delta = Frac(f.ring, f.ring.substitute(f.delta, flip))
+    image = [s * Frac(f.ring, f.ring.substitute(p, flip)) / delta for s, p in zip(signs, f.nums, strict=True)]
+    for i in (1, -1):
+        nums, den = f.image(i)
+        if all(a == Frac(f.ring, p, den) for a, p in zip(image, nums, strict=True)):
+            return signs
+    raise Refutation(f"{where}: S = {signs} conjugates the Kahan map neither to itself nor to its inverse")
+
+
+def _columns(n: int, degree: int, symmetries: list[list[int]]) -> dict[tuple[int, ...], list[tuple[int, tuple]]]:
+    """The columns (pair, exponents) of deg Q <= degree, grouped by their character s_i s_j S^m per symmetry."""
+    monos = [m for d in range(degree + 1) for m in itertools.product(range(d + 1), repeat=n) if sum(m) == d]
+    out: dict[tuple[int, ...], list[tuple[int, tuple]]] = {}
+    for k, (i, j) in enumerate(_pairs(n)):
+        for m in monos:
+            ch = tuple(s[i] * s[j] * (-1) ** sum(e for e, sk in zip(m, s, strict=True) if sk < 0) for s in symmetries)
+            out.setdefault(ch, []).append((k, m))
+    return out
+
+
+class _Rows:
+    """The invariance rows mod p at integer points, from the checker's map (N, Delta and their derivatives)."""
+
+    def __init__(self, f: KahanData, denominator: flint.fmpz_mpoly, fixed: list[int], p: int):
+        self.f, self.d, self.fixed, self.p = f, denominator, fixed, p
+        self.idx = [f.ring.index(v) for v in f.variables]
+        self.polys = [[q, *(q.derivative(k) for k in self.idx)] for q in (*f.nums, f.delta)]
+
+    def _value(self, q: flint.fmpz_mpoly, x: list[int]) -> int:
+        return int(q(*x, *self.fixed)) % self.p
+
+    def at(self, x: list[int], cols: list[tuple[int, tuple]], where: str) -> list[list[int]]:
+        p, n = self.p, len(x)
+        if any(not 0 <= v < p for v in x) or len(x) != len(self.idx):
+            raise CertificateError(f"{where}: a point is {len(self.idx)} residues in [0, p)")
+        values = [[self._value(q, x) for q in qs] for qs in self.polys]
+        delta, grad = values[-1][0], values[-1][1:]
+        if delta == 0:
+            raise CertificateError(f"{where}: Delta(x) = 0 mod {p} at the stated point {x}: choose another")
+        inv = pow(delta, -1, p)
+        fx = [v[0] * inv % p for v in values[:-1]]
+        df = [[(delta * v[1 + c] - v[0] * grad[c]) * inv * inv % p for c in range(n)] for v in values[:-1]]
+        dx, dfx = self._value(self.d, x), self._value(self.d, fx)
+        pairs = _pairs(n)
+        out = []
+        for r, (a, b) in enumerate(pairs):
+            row = []
+            for k, m in cols:
+                c, d = pairs[k]
+                mono_x, mono_f = 1, 1
+                for e, u, w in zip(m, x, fx, strict=True):
+                    mono_x, mono_f = mono_x * pow(u, e, p) % p, mono_f * pow(w, e, p) % p
+                wedge = (df[a][c] * df[b][d] - df[a][d] * df[b][c]) % p
+                row.append(((dx * mono_f if r == k else 0) - dfx * wedge * mono_x) % p)
+            out.append(row)
+        return out
+
+
+BIVECTOR_STEPS: dict[str, Callable[[KahanData, Any, Mapping[str, Frac], Mapping[str, Matrix], str], Outcome]] = {
+    "bivector-invariance": _invariance, "jacobi": _jacobi, "casimir": _casimir, "involution": _involution,
+    "exclusion": _exclusion}

@@ -1,0 +1,49 @@
+"""The certificate file of `hkproof poisson` (docs/certificates.md, version 7): the integrals it uses, each verified
+bivector's invariance, Jacobi, Casimir, compatibility and involution steps, and each excluded class."""
+from __future__ import annotations
+
+from hkproof.algebra.formula import tokens
+from hkproof.algebra.fraction import poly_str
+from hkproof.dynamics.kahan import KahanMap
+from hkproof.pipelines.poisson import PoissonReport
+from hkproof.proof.export import (bivector_invariance_step, casimir_step, document, exclusion_step, involution_step,
+                                  jacobi_step, substitution_step)
+
+__all__ = ["poisson_document"]
+
+
+def poisson_document(kmap: KahanMap, report: PoissonReport) -> dict:
+    """The re-checkable steps of what `poisson` verified (empty steps: nothing to write)."""
+    field, steps = kmap.field, []
+    proven = [(k, s) for k, s in enumerate(report.structures) if s.status.is_verified]
+    names = {n for n, _ in report.integrals}
+    if proven:
+        steps += [substitution_step(field, n, h) for n, h in report.integrals]
+    for k, s in proven:
+        name = f"Pi{k + 1}"
+        steps.append(bivector_invariance_step(field, name, s.bivector.texts()))
+        if s.poisson:
+            steps.append(jacobi_step(field, [name]))
+        if s.casimirs:
+            steps.append(casimir_step(field, name, [_in_integrals(c, value, names) for c, value in s.casimirs]))
+    verified = {k for k, _ in proven}
+    steps += [jacobi_step(field, [f"Pi{a + 1}", f"Pi{b + 1}"]) for a, b, ok in report.compatibility
+              if ok and {a, b} <= verified]
+    for k, cert in report.involution:
+        casimirs = {c for c, _ in report.structures[k].casimirs}
+        used = [n for n, _ in report.integrals if n not in casimirs]          # as the pipeline's involution step
+        if cert.status.is_verified and k in verified and len(used) >= 2:
+            steps.append(involution_step(field, f"Pi{k + 1}", used))
+    for e in report.excluded:
+        if e.certificate.status.is_verified:
+            steps.append(exclusion_step(field, poly_str(e.denominator), e.degree, e.prime, e.values,
+                                        [s.signs for s in e.symmetries], [(b.character, b.points) for b in e.blocks]))
+    statement = (f"invariant bivectors of the Kahan map of {report.system}: {len(proven)} proven invariant, "
+                 f"{len(report.excluded)} class(es) excluded")
+    return document(f"poisson {report.system}", statement, steps, {k: str(v) for k, v in report.fixed.items()})
+
+
+def _in_integrals(label: str, value: object, names: set[str]) -> str:
+    """A Casimir written in the integrals' names when its label is such a formula (I1, 1/I2, I1/I2), else its value."""
+    used = {t.text for t in tokens(label) if t.kind == "name"}
+    return label if used and used <= names and "c" not in used else str(value)

@@ -1,0 +1,144 @@
+"""Certificates of invariant bivectors (version 7): `hkproof poisson --certificate` round trips through `hkproof
+check`; a changed coefficient, Casimir or involution is refuted; a forged exclusion is refused, since the checker
+computes the rows itself from the field at the stated values and points."""
+from __future__ import annotations
+
+import copy
+import json
+from functools import lru_cache
+
+import pytest
+
+from hkproof.checker import check_document
+from hkproof.cli import main
+from hkproof.dynamics.catalogue import kahan_map
+from hkproof.pipelines.poisson import search_poisson, with_integrals
+from hkproof.pipelines.poisson_certificate import poisson_document
+
+
+@lru_cache(maxsize=None)
+def _doc(system: str, degree: int, integrals: bool) -> str:
+    f = kahan_map(system)
+    report = with_integrals(f, degree) if integrals else search_poisson(f, degree)
+    return json.dumps(poisson_document(f, report))
+
+
+def doc(system: str, degree: int, integrals: bool = True) -> dict:
+    return json.loads(_doc(system, degree, integrals))
+
+
+def verdict(d: dict) -> str:
+    return check_document(json.loads(json.dumps(d))).verdict
+
+
+def kind(d: dict, name: str, k: int = 0) -> dict:
+    return [s for s in d["steps"] if s["kind"] == name][k]
+
+
+def test_lotka_volterra_round_trip_through_the_command(tmp_path, capsys):
+    out = tmp_path / "lv.json"
+    assert main(["poisson", "lotka-volterra", "--integrals-degree", "0", "--no-progress", "--certificate", str(out)]) == 0
+    capsys.readouterr()
+    assert main(["check", str(out)]) == 0
+    assert "bivector Pi1 of field lotka-volterra: [[0, x*y], [-x*y, 0]]" in capsys.readouterr().out
+    d = json.loads(out.read_text())
+    assert d["version"] == 7 and d["claim"]["bivectors"] == [{"name": "Pi1", "field": "lotka-volterra"}]
+    assert [s["kind"] for s in d["steps"]] == ["bivector-invariance", "jacobi"]
+
+
+def test_a_changed_coefficient_is_refuted():
+    d = doc("lotka-volterra", 3, integrals=False)
+    m = kind(d, "bivector-invariance")["matrix"]
+    m[0][1], m[1][0] = "x*y + x", "-x*y - x"
+    assert verdict(d) == "refuted"
+    m[0][1] = "x*y"                                           # not antisymmetric any more
+    assert verdict(d) == "malformed"
+
+
+def test_euler_top_pencil_casimirs_and_involution_round_trip():
+    d = doc("euler-top", 3)
+    kinds = [s["kind"] for s in d["steps"]]
+    assert kinds.count("bivector-invariance") == 3 and kinds.count("jacobi") == 6 and "involution" in kinds
+    assert "exclusion" in kinds and len(d["claim"]["bivectors"]) == 3
+    assert verdict(d) == "verified"
+
+
+@pytest.mark.parametrize("change", ["coefficient", "casimir", "involution"])
+def test_euler_top_mutations_are_refuted(change):
+    d = doc("euler-top", 3)
+    if change == "coefficient":
+        m = kind(d, "bivector-invariance", 1)["matrix"]
+        m[1][2], m[2][1] = m[1][2].replace("x1*x3**2*a2", "2*x1*x3**2*a2"), m[2][1].replace("x1*x3**2*a2", "2*x1*x3**2*a2")
+        assert "2*x1*x3**2*a2" in m[1][2]
+    elif change == "casimir":
+        kind(d, "casimir", 1)["functions"] = ["I2"]
+    elif change == "involution":
+        kind(d, "involution")["functions"] = ["I1", "x1"]
+    assert verdict(d) == "refuted", change
+
+
+def test_an_invariant_bivector_that_is_not_poisson_fails_jacobi():
+    """For the field 0 the Kahan map is the identity, so every bivector is invariant; v = (x2, 0, 1) has
+    v . curl v = -1, so Pi^23 = x2, Pi^31 = 0, Pi^12 = 1 is not Poisson: the jacobi step is refuted."""
+    matrix = [["0", "1", "0"], ["-1", "0", "x2"], ["0", "-x2", "0"]]
+    d = {"format": "hkproof-certificate", "version": 7, "convention": "eps = h/2",
+         "claim": {"title": "t", "statement": "s", "fixed": {}, "integrals": [],
+                   "bivectors": [{"name": "Pi", "field": "zero"}]},
+         "fields": {"zero": {"variables": ["x1", "x2", "x3"], "parameters": [], "rhs": ["0", "0", "0"]}},
+         "steps": [{"field": "zero", "kind": "bivector-invariance", "name": "Pi", "matrix": matrix, "integrals": []}]}
+    assert verdict(d) == "verified"
+    d["steps"].append({"field": "zero", "kind": "jacobi", "bivectors": ["Pi"], "integrals": []})
+    assert verdict(d) == "refuted"
+
+
+def test_a_forged_exclusion_is_refused():
+    """An exclusion of a class that holds an invariant bivector (Q = xy for Lotka-Volterra, degree 2) cannot be
+    certified: the checker computes the rows from the field, and they have a kernel; rows in the file are refused."""
+    d = doc("lotka-volterra", 1, integrals=False)
+    assert verdict(d) == "verified"
+    step = kind(d, "exclusion")
+    forged = copy.deepcopy(d)
+    kind(forged, "exclusion")["degree"] = 2
+    for x in range(3, 13):                                     # more points: still no full rank
+        kind(forged, "exclusion")["blocks"][0]["points"].append([x, x + 5])
+    report = check_document(forged)
+    assert report.verdict == "malformed" and "do not have full column rank" in report.lines[-1]
+    with_rows = copy.deepcopy(d)
+    kind(with_rows, "exclusion")["rows"] = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+    assert verdict(with_rows) == "malformed"
+    for key, value in (("prime", 1277389331 * 3), ("prime", 2), ("symmetries", [[1, 1]]), ("blocks", [])):
+        bad = copy.deepcopy(d)
+        kind(bad, "exclusion")[key] = value
+        assert verdict(bad) == "malformed", key
+    bad = copy.deepcopy(d)
+    kind(bad, "exclusion")["values"]["eps"] = f"1/{step['prime']}"
+    assert verdict(bad) == "malformed"
+
+
+def test_a_false_symmetry_of_an_exclusion_is_refuted():
+    d = doc("euler-top", 2, integrals=False)
+    step = kind(d, "exclusion")
+    assert step["symmetries"] and verdict(d) == "verified"
+    step["symmetries"][0] = [1, 1, -1] if step["symmetries"][0] != [1, 1, -1] else [1, -1, -1]
+    assert verdict(d) in ("refuted", "malformed")
+
+
+def test_bivector_claims_are_bound_to_their_steps():
+    d = doc("lotka-volterra", 3, integrals=False)
+    old = copy.deepcopy(d)
+    old["version"] = 6
+    old["claim"].pop("bivectors")
+    assert "feature of version 7" in check_document(old).lines[-1]
+    d["claim"]["bivectors"].append({"name": "Pi9", "field": "lotka-volterra"})
+    assert verdict(d) == "malformed"
+
+
+def test_poisson_documents_follow_the_schema():
+    jsonschema = pytest.importorskip("jsonschema")
+    from pathlib import Path
+    schema = json.loads((Path(__file__).resolve().parents[1] / "docs" / "certificate.schema.json").read_text())
+    jsonschema.validate(doc("euler-top", 3), schema)
+    forged = doc("lotka-volterra", 1, integrals=False)
+    kind(forged, "exclusion")["rows"] = [[1]]
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate(forged, schema)
