@@ -142,3 +142,13 @@ def test_poisson_documents_follow_the_schema():
     kind(forged, "exclusion")["rows"] = [[1]]
     with pytest.raises(jsonschema.ValidationError):
         jsonschema.validate(forged, schema)
+
+
+def test_the_euler_top_liouville_arnold_claim_and_its_perturbation():
+    from hkproof.orchestration.registry import get_claim
+    from hkproof.proof.status import Status
+    c = get_claim("atlas-euler-top-liouville-arnold")
+    cert = c.prove()
+    assert cert.status is Status.VERIFIED and len(cert.checks) == 18
+    assert c.prove({"rank": "4"}).status is Status.REFUTED
+    assert c.prove({"structures": "2"}).status is Status.REFUTED

@@ -9,11 +9,20 @@ from hkproof.pipelines.poisson import PoissonReport
 from hkproof.proof.export import (bivector_invariance_step, casimir_step, document, exclusion_step, involution_step,
                                   jacobi_step, substitution_step)
 
-__all__ = ["poisson_document"]
+__all__ = ["poisson_document", "poisson_steps"]
 
 
 def poisson_document(kmap: KahanMap, report: PoissonReport) -> dict:
-    """The re-checkable steps of what `poisson` verified (empty steps: nothing to write)."""
+    """The certificate file of what `poisson` verified (empty steps: nothing to write)."""
+    statement = (f"invariant bivectors of the Kahan map of {report.system}: "
+                 f"{sum(s.status.is_verified for s in report.structures)} proven invariant, "
+                 f"{len(report.excluded)} class(es) excluded")
+    return document(f"poisson {report.system}", statement, poisson_steps(kmap, report),
+                    {k: str(v) for k, v in report.fixed.items()})
+
+
+def poisson_steps(kmap: KahanMap, report: PoissonReport) -> list[dict]:
+    """The re-checkable steps (proof.export) of what `poisson` verified, in the order the checker needs them."""
     field, steps = kmap.field, []
     proven = [(k, s) for k, s in enumerate(report.structures) if s.status.is_verified]
     names = {n for n, _ in report.integrals}
@@ -38,9 +47,7 @@ def poisson_document(kmap: KahanMap, report: PoissonReport) -> dict:
         if e.certificate.status.is_verified:
             steps.append(exclusion_step(field, poly_str(e.denominator), e.degree, e.prime, e.values,
                                         [s.signs for s in e.symmetries], [(b.character, b.points) for b in e.blocks]))
-    statement = (f"invariant bivectors of the Kahan map of {report.system}: {len(proven)} proven invariant, "
-                 f"{len(report.excluded)} class(es) excluded")
-    return document(f"poisson {report.system}", statement, steps, {k: str(v) for k, v in report.fixed.items()})
+    return steps
 
 
 def _in_integrals(label: str, value: object, names: set[str]) -> str:
