@@ -20,7 +20,7 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.hk.modified_hamiltonian import parse_matrix, verify
 from hkproof.hk.recipe_g import recipe_g
 from hkproof.pipelines.darboux import search_darboux
-from hkproof.proof.export import document, recipe_g_step
+from hkproof.proof.export import VERSION, document, recipe_g_step
 from hkproof.proof.singular import singular_script
 
 C1 = "(a3*x2**2 - a2*x3**2)/(a1*x2**2 - a2*x1**2)"
@@ -159,7 +159,7 @@ def test_every_darboux_mutation_is_refused(lotka, euler, name):
 
 def test_a_density_step_writes_det_df_for_the_checker_to_compute(lotka):
     assert lotka["steps"][2]["cofactor"] == "det Df" and lotka["steps"][2]["densities"]
-    assert lotka["version"] == 7
+    assert lotka["version"] == VERSION
 
 
 @pytest.fixture(scope="module")
