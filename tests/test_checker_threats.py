@@ -226,16 +226,22 @@ def _corpus(base: dict) -> dict[str, str]:
     }
 
 
-def test_a_corpus_of_malformed_files_exits_2_never_3(c1, tmp_path):
+def test_a_corpus_of_malformed_files_exits_2_never_3(c1, tmp_path, capsys):
+    """Each file through the command's own entry point (exit code and error stream), and one through a real process
+    (the code the shell sees)."""
     corpus = _corpus(c1)
     assert len(corpus) >= 30
+    path = tmp_path / "bad.json"
     for name, text in corpus.items():
-        path = tmp_path / "bad.json"
         path.write_text(text)
-        proc = subprocess.run([sys.executable, "-m", "hkproof.cli", "check", str(path), "--json"], cwd=ROOT,
-                              capture_output=True, text=True, timeout=300)
-        assert proc.returncode == 2, (name, proc.returncode, proc.stdout[-500:], proc.stderr[-500:])
-        assert "Traceback" not in proc.stderr, name
+        code = main(["check", str(path), "--json"])
+        out, err = capsys.readouterr()
+        assert code == 2, (name, code, out[-500:], err[-500:])
+        assert "Traceback" not in err, name
+    path.write_text(corpus["nested 200000"])
+    proc = subprocess.run([sys.executable, "-m", "hkproof.cli", "check", str(path), "--json"], cwd=ROOT,
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
 
 
 def _child_peak_mb() -> float:
