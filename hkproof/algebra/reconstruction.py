@@ -250,7 +250,7 @@ def reconstruct(black_box: Batch, n: int, count: int = 1, *, method: str = "spar
     if method == "dense":
         return dense(black_box, n, count, rng=rng, **options)
     if method == "sparse":
-        return [sparse(_component(black_box, k), n, rng=rng, **options) for k in range(count)]
+        return [sparse(_Component(black_box, k), n, rng=rng, **options) for k in range(count)]
     raise HKProofError(f"no reconstruction method {method!r}: choose 'sparse' or 'dense'")
 
 
@@ -263,7 +263,3 @@ class _Component:
 
     def __call__(self, p: int, points: Sequence[Sequence[int]]) -> list[int | None]:
         return [None if v is None else v[self.k] for v in self.black_box(p, points)]
-
-
-def _component(black_box: Batch, k: int) -> Callable[[int, Sequence[Sequence[int]]], list[int | None]]:
-    return _Component(black_box, k)
