@@ -30,16 +30,13 @@ def _matrix(f: KahanData, step: Any, where: str) -> Matrix:
     """The n x n matrix of formulas `matrix`, antisymmetric exactly."""
     rows = get(step, "matrix", list, where)
     n = len(f.variables)
-    if len(rows) != n or not all(isinstance(r, list) and len(r) == n for r in rows):
-        raise CertificateError(f"{where}: 'matrix' must be {n} rows of {n} formulas")
-    m = [[f.parse(t, where) if isinstance(t, str) else _bad(where) for t in r] for r in rows]
+    if len(rows) != n or not all(isinstance(r, list) and len(r) == n and all(isinstance(t, str) for t in r)
+                                 for r in rows):
+        raise CertificateError(f"{where}: 'matrix' must be {n} rows of {n} formulas (strings)")
+    m = [[f.parse(t, where) for t in r] for r in rows]
     if any(m[i][j] != -m[j][i] for i in range(n) for j in range(n)):
         raise CertificateError(f"{where}: the bivector's matrix is not antisymmetric")
     return m
-
-
-def _bad(where: str) -> Frac:
-    raise CertificateError(f"{where}: every entry of 'matrix' must be a formula (a string)")
 
 
 def _differential(f: KahanData) -> tuple[list[list[flint.fmpz_mpoly]], flint.fmpz_mpoly]:

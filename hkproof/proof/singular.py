@@ -8,6 +8,7 @@ from typing import Mapping
 import flint
 
 from hkproof.algebra.formula import parse_formula
+from hkproof.algebra.linalg import lcm
 from hkproof.algebra.ring import Ring, get_ring
 from hkproof.checker import DET_DF
 from hkproof.errors import CertificateError
@@ -129,9 +130,7 @@ def _recipe_g(k: int, ring: Ring, field: Mapping, step: Mapping) -> list[str]:
     multiplier = parse_formula(ring, step["multiplier"])
     big = [(multiplier.num.compose(*target.gens()[:len(ring.names)], ctx=target.ctx),
             multiplier.den.compose(*target.gens()[:len(ring.names)], ctx=target.ctx)), *moved]
-    common = big[0][1]
-    for _, den in big[1:]:
-        common = common * den / common.gcd(den)
+    common = lcm([den for _, den in big])
     (d_num, d_den), lams = big[0], [num * (common / den) for num, den in moved]
     scales = [_poly(parse_formula(ring, t).den) for t in field["rhs"]]
     name = step["integrals"][0]["name"]
