@@ -10,6 +10,8 @@ from hkproof.proof.status import Status
 from hkproof.algebra.fraction import Frac
 from hkproof.cli import main
 from hkproof.dynamics.catalogue import kahan_map
+from hkproof.dynamics.field import QuadraticField
+from hkproof.hk.hamiltonian_structure import hamiltonian_structure
 from hkproof.hk.integrals import check_integral
 from hkproof.hk.jacobian import jacobian_determinant
 from hkproof.hk.modified_hamiltonian import measure_denominator, modified_hamiltonian
@@ -97,3 +99,15 @@ def test_modified_hamiltonian_and_density_by_an_independent_route(capsys):
         moved = {**at, **{x: comps[k].subs(at) for k, x in enumerate(xs)}}
         assert sympy.simplify(ht.subs(moved) - ht.subs(at)) == 0
         assert sympy.simplify(rho.subs(moved) * jac.subs(at).det() - rho.subs(at)) == 0
+
+
+def test_the_structure_found_from_the_field_is_accepted_by_the_command(capsys):
+    """hk.hamiltonian_structure on the Henon-Heiles field: its J and H, as text, verify through `hkproof hamiltonian`
+    (and a wrong sign of J is refused: it does not generate the field)."""
+    found = hamiltonian_structure(QuadraticField.from_toml(HENON))
+    assert found is not None
+    h, j = str(found.hamiltonian), found.poisson_text()
+    assert main(["hamiltonian", HENON, "--hamiltonian", h, "--poisson", j]) == 0
+    capsys.readouterr()
+    assert main(["hamiltonian", HENON, "--hamiltonian", h, "--poisson", j.replace("-1", "X").replace("1", "-1")
+                 .replace("X", "1")]) == 2
