@@ -6,10 +6,13 @@ Two exact reductions, each checked on the polynomials themselves:
    one weight are found from their exponents (and verified on every monomial). If the weights of names O form an
    invertible block, the exponents of O in a monomial of R are determined by its other exponents, so setting the
    names of O to 1 maps the monomials of R injectively: R = 0 iff R(O = 1) = 0.
-2. **A unisolvent lattice.** If the total degree of R in names S is at most D, the principal lattice
-   {c in N^|S| : |c| <= D} is unisolvent for such polynomials (induction on |S| and D: P(0, .) = 0 leaves
-   P = s_1 Q with Q of degree D - 1 vanishing on the shifted lattice): R = 0 iff R(S = c) = 0 in Z[rest] for every
-   lattice point c. D is bounded by the exponents of the T_mu and F_j.
+2. **A unisolvent lattice.** If the total degree of R in names S is at most D and its degree in s_i at most d_i,
+   the lower set A = {c in N^|S| : |c| <= D, c_i <= d_i} is unisolvent for the span of the monomials s^a, a in A
+   (induction on |A|: P(0, .) lies in the span of the lower set {a in A : a_1 = 0} and vanishes on it, so it is 0
+   by induction on |S|; then P = s_1 Q with Q in the span of the lower set {a - e_1 : a in A, a_1 >= 1}, vanishing
+   on those points shifted by 1 in s_1, where s_1 != 0 -- the same statement with the nodes 1, 2, ... in s_1, so
+   the induction runs over any distinct nodes). R = 0 iff R(S = c) = 0 in Z[rest] for every c in A. D and the d_i
+   are bounded by the exponents of the T_mu and F_j; with d_i = D this is the principal lattice.
 
 Each lattice point is a Horner evaluation in the remaining variables only (small polynomials); the specializations
 are nested (one name at a time), so the big T_mu are specialized D + 1 times, not once per point. Used for the rows
@@ -20,7 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from itertools import combinations
 from math import comb, lcm
-from typing import Mapping, Sequence
+from typing import Mapping, Sequence, TypeVar
 
 import flint
 import numpy as np
@@ -29,15 +32,17 @@ from hkproof.algebra.linalg import nullspace_q
 from hkproof.algebra.monomials import Exponents
 from hkproof import budget
 
-__all__ = ["horner", "LatticePlan", "plan_lattice", "vanishes_on_lattice"]
+__all__ = ["horner", "horner_work", "LatticePlan", "plan_lattice", "vanishes_on_lattice"]
 
 PARALLEL_POINTS = 64      # fewer lattice points are checked in this process (a fork costs more than they do)
 EXACT_INT64 = 2 ** 62     # exponent sums and weighted sums below this are exact in int64 (Python integers above)
 Terms = Mapping[Exponents, flint.fmpz_mpoly]
+Poly = TypeVar("Poly", flint.fmpz_mpoly, flint.nmod_mpoly)
 
 
-def horner(terms: Terms, factors: Sequence[flint.fmpz_mpoly]) -> flint.fmpz_mpoly:
-    """sum_mu terms[mu] prod_j factors[j]^mu_j: factor out the first factor that occurs, recursively."""
+def horner(terms: Mapping[Exponents, Poly], factors: Sequence[Poly]) -> Poly:
+    """sum_mu terms[mu] prod_j factors[j]^mu_j: factor out the first factor that occurs, recursively (over Z or
+    modulo a prime)."""
     constant = terms.get(tuple(0 for _ in factors))
     rest = {mu: p for mu, p in terms.items() if any(mu)}
     out = constant if constant is not None else factors[0] - factors[0]
@@ -47,6 +52,18 @@ def horner(terms: Terms, factors: Sequence[flint.fmpz_mpoly]) -> flint.fmpz_mpol
         rest = {mu: p for mu, p in rest.items() if not mu[j]}
         out = out + factors[j] * horner(inner, factors)
     return out
+
+
+def _work(mus: Sequence[Exponents], term_sizes: Sequence[int], factor_sizes: Sequence[int]) -> int:
+    """Term products of Horner's scheme: each T_mu (its size) times the sizes of the factors it meets."""
+    return int(sum(t * max(1, sum(int(m) * factor_sizes[j] for j, m in enumerate(mu)))
+                   for mu, t in zip(mus, term_sizes, strict=True)))
+
+
+def horner_work(terms: Terms, factors: Sequence[flint.fmpz_mpoly]) -> int:
+    """The cost model's estimate of `horner` expanded in every variable (term products)."""
+    mus = [mu for mu, p in terms.items() if not p.is_zero()]
+    return _work(mus, [len(terms[mu]) for mu in mus], [len(f) for f in factors])
 
 
 class _Exponents:
@@ -107,9 +124,8 @@ class _Exponents:
         return self._distinct[key]
 
     def work(self, term_sizes: Sequence[int], factor_sizes: Sequence[int]) -> int:
-        """A cost model of Horner's scheme: each term times the factors it meets."""
-        return sum(t * max(1, sum(m * factor_sizes[j] for j, m in enumerate(mu)))
-                   for mu, t in zip(self.mus, term_sizes, strict=True))
+        """A cost model of Horner's scheme: each term times the factors it meets (`horner_work`)."""
+        return _work(self.mus, term_sizes, factor_sizes)
 
 
 def _integer(v: Sequence[flint.fmpq]) -> list[int]:
@@ -153,14 +169,24 @@ def _gradings(exponents: _Exponents, nvars: int, seed_rows: int = 32) -> np.ndar
         rows += failing
 
 
+def _lower_set_size(degrees: Sequence[int], total: int) -> int:
+    """The number of c in N^k with c_i <= degrees[i] and |c| <= total (inclusion-exclusion over the bounds that
+    fail: c_i >= degrees[i] + 1 for i in J leaves comb(total - sum_J (degrees[i] + 1) + k, k) points)."""
+    k = len(degrees)
+    return sum((-1) ** len(over) * comb(total - sum(degrees[i] + 1 for i in over) + k, k)
+               for size in range(k + 1) for over in combinations(range(k), size)
+               if sum(degrees[i] + 1 for i in over) <= total)
+
+
 @dataclass(frozen=True)
 class LatticePlan:
-    """Names set to 1 (justified by the gradings), names put on the principal lattice of total degree `degree`,
-    and the cost model's estimates for this route and for the plain expansion."""
+    """Names set to 1 (justified by the gradings), names put on the lower set of total degree `degree` and degree
+    `degrees[i]` in the i-th name, and the cost model's estimates for this route and for the plain expansion."""
 
     ones: tuple[str, ...]
     lattice: tuple[str, ...]
     degree: int
+    degrees: tuple[int, ...]
     points: int
     work: int
     plain_work: int
@@ -172,9 +198,10 @@ class LatticePlan:
     def describe(self) -> str:
         ones = f"{', '.join(self.ones)} = 1 by the weighted homogeneity (checked on every monomial); " if self.ones \
             else ""
-        return (f"{ones}total degree <= {self.degree} in {', '.join(self.lattice) or 'no parameter'}, zero at the "
-                f"{self.points} points of the principal lattice (unisolvent), each by Horner's scheme in the other "
-                "variables")
+        each = ", ".join(f"{d} in {n}" for n, d in zip(self.lattice, self.degrees, strict=True))
+        return (f"{ones}total degree <= {self.degree} in {', '.join(self.lattice) or 'no parameter'}"
+                f"{f' (degree <= {each})' if each else ''}, zero at the {self.points} points of the principal "
+                "lattice cut by these degrees (a unisolvent lower set), each by Horner's scheme in the other variables")
 
 
 def plan_lattice(terms: Terms, factors: Sequence[flint.fmpz_mpoly], names: Sequence[str], free: Sequence[str],
@@ -193,11 +220,12 @@ def plan_lattice(terms: Terms, factors: Sequence[flint.fmpz_mpoly], names: Seque
             continue
         on = tuple(n for n in lattice if n not in ones)
         degree = exps.degree([names.index(n) for n in on])
-        points = comb(degree + len(on), len(on))
+        degrees = tuple(min(degree, exps.degree([names.index(n)])) for n in on)
+        points = _lower_set_size(degrees, degree)
         kept = [k for k, n in enumerate(names) if n not in ones and n not in on]
         work = points * exps.work(*exps.distinct(kept))
         if best is None or work < best.work:
-            best = LatticePlan(tuple(ones), on, int(degree), int(points), int(work), int(plain))
+            best = LatticePlan(tuple(ones), on, int(degree), degrees, int(points), int(work), int(plain))
     assert best is not None      # combinations(free, rank) with rank = rank of the block yields a valid choice
     return best
 
@@ -220,7 +248,7 @@ def vanishes_on_lattice(terms: Terms, factors: Sequence[flint.fmpz_mpoly], plan:
         for c in values:
             value: dict[str | int, int | flint.fmpz] = {name: c}
             bad = walk(level + 1, left - c, {mu: p.subs(value) for mu, p in t.items()}, [g.subs(value) for g in f],
-                       {**point, name: c}, range(left - c + 1))
+                       {**point, name: c}, range(min([left - c, *plan.degrees[level + 1:level + 2]]) + 1))
             if bad is not None:
                 return bad
         return None
@@ -228,7 +256,7 @@ def vanishes_on_lattice(terms: Terms, factors: Sequence[flint.fmpz_mpoly], plan:
     jobs = jobs if plan.lattice and plan.points >= PARALLEL_POINTS else 1
 
     def part(k: int) -> dict[str, int] | None:
-        return walk(0, plan.degree, start, moved, {}, range(k, plan.degree + 1, jobs))
+        return walk(0, plan.degree, start, moved, {}, range(k, min([plan.degree, *plan.degrees[:1]]) + 1, jobs))
 
     found = budget.current().call_each("checking a row identity on a lattice", part, jobs)
     bad = next((b for b in found if b is not None), None)

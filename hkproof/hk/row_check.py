@@ -2,7 +2,9 @@
 scheme in the numerators of f^i: the big solution is multiplied only by the small numerators N_j, one at a time,
 never by the big rows phi_k o f^i (Prop. "prop: even", check 4, for polynomial basis functions); or, where a cost
 model says it is cheaper, the same identity with eps and one parameter set to 1 by the weighted homogeneity and
-the other parameters on a unisolvent lattice (`algebra.lattice_identity`): never expanded in the parameters."""
+the other parameters on a unisolvent lattice (`algebra.lattice_identity`): never expanded in the parameters; or
+expanded modulo word-size primes whose product exceeds twice a proven bound on its coefficients
+(`algebra.modular_identity`). All three routes are exact; the route is named in the result (and the certificate)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -11,7 +13,8 @@ from typing import Literal, Sequence
 import flint
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.lattice_identity import horner, plan_lattice, vanishes_on_lattice
+from hkproof.algebra.lattice_identity import horner, horner_work, plan_lattice, vanishes_on_lattice
+from hkproof.algebra.modular_identity import plan_modular, vanishes_modulo
 from hkproof.algebra.linalg import lcm
 from hkproof.algebra.monomials import Exponents
 from hkproof.algebra.ring import cores, flint_threads
@@ -20,17 +23,21 @@ from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals
 
-__all__ = ["check_solution_by_rows", "row_holds", "RowCheck", "Route"]
+__all__ = ["check_solution_by_rows", "decide_identity", "row_holds", "RouteCosts", "RowCheck", "Route"]
 
-Route = Literal["auto", "horner", "lattice"]
+Route = Literal["auto", "horner", "lattice", "modular"]
+MODULAR_WEIGHT = 1.5     # one expansion mod a prime against one over Z with one-limb coefficients (benchmarks/routes.py)
+LIMB_BITS = 62           # FLINT keeps an integer below 2^62 in one word; each further 64 bits costs about one more
 
 
 @dataclass(frozen=True)
 class RowCheck:
-    """Whether a row holds, and how that was decided (for the certificate); true in a boolean context iff it holds."""
+    """Whether a row holds, and how that was decided (for the certificate); true in a boolean context iff it holds.
+    `by` names the route: "substitution", "horner" (expanded over Z), "lattice" or "modular"."""
 
     holds: bool
     route: str
+    by: str = "substitution"
 
     def __bool__(self) -> bool:
         return self.holds
@@ -42,9 +49,10 @@ def row_holds(kmap: KahanMap, basis: Sequence[Frac], target: Frac, i: int, solut
 
     With f^i = N / Delta and D the largest degree, the row times Delta^D is sum_mu C_mu(x) N^mu Delta^(D - |mu|),
     C_mu(x) = sum_k a_k(x) [x^mu] phi_k - [x^mu] phi_l (the a_k stay at x, only phi moves); it is evaluated by
-    Horner's scheme in (N, Delta) over the common denominator of the C_mu, and compared with 0 -- expanded in
-    every variable, or (route "lattice", or "auto" when the cost model prefers it) at the points of a unisolvent
-    lattice in the parameters. Row i = 0, and a row of basis functions that are not polynomial in x, is the plain
+    Horner's scheme in (N, Delta) over the common denominator of the C_mu, and compared with 0 by one of three exact
+    routes: expanded in every variable ("horner"), at the points of a unisolvent lattice in the parameters
+    ("lattice"), or expanded modulo primes beyond twice a proven coefficient bound ("modular"); "auto" takes the
+    cheapest by `RouteCosts`. Row i = 0, and a row of basis functions that are not polynomial in x, is the plain
     substitution.
     """
     if i == 0:
@@ -64,16 +72,47 @@ def row_holds(kmap: KahanMap, basis: Sequence[Frac], target: Frac, i: int, solut
     top = max(sum(mu) for mu in coefficients)
     common = lcm([c.den for c in coefficients.values()])
     terms = {(*mu, top - sum(mu)): c.num * (common / c.den) for mu, c in coefficients.items()}
-    factors = [*nums, delta]
-    parameters = tuple(kmap.field.parameters)
-    if route != "horner" and parameters:
-        plan = plan_lattice(terms, factors, ring.names, (EPS, *parameters), parameters)
-        if route == "lattice" or plan.cheaper:
-            with flint_threads():
-                holds, bad = vanishes_on_lattice(terms, factors, plan, jobs=cores())
-            return RowCheck(holds, f"row i = {i}: {plan.describe()}" + (f"; not zero at {bad}" if bad else ""))
-    holds = current().call(f"checking row i = {i} by Horner's scheme", _vanishes, terms, factors)
-    return RowCheck(holds, f"row i = {i} by Horner's scheme in the numerators of f^{i}, expanded")
+    return decide_identity(terms, [*nums, delta], ring.names, (EPS, *kmap.field.parameters), route,
+                           f"row i = {i}", f"the numerators of f^{i}")
+
+
+def decide_identity(terms: dict[Exponents, flint.fmpz_mpoly], factors: Sequence[flint.fmpz_mpoly],
+                    names: Sequence[str], free: Sequence[str], route: Route, what: str, where: str) -> RowCheck:
+    """sum_mu terms[mu] prod_j factors[j]^mu_j == 0 in Z[names] by `route` ("auto": the cheapest by `RouteCosts`);
+    `free` are the names the gradings may set to 1, and the lattice is on those after the first (the parameters)."""
+    costs = RouteCosts(terms, factors, names, free)
+    chosen = costs.cheapest if route == "auto" else route
+    if chosen == "lattice":
+        plan = costs.lattice or plan_lattice(terms, factors, names, free, ())
+        with flint_threads():
+            holds, bad = vanishes_on_lattice(terms, factors, plan, jobs=cores())
+        return RowCheck(holds, f"{what}: {plan.describe()}" + (f"; not zero at {bad}" if bad else ""), "lattice")
+    if chosen == "modular":
+        holds, prime = vanishes_modulo(terms, factors, costs.modular.primes, jobs=cores())
+        return RowCheck(holds, f"{what} by Horner's scheme in {where}, modulo primes: {costs.modular.describe()}" +
+                        (f"; not zero modulo {prime}" if prime else ""), "modular")
+    holds = current().call(f"checking {what} by Horner's scheme", _vanishes, terms, factors)
+    return RowCheck(holds, f"{what} by Horner's scheme in {where}, expanded", "horner")
+
+
+class RouteCosts:
+    """The cost model of the three routes: term products of Horner's scheme (`lattice_identity.horner_work`), over Z
+    times the words of the coefficients (their proven bound), at the lattice points likewise (parameters only, the
+    names of `free` after the first), and modulo primes times the primes each core takes times MODULAR_WEIGHT."""
+
+    def __init__(self, terms: dict[Exponents, flint.fmpz_mpoly], factors: Sequence[flint.fmpz_mpoly],
+                 names: Sequence[str], free: Sequence[str]):
+        plain = horner_work(terms, factors)
+        self.modular = plan_modular(terms, factors, plain, cores())
+        words = 1 + max(0, self.modular.bound.bit_length() - LIMB_BITS) / 64
+        self.lattice = plan_lattice(terms, factors, names, free, tuple(free[1:])) if free[1:] else None
+        self.costs = {"horner": plain * words, "modular": self.modular.work * MODULAR_WEIGHT}
+        if self.lattice is not None:
+            self.costs["lattice"] = self.lattice.work * words
+
+    @property
+    def cheapest(self) -> str:
+        return min(self.costs, key=lambda r: self.costs[r])
 
 
 def check_solution_by_rows(kmap: KahanMap, basis: Sequence[Frac], target: Frac, iterates: Sequence[int],
