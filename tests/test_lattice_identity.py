@@ -117,3 +117,15 @@ def test_exponents_past_int64_do_not_fake_a_grading():
         assert len(plan.ones) <= 1
         holds, point = vanishes_on_lattice(terms, factors, plan)
         assert not holds and point is not None
+
+
+def test_degree_bounds_per_parameter_cut_the_lattice_and_still_find_the_last_point():
+    """R = x a(a-1)(a-2) b(b-1)(b-2): degree 3 in a and in b, 6 in all; zero on the lower set {a, b <= 3, a + b <= 6}
+    except at (3, 3), its 16 points against 28 on the principal lattice of degree 6."""
+    t = X
+    for c in range(3):
+        t = t * (A - c) * (B - c)
+    plan = plan_lattice({(0,): t}, [Y], R.names, ("eps",), ("a", "b"))
+    assert (plan.degree, plan.degrees, plan.points) == (6, (3, 3), 16)
+    assert vanishes_on_lattice({(0,): t}, [Y], plan) == (False, {"a": 3, "b": 3})
+    assert vanishes_on_lattice({(0,): t - t}, [Y], plan) == (True, None)
