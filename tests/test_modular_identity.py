@@ -116,3 +116,16 @@ def test_the_modular_route_respects_the_budget():
     for jobs in (1, 2):
         with Budget(0.0).active(), pytest.raises(BudgetExhausted):
             vanishes_modulo(terms, factors, primes * 2, jobs=jobs)
+
+
+@pytest.mark.parametrize("system", ["euler-top", "zhukovsky-volterra-1"])
+def test_darboux_identities_are_decided_alike_by_all_three_routes(system):
+    from hkproof.hk.darboux import darboux_identity_checks
+    from hkproof.pipelines.darboux import search_darboux
+    f = kahan_map(system)
+    found = search_darboux(f, 2)
+    d = found.darboux[0]
+    polys = [d.poly, d.poly + f.ring.gen(f.variables[0]) ** 2 + 1]
+    for route in ROUTES:
+        checks = darboux_identity_checks(f, found.atoms, d.cofactor, polys, route=route)
+        assert [c.holds for c in checks] == [True, False] and {c.by for c in checks} == {route}

@@ -16,12 +16,14 @@ from hkproof.algebra.sampling import random_point
 from hkproof.algebra.fraction import Frac, homogenized_compose
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ResourceLimitError
+from hkproof.dynamics.field import EPS
 from hkproof.hk.jacobian import jacobian_determinant
+from hkproof.hk.row_check import Route, RowCheck, decide_identity, phase_coefficients
 from hkproof.proof.certificate import Certificate, Step, describe_ring
 from hkproof.proof.status import Status
 
 __all__ = ["Atom", "Cofactor", "DarbouxPolynomial", "candidate_cofactors", "check_at_points", "check_darboux",
-           "cofactor_value", "darboux_identities_hold", "IDENTITY", "jacobian_atoms"]
+           "cofactor_value", "darboux_identities_hold", "darboux_identity_checks", "IDENTITY", "jacobian_atoms"]
 
 
 @dataclass(frozen=True)
@@ -168,9 +170,17 @@ def check_at_points(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, p
 
 def darboux_identities_hold(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor,
                             polys: Sequence[flint.fmpz_mpoly]) -> list[bool]:
-    """P o f = K P for each P, as polynomial identities in Z[x, eps, params] with no gcd: with f = N/Delta,
-    P(N/Delta) Delta^deg P and, for a pulled atom q, q(N/Delta) Delta^deg q are homogenized composes (the pulled
-    atoms composed once for all P); the powers of Delta and the denominator atoms are cleared by products only."""
+    """Whether P o f = K P for each P (`darboux_identity_checks` by the cheapest route)."""
+    return [check.holds for check in darboux_identity_checks(kmap, atoms, cofactor, polys)]
+
+
+def darboux_identity_checks(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor,
+                            polys: Sequence[flint.fmpz_mpoly], route: Route = "auto") -> list[RowCheck]:
+    """P o f = K P for each P, as polynomial identities in Z[x, eps, params] with no gcd: with f = N/Delta and
+    P = sum_m c_m x^m, P(N/Delta) Delta^d = sum_m c_m N^m Delta^(d - |m|) (d = deg P) and, for a pulled atom q,
+    q(N/Delta) Delta^deg q is a homogenized compose (the pulled atoms composed once for all P); the powers of Delta
+    and the denominator atoms are cleared by products only. Each identity is decided by `row_check.decide_identity`
+    (expanded, on a lattice, or modulo primes; the route named in each result, true iff the identity holds)."""
     ring, moved = kmap.ring, kmap.variables
     nums, delta = kmap.explicit
     top, below, shift = ring.constant(1), ring.constant(1), 0     # K = top / (below Delta^shift)
@@ -183,10 +193,16 @@ def darboux_identities_hold(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cof
                 below, shift = below * q ** -e, shift + d * e
     out = []
     for p in polys:
-        left, d = homogenized_compose(ring, p, moved, nums, delta)        # P o f = left / Delta^d
-        # left / Delta^d == top p / (below Delta^shift)  <=>  left below Delta^shift == top p Delta^d
+        # P o f = left / Delta^d == top p / (below Delta^shift)  <=>  below Delta^shift left == top p Delta^d:
+        # over the factors (below, top, p, Delta, N_1, ...), the first three once each (Horner takes them first)
+        parts = phase_coefficients(kmap, p)
+        d = max((sum(m) for m in parts), default=0)
         k = shift - d
-        out.append(left * below * delta ** max(k, 0) == top * p * delta ** max(-k, 0))
+        terms = {(1, 0, 0, d - sum(m) + max(k, 0), *m): c for m, c in parts.items()}
+        right = (0, 1, 1, max(-k, 0), *(0 for _ in nums))
+        terms[right] = ring.constant(-1)
+        out.append(decide_identity(terms, [below, top, p, delta, *nums], ring.names, (EPS, *kmap.field.parameters),
+                                   route, "P o f = K P", "the numerators of f"))
     return out
 
 
@@ -197,8 +213,8 @@ def check_darboux(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, p: 
     exact=False, evidence(exact) (or refuted) at three random exact points (eps and parameters random too, except
     those `fixed`)."""
     if exact:
-        ok = darboux_identities_hold(kmap, atoms, cofactor, [p])[0]
-        return (Status.VERIFIED if ok else Status.REFUTED), IDENTITY
+        check = darboux_identity_checks(kmap, atoms, cofactor, [p])[0]
+        return (Status.VERIFIED if check else Status.REFUTED), f"{IDENTITY}; {check.route}"
     ok = check_at_points(kmap, atoms, cofactor, p, rng or random.Random(0), fixed=dict(fixed or {}))
     where = (f"at {', '.join(f'{k} = {v}' for k, v in fixed.items())} only: P(f(x)) = K(x) P(x) at 3 random exact "
              "points x") if fixed else "P(f(x)) = K(x) P(x) at 3 random exact points (x, eps, params)"

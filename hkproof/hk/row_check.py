@@ -23,7 +23,8 @@ from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals
 
-__all__ = ["check_solution_by_rows", "decide_identity", "row_holds", "RouteCosts", "RowCheck", "Route"]
+__all__ = ["check_solution_by_rows", "decide_identity", "phase_coefficients", "row_holds", "RouteCosts", "RowCheck",
+           "Route"]
 
 Route = Literal["auto", "horner", "lattice", "modular"]
 MODULAR_WEIGHT = 1.5     # one expansion mod a prime against one over Z with one-limb coefficients (benchmarks/routes.py)
@@ -125,17 +126,22 @@ def check_solution_by_rows(kmap: KahanMap, basis: Sequence[Frac], target: Frac, 
 
 def _x_coefficients(kmap: KahanMap, phi: Frac) -> dict[Exponents, Frac]:
     """phi = sum_mu c_mu x^mu with c_mu free of x (phi must be polynomial in x)."""
-    ring, idx = kmap.ring, [kmap.ring.index(v) for v in kmap.variables]
     if phi.den_variables_in(kmap.variables):
         raise ValueError(f"{phi} is not polynomial in {kmap.variables}: no row check by monomials")
+    return {mu: Frac(kmap.ring, c, phi.den) for mu, c in phase_coefficients(kmap, phi.num).items()}
+
+
+def phase_coefficients(kmap: KahanMap, p: flint.fmpz_mpoly) -> dict[Exponents, flint.fmpz_mpoly]:
+    """p = sum_mu c_mu x^mu with c_mu in Z[eps, params] (x the phase variables)."""
+    ring, idx = kmap.ring, [kmap.ring.index(v) for v in kmap.variables]
     parts: dict[Exponents, dict] = {}
-    for m, c in phi.num.to_dict().items():
-        mu = tuple(m[k] for k in idx)
+    for m, c in p.to_dict().items():
+        mu = tuple(int(m[k]) for k in idx)
         rest = list(m)
         for k in idx:
             rest[k] = 0
         parts.setdefault(mu, {})[tuple(rest)] = c
-    return {mu: Frac(ring, ring.ctx.from_dict(d), phi.den) for mu, d in parts.items()}
+    return {mu: ring.ctx.from_dict(d) for mu, d in parts.items()}
 
 
 def _vanishes(terms: dict[Exponents, flint.fmpz_mpoly], factors: Sequence[flint.fmpz_mpoly]) -> bool:
