@@ -136,7 +136,7 @@ MUTATIONS = {
     "a relation citing no proven integral": (lambda d: d["steps"][2]["relations"][0].__setitem__("uses", ["J"]),
                                              "malformed"),
     "a wrong step convention (eps = h)": (lambda d: d.__setitem__("convention", "eps = h"), "malformed"),
-    "another version": (lambda d: d.__setitem__("version", 8), "malformed"),
+    "another version": (lambda d: d.__setitem__("version", 9), "malformed"),
     "another format": (lambda d: d.__setitem__("format", "drat"), "malformed"),
     "a claimed integral no step concludes": (lambda d: d["claim"]["integrals"].append({"name": "c9", "field": "euler-top"}), "malformed"),
     "a symmetric range of rows": (lambda d: d["steps"][0].__setitem__("iterates", [-1, 1]), "malformed"),

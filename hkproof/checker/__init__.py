@@ -11,7 +11,8 @@ computed here), recipe-g (D delta = sum lambda_i E_i, cofactors polynomial in x~
 and reparametrization (integrals of another field carried by a substitution of its parameters that sends its
 right-hand sides to this field's); from version 7 the bivector steps of bivectors.py: bivector-invariance (Pi o f =
 Df Pi Df^T), jacobi (Schouten brackets), casimir, involution and exclusion (a full column rank mod p of rows the
-checker computes itself; the claim may name bivectors). Every claimed integral and density names its field (version 6), and a step
+checker computes itself; the claim may name bivectors); from version 8 affine-change (integrals of the field in
+another chart y = T x + c carried back: G(T x + c) = T F(x) exactly, det T != 0). Every claimed integral and density names its field (version 6), and a step
 concludes for its own field only. What it cannot check, it refuses (malformed, exit 2); what is too large to check
 here, it refuses with a ResourceLimitError (exit 4).
 
@@ -36,7 +37,7 @@ from hkproof.checker.bivectors import BIVECTOR_STEPS, Matrix
 from hkproof.checker.kahan import KahanData
 from hkproof.checker.reading import (CONVENTION, FORMAT, MAX_BYTES, VERSIONS, entries, field_key, get, load,
                                      version_gate)
-from hkproof.checker.steps import DET_DF, STEPS, reparametrization
+from hkproof.checker.steps import CARRIERS, DET_DF, STEPS
 from hkproof.errors import CertificateError, HKProofError, Refutation, ResourceLimitError
 
 __all__ = ["check_document", "check_file", "CheckReport", "DET_DF", "KahanData", "MAX_BYTES", "load"]
@@ -106,7 +107,7 @@ def _check(doc: Any, report: CheckReport) -> None:
     claimed = _claimed(get(doc, "claim", dict, "certificate"), fields, version)
     proven: dict[str, tuple[str, Frac]] = {}            # integral name -> (field key, value)
     bivectors: dict[str, tuple[str, Matrix]] = {}       # bivector name -> (field key, matrix), version 7
-    kinds = (*STEPS, *BIVECTOR_STEPS, "reparametrization")
+    kinds = (*STEPS, *BIVECTOR_STEPS, *CARRIERS)
     densities: dict[str, tuple[str, Frac]] = {}
     facts: list[str] = []
     steps = entries(doc, "steps", "certificate")
@@ -133,16 +134,16 @@ def _check(doc: Any, report: CheckReport) -> None:
             facts.append(f"field {key}: {_shown(fact)}")
             report.lines.append(f"{where} ({kind}, field {key}): verified; {_shown(fact, 120)}")
             continue
-        if kind == "reparametrization":
+        if kind in CARRIERS:
             source = get(step, "source", str, where)
             if source not in fields or source == key:
                 raise CertificateError(f"{where}: the source {source!r} must be another field of 'fields'")
-            local = reparametrization(f, fields[source], step, _of(proven, source), where)
+            local = CARRIERS[kind](f, fields[source], step, _of(proven, source), where)
         else:
             local = STEPS[kind](f, step, _of(proven, key), where)
         taken = {**proven, **densities, **bivectors}
         for entry in entries(step, "integrals", where):
-            name, value = _conclude(f, entry, local, taken, where, optional=kind == "reparametrization")
+            name, value = _conclude(f, entry, local, taken, where, optional=kind in CARRIERS)
             proven[name] = taken[name] = (key, value)
         for entry in entries(step, "densities", where, required=False):
             name, value = _conclude(f, entry, local, taken, where)

@@ -14,7 +14,7 @@ from hkproof.checker.kahan import EPS, KahanData, read
 from hkproof.checker.reading import entries, get, integers, optional_list, strings
 from hkproof.errors import CertificateError, HKProofError, Refutation
 
-__all__ = ["DET_DF", "STEPS", "reparametrization"]
+__all__ = ["CARRIERS", "DET_DF", "STEPS"]
 
 DET_DF = "det Df"      # a darboux step's cofactor written as the Jacobian determinant the checker computes itself
 
@@ -121,6 +121,49 @@ def reparametrization(f: KahanData, source: KahanData, step: Any, known: Mapping
         if g.substitute(sigma, f.ring) != h:
             raise Refutation(f"{where}: the substitution does not carry the source's {v}' = {g} to {v}' = {h}")
     return {n: h.substitute(sigma, f.ring) for n, h in known.items()}
+
+
+def _affine_change(f: KahanData, source: KahanData, step: Any, known: Mapping[str, Frac],
+                   where: str) -> dict[str, Frac]:
+    """Integrals J of the source field G (the same names, in the chart y = T x + c) carried to J(T x + c). T and c are
+    constants in the parameters; if det T != 0 (at one rational point, so as a rational function) and G(T x + c) =
+    T F(x) exactly, then g(T x + c) = T f(x) + c (eq. "Kahan gen" is affine in the polarized field) and each identity
+    J(g(y)) = J(y) gives J(T x + c) o f = J(T x + c)."""
+    if (source.variables, source.parameters) != (f.variables, f.parameters):
+        raise CertificateError(f"{where}: the source field must have the variables {f.variables} and the parameters "
+                               f"{f.parameters} of this field, in that order")
+    n = len(f.variables)
+    rows = get(step, "matrix", list, where)
+    shift = strings(step, "shift", where)
+    if len(rows) != n or len(shift) != n or any(not isinstance(r, list) or len(r) != n for r in rows):
+        raise CertificateError(f"{where}: 'matrix' must be {n} x {n} and 'shift' of length {n}")
+    t = [[_constant(f, e, where) for e in r] for r in rows]
+    c = [_constant(f, e, where) for e in shift]
+    if not any(flint.fmpq_mat([[_at(e, point) for e in r] for r in t]).det() != 0 for point in _trial_points(f)):
+        raise CertificateError(f"{where}: det T vanishes at every trial point: not a change of coordinates")
+    x = [Frac(f.ring, f.ring.gen(v)) for v in f.variables]
+    images = [sum((a * xk for a, xk in zip(r, x, strict=True)), ck) for r, ck in zip(t, c, strict=True)]
+    common = f.ring.constant(1)
+    for img in images:
+        common = common * img.den / common.gcd(img.den)
+    polys = [img.num * (common / img.den) for img in images]
+    for v, g, r in zip(f.variables, source._rhs, t, strict=True):
+        if g.pullback(polys, common, f.variables) != sum((a * h for a, h in zip(r, f._rhs, strict=True)),
+                                                         Frac(f.ring, 0)):
+            raise Refutation(f"{where}: G(T x + c) != T F(x) in the component of {v}': the chart does not carry "
+                             "the source field to this one")
+    return {name: h.pullback(polys, common, f.variables) for name, h in known.items()}
+
+
+def _constant(f: KahanData, text: Any, where: str) -> Frac:
+    """An entry of T or c: a formula in the parameters only (constant along the map, free of eps)."""
+    if not isinstance(text, str):
+        raise CertificateError(f"{where}: every entry of 'matrix' and 'shift' must be a string")
+    value = f.parse(text, where)
+    if value.variables() - set(f.parameters):
+        raise CertificateError(f"{where}: the entry {value} of the affine change involves "
+                               f"{sorted(value.variables() - set(f.parameters))}: T and c may involve parameters only")
+    return value
 
 
 def _trial_points(f: KahanData) -> list[dict[str, flint.fmpq]]:
@@ -238,5 +281,6 @@ def _nonzero_on_image(f: KahanData, q: Frac) -> bool:
     return False
 
 
+CARRIERS = {"reparametrization": reparametrization, "affine-change": _affine_change}
 STEPS = {"substitution": _substitution, "prop-even": _prop_even, "darboux": _darboux, "recipe-g": _recipe_g,
           "degrees": _degrees}

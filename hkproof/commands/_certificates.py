@@ -17,7 +17,8 @@ from hkproof.hk.modified_hamiltonian import ModifiedHamiltonianResult
 from hkproof.pipelines.darboux import DarbouxSearch
 from hkproof.pipelines.discover.report import DiscoveryReport, FoundIntegral
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.export import Conclusion, claimed, darboux_step, document, field_data, substitution_step
+from hkproof.proof.export import (Conclusion, affine_change_step, claimed, darboux_step, document, field_data,
+                                  substitution_step)
 from hkproof.proof.status import Status
 
 
@@ -117,20 +118,30 @@ def discover_document(report: DiscoveryReport) -> dict:
                       "parameters": {b: str(image) for b, image in where.images(where.field.ring).items()},
                       "identity": "sigma(F_slice) = F: sigma sends each integral of the slice's Kahan map to one of "
                                   "this map",
-                      "integrals": [_lifted(f, name, on_slice[name]) for f, name in concluded]})
+                      "integrals": [_carried(_in_chart(f), name, on_slice[name]) for f, name in concluded]})
+    chart = report.chart if concluded else None
+    if chart is not None:
+        in_chart = {name: f"{name}_chart" for _, name in concluded}
+        steps = [_renamed(s, in_chart) for s in steps]
+        steps.append(affine_change_step(chart.field, chart.searched, chart.change.matrix, chart.change.shift,
+                                        [_carried(f.frac, name, in_chart[name]) for f, name in concluded
+                                         if f.frac is not None]))
     doc = document(f"integrals of the Kahan map of {report.system}", "", steps, report.fixed)
-    if where is not None:
+    if where is not None or chart is not None:
         doc["claim"]["integrals"] = [claimed(doc["steps"][-1], e) for e in doc["steps"][-1]["integrals"]]
     names = ", ".join(e["name"] for e in doc["claim"]["integrals"])
-    doc["claim"]["statement"] = (f"the integrals {names} are integrals of the Kahan "
-                                 f"map of {report.system}" + ("" if where is None else f" ({where.describe()}; the "
-                                 "steps before the last prove them, named <name>_slice, on the slice)"))
+    doc["claim"]["statement"] = (f"the integrals {names} are integrals of the Kahan map of {report.system}"
+                                 + ("" if where is None else f" ({where.describe()}; the steps that prove them on the "
+                                    "slice name them <name>_slice)")
+                                 + ("" if chart is None else f" ({chart.describe()}; the steps in the chart name "
+                                    "them <name>_chart)"))
     return doc
 
 
 def _renamed(step: dict, names: Mapping[str, str]) -> dict:
-    """The step with the integrals it concludes and cites renamed (whole names, by tokens)."""
-    return {**step, "integrals": [{**e, "name": names[e["name"]], "from": rename(e["from"], names)}
+    """The step with the integrals it concludes and cites renamed (whole names, by tokens; names not in `names`
+    kept)."""
+    return {**step, "integrals": [{**e, "name": names.get(e["name"], e["name"]), "from": rename(e["from"], names)}
                                   for e in step["integrals"]],
             **({"relations": _renamed_relations(step["relations"], names)} if "relations" in step else {})}
 
@@ -158,16 +169,22 @@ def _renamed_relations(relations: Sequence[dict], names: Mapping[str, str]) -> l
     return out
 
 
-def _lifted(found: FoundIntegral, name: str, source: str) -> dict:
-    """A reparametrization step's conclusion `name` from the slice's `source`: the lifted formula, unless it is
-    longer than a formula may be (the value is then sigma of the slice's integral, which the step defines exactly)."""
-    text = str(found.frac)
-    return {"name": name, "from": source, **({"formula": text} if len(text) <= LIMITS.length else {})}
+def _carried(value: Frac | None, name: str, source: str) -> dict:
+    """A conclusion `name` carried from `source` by a reparametrization or an affine change: the carried formula,
+    unless it is longer than a formula may be (the step then defines the value exactly from the source's)."""
+    text = str(value)
+    return {"name": name, "from": source, **({"formula": text} if value is not None and len(text) <= LIMITS.length
+                                             else {})}
+
+
+def _in_chart(found: FoundIntegral) -> Frac | None:
+    """The integral in the chart the search ran in (the user's, unless a normal form was searched)."""
+    return found.in_chart if found.in_chart is not None else found.frac
 
 
 def _searched(found: FoundIntegral) -> Frac | None:
-    """The integral as its proof steps speak of it: on the slice when the search ran on one."""
-    return found.searched if found.searched is not None else found.frac
+    """The integral as its proof steps speak of it: on the slice when the search ran on one, else in its chart."""
+    return found.searched if found.searched is not None else _in_chart(found)
 
 
 def _as_ratio(value: Frac, cert: Certificate, names: Sequence[str]) -> str | None:

@@ -16,14 +16,14 @@ from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import QuadraticField
 from hkproof.proof.certificate import Certificate
 
-__all__ = ["bivector_invariance_step", "casimir_step", "exclusion_step", "involution_step", "jacobi_step",
+__all__ = ["affine_change_step", "bivector_invariance_step", "casimir_step", "exclusion_step", "involution_step", "jacobi_step",
            "claimed", "CONVENTION", "Conclusion", "field_key", "darboux_step", "degrees_step", "document", "field_data", "FORMAT",
            "prop_even_blocks_step", "prop_even_step", "recipe_g_step", "relation_data", "substitution_step", "VERSION"]
 
 FORMAT = "hkproof-certificate"
-VERSION = 7                   # 2: darboux, recipe-g, densities; 3: degrees, cofactor "det Df"; 4: prop-even blocks;
+VERSION = 8                   # 2: darboux, recipe-g, densities; 3: degrees, cofactor "det Df"; 4: prop-even blocks;
 # 5: reparametrization; 6: the claim names the field of each integral and density, field keys ASCII; 7: the bivector
-# steps (bivector-invariance, jacobi, casimir, involution, exclusion) and the claim's bivectors
+# steps (bivector-invariance, jacobi, casimir, involution, exclusion) and the claim's bivectors; 8: affine-change
 Conclusion = tuple[str, Frac, str]      # (name, value, the value written in the step's own names)
 CONVENTION = "eps = h/2"      # x~ - x = 2 eps F(x, x~): hkproof's eps is half the time step h
 
@@ -41,6 +41,17 @@ def substitution_step(field: QuadraticField | dict, name: str, h: Frac | str) ->
     return {"kind": "substitution", "field": data, "function": str(h),
             "identity": f"{name}(f(x)) - {name}(x) = 0 in Q({ring}), f the Kahan map (x~ - x = 2 eps F(x, x~))",
             "integrals": [{"name": name, "formula": str(h), "from": name}]}
+
+
+def affine_change_step(field: QuadraticField, source: QuadraticField, matrix: Sequence[Sequence[str]],
+                       shift: Sequence[str], integrals: Sequence[dict]) -> dict:
+    """The step that carries integrals J of the Kahan map of `source` (the field in the chart y = T x + c) to
+    integrals J(T x + c) of the map of `field`: G(T x + c) = T F(x) exactly, det T != 0 (hk.affine_chart)."""
+    return {"kind": "affine-change", "field": field_data(field), "source": field_data(source),
+            "matrix": [list(row) for row in matrix], "shift": list(shift),
+            "identity": "G(T x + c) = T F(x) with det T != 0: g(T x + c) = T f(x) + c, and J(T x + c) is an integral "
+                        "of f for each integral J of g",
+            "integrals": list(integrals)}
 
 
 def relation_data(coefficients: Sequence[Frac], rhs: Frac | str, uses: Sequence[str] = ()) -> dict:
@@ -167,7 +178,7 @@ def document(title: str, statement: str, steps: Sequence[dict], fixed: Mapping[s
     for step in [*steps, *(s for c in certificates for s in c.checks)]:
         step = dict(step)
         key = keyed(step.pop("field"))
-        if "source" in step:                   # a reparametrization step reads the integrals of another field
+        if "source" in step:      # a reparametrization or affine-change step reads the integrals of another field
             step["source"] = keyed(step["source"])
         for kind in ("integrals", "densities"):
             if kind in step or kind == "integrals":

@@ -17,6 +17,7 @@ from hkproof.proof.status import Status
 
 if TYPE_CHECKING:
     from hkproof.dynamics.field import QuadraticField
+    from hkproof.pipelines.charts import Chart
     from hkproof.pipelines.slices import Slice
     from hkproof.pipelines.discover.solve import BasisProof
 
@@ -47,6 +48,7 @@ class FoundIntegral:
     certificate: Certificate | None = None       # the proof (for a basis proven whole, the basis's certificate)
     proof: BasisProof | None = field(default=None, repr=False, compare=False)   # the basis's data (Prop. "prop: even")
     searched: Frac | None = field(default=None, repr=False, compare=False)     # the integral on the slice, if lifted
+    in_chart: Frac | None = field(default=None, repr=False, compare=False)     # in the normal form's chart, if pulled back
 
     def too_large(self) -> bool:
         """Whether the formula is too long to print (or to factor for LaTeX) in a report read by a person."""
@@ -103,6 +105,7 @@ class DiscoveryReport:
     started: float = field(default_factory=time.perf_counter)
     on_slice: Slice | None = field(default=None, repr=False)     # searched on the slice of parameter translations
     searched: QuadraticField | None = field(default=None, repr=False)   # the field the proof steps speak of
+    chart: Chart | None = field(default=None, repr=False)       # searched in the chart of the affine normal form
 
     @property
     def independent(self) -> int:
@@ -122,12 +125,15 @@ class DiscoveryReport:
                 "negative_result": self.negative or None, "covered": self.covered, "complete": self.complete,
                 "stages": {k: round(v, 3) for k, v in self.stages.items()}, "probes": self.probes,
                 "slice": None if self.on_slice is None else self.on_slice.describe(),
+                "chart": None if self.chart is None else self.chart.describe(),
                 "seconds": round(time.perf_counter() - self.started, 3)}
 
     def text(self) -> str:
         """The integrals with their status, the kernels, the bases and what the search covered."""
         fixed = f" at {', '.join(f'{k}={v}' for k, v in self.fixed.items())}" if self.fixed else ""
         lines = [f"discover {self.system}{fixed}: monomials of degree <= {self.degree} in {', '.join(self.variables)}"]
+        if self.chart is not None:
+            lines.append(f"  {self.chart.describe()}")
         if self.on_slice is not None:
             lines.append(f"  {self.on_slice.describe()}")
         for k in self.kernels:

@@ -35,6 +35,7 @@ from hkproof.pipelines.discover.integral_bases import prove_with_integral_bases
 from hkproof.pipelines.discover.reconstruct import reconstruct_candidates
 from hkproof.pipelines.discover.report import DiscoveryReport, FoundIntegral
 from hkproof.pipelines.discover.screen import screen, without_conserved
+from hkproof.pipelines.charts import Chart, pull_back_integrals
 from hkproof.pipelines.slices import Slice, lift_integrals
 from hkproof.pipelines.stages import Progress, Stages
 from hkproof.proof.status import Status
@@ -49,12 +50,13 @@ INTEGRAL_BASIS_ROUNDS = 2    # groups of bases with integrals of the flow proven
 def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[str, Rational] | None = None,
              budget: Budget | None = None, seed: int = 0, progress: Progress | None = None, max_degree: int = 16,
              max_unknowns: int = 2500, mapper: Mapper | None = None, translations: bool = True,
-             symmetries: bool = True) -> DiscoveryReport:
+             symmetries: bool = True, charts: bool = True) -> DiscoveryReport:
     """Integrals of the Kahan map of `system` whose HK-bases are monomials of degree <= `degree`, certified; when the
     budget runs out, the report says what was covered ("complete": false). `mapper` runs the batches of probes of
     the sparse reconstruction (e.g. on a process pool); the result does not depend on it. `translations=False`
     searches with every parameter instead of on the slice of the field's parameter translations, `symmetries=False`
-    rebuilds every block of step 5d instead of carrying blocks by symmetries of the field (comparisons)."""
+    rebuilds every block of step 5d instead of carrying blocks by symmetries of the field, `charts=False` searches in
+    the coordinates given instead of the chart of the field's affine normal form (comparisons)."""
     if not 1 <= degree <= MAX_SEARCH_DEGREE:
         raise ParseError(f"the degree of the basis monomials must be between 1 and {MAX_SEARCH_DEGREE}, got {degree}")
     base = get_system(system) if isinstance(system, str) else system
@@ -68,7 +70,18 @@ def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[s
     stages = Stages("discover", progress)
     stages.started = report.started
     budget = budget or Budget(None)
-    where = Slice.of(original) if translations else Slice(original, original, ())
+    chart = None
+    if charts:
+        try:
+            chart = Chart.of(original)
+        except ResourceLimitError as exc:      # the budget ran out before the search: it runs in the chart given
+            report.covered.append(f"no normal form sought ({exc})")
+    if chart is not None:
+        report.chart = chart
+        report.covered.append(chart.describe())
+        stages.say(chart.describe())
+    in_chart = chart.searched if chart is not None else original
+    where = Slice.of(in_chart) if translations else Slice(in_chart, in_chart, ())
     if where.shifts:
         report.on_slice = where
         report.covered.append(where.describe())
@@ -80,13 +93,14 @@ def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[s
                                  max_degree=max_degree, max_unknowns=max_unknowns, mapper=mapper,
                                  symmetries=symmetries)
     with budget.active():
-        _run(ctx, report, conserved, kahan_map(original) if where.shifts else full_map)
+        _run(ctx, report, conserved, kahan_map(in_chart) if where.shifts else full_map, kahan_map(original))
     return report
 
 
-def _run(ctx: SearchContext, report: DiscoveryReport, conserved: list[str], target: KahanMap) -> None:
+def _run(ctx: SearchContext, report: DiscoveryReport, conserved: list[str], target: KahanMap, given: KahanMap) -> None:
     """The stages of discover, stopped cleanly by a limit (the report says what was covered); the integrals are
-    lifted from the slice (if the search ran on one) to `target`, the map of the system asked for."""
+    lifted from the slice (if the search ran on one) to `target`, the map of the chart searched, and pulled back
+    from that chart (if it is not the user's) to `given`, the map of the system asked for."""
     try:
         report.integrals += _conserved(ctx.full_map, conserved, ctx.fixed)
         report.conserved += conserved
@@ -100,7 +114,9 @@ def _run(ctx: SearchContext, report: DiscoveryReport, conserved: list[str], targ
     finally:
         if report.on_slice is not None:
             lift_integrals(report, report.on_slice, target, ctx.stages)
-        _independence(report, target, ctx.stages)
+        if report.chart is not None:
+            pull_back_integrals(report, report.chart, given, ctx.stages)
+        _independence(report, given, ctx.stages)
         ctx.stages.stop()
         report.stages = ctx.stages.seconds
 

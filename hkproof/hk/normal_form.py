@@ -1,0 +1,335 @@
+"""An affine chart in which a quadratic field is sparse, found from the field alone (hk.affine_chart proves the change).
+
+Two moves, each accepted only when the field in the new chart is shorter (a frame: at least SPARSER times, so the
+catalogue's charts stay as they are); nothing here decides a result: the search runs in the chart and every integral
+is proven back in the user's:
+
+1. a translation y = x - x0 that removes the linear part (D F(x0) = 0: linear equations in x0, solved exactly with
+   every parameter symbolic), making a homogeneous field homogeneous again;
+2. a linear frame adapted to the invariants of the continuous flow, computed at a random rational value of the
+   parameters: the integrals of degree <= 2 (linear algebra on L_F I = 0) give quadratic forms Q_i and linear
+   integrals; a non-degenerate combination Q0 makes each Q0^-1 Q_i self-adjoint; the space splits into their common
+   eigenspaces with rational eigenvalues; each eigenspace gets a Q0-orthogonal basis that starts from the linear
+   integrals, continues with the images of vectors already chosen (operators carry one block's frame to the next, as
+   m to p in the Lagrange top) and is completed from the standard basis, vectors of one eigenspace scaled to equal
+   Q0-norm where the ratio is a rational square (a rotation, not a stretch). The new coordinates are the dual basis.
+"""
+from __future__ import annotations
+
+import random
+from typing import Sequence
+
+import flint
+
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.linalg import cramer, nullspace_q, pivots_at, primitive_vector
+from hkproof.algebra.ring import Rational
+from hkproof.algebra.sampling import random_point
+from hkproof.budget import check
+from hkproof.dynamics.field import QuadraticField
+from hkproof.errors import HKProofError
+from hkproof.hk.affine_chart import AffineChange, transformed
+
+__all__ = ["field_size", "homogenizing_translation", "invariant_frames", "normal_form"]
+
+Vector = list[flint.fmpq]
+Matrix = tuple[tuple[str, ...], ...]
+FRAME_TRIALS = 6            # random choices of the form Q0 the frame is built on; the sparsest chart is kept
+SPARSER = 2                 # a frame is taken when it shrinks the field at least this many times (a chart the user
+                            # chose, such as the catalogue's, is kept unless another is much sparser)
+
+
+def field_size(field: QuadraticField) -> int:
+    """The length of the field's right-hand sides as text: terms and the sizes of their coefficients, the cost the
+    normal form lowers."""
+    return sum(len(str(f)) for f in field.rhs)
+
+
+def normal_form(field: QuadraticField, seed: int = 0) -> tuple[AffineChange, QuadraticField] | None:
+    """y = T x + c and the field in the chart y, when a translation or an invariant frame makes it sparser; None
+    when the given chart is as sparse as these moves make it."""
+    best = field
+    moves: list[AffineChange] = []
+    shift = homogenizing_translation(field)
+    if shift is not None:
+        moved = transformed(field, AffineChange.translation(shift), f"{field.name}[translated]")
+        if field_size(moved) < field_size(best):
+            best, moves = moved, [AffineChange.translation(shift)]
+    base = best
+    for frame in invariant_frames(base, random.Random(seed)):
+        linear = AffineChange(frame, ("0",) * len(frame))
+        try:
+            moved = transformed(base, linear, f"{field.name}[frame]")
+        except HKProofError:
+            continue
+        if SPARSER * field_size(moved) <= field_size(best):
+            best, moves = moved, moves[:1 if shift is not None and moves else 0] + [linear]
+    if not moves:
+        return None
+    change = _composed(field, moves)
+    return change, transformed(field, change, f"{field.name}[normal form]")
+
+
+def homogenizing_translation(field: QuadraticField) -> list[str] | None:
+    """-x0 with D F(x0) = 0 (the linear part of F(y + x0) vanishes), solved exactly over Q(parameters); None when
+    F has no linear part or no such x0 exists."""
+    names = field.variables
+    ring = field.ring
+    rows: list[list[Frac]] = []
+    rhs: list[Frac] = []
+    for f in field.rhs:
+        for v in names:
+            d = f.derivative(v)                              # affine in x: d(0) + sum_k d_k x_k
+            zero = d.substitute({u: 0 for u in names})
+            rows.append([d.derivative(u) for u in names])
+            rhs.append(-zero)
+    if all(r.is_zero() for r in rhs):
+        return None
+    point: dict[str, Rational] = {v: 0 for v in ring.names}
+    point.update(random_point(random.Random(1), list(field.parameters), 97))
+    chosen, pivots = pivots_at(rows, point)
+    if len(pivots) < len(names):
+        return None
+    try:
+        x0, _ = cramer([rows[i] for i in chosen[:len(names)]], [rhs[i] for i in chosen[:len(names)]])
+    except HKProofError:
+        return None
+    for row, b in zip(rows, rhs, strict=True):
+        if sum((a * x for a, x in zip(row, x0, strict=True)), Frac(ring, 0)) != b:
+            return None
+    return [str(-x) for x in x0]
+
+
+def invariant_frames(field: QuadraticField, rng: random.Random) -> list[Matrix]:
+    """Matrices T (rows as text) of frames adapted to the flow's integrals of degree <= 2 (found at one random value
+    of the parameters), one per random choice of the form Q0 they are built on; [] when the flow has no
+    non-degenerate quadratic integral form. The linear integrals become coordinates; the frame of the subspace W0
+    where they vanish is built from the forms restricted to it (there the squares of linear integrals vanish and
+    cannot couple the blocks)."""
+    values = random_point(rng, list(field.parameters), 1009)
+    special = field.specialize(values) if values else field
+    homogeneous, forms, linear = _small_integrals(special)
+    n = len(field.variables)
+    inside = nullspace_q(linear) if linear else [[flint.fmpq(int(i == j)) for i in range(n)] for j in range(n)]
+    m = len(inside)
+    if not m:
+        return []
+    b0 = flint.fmpq_mat(n, m, [inside[j][i] for i in range(n) for j in range(m)])
+    restricted = [[b0.transpose() * q * b0 for q in group] for group in (homogeneous, forms)]
+    frames = []
+    for trial in range(FRAME_TRIALS):
+        check("choosing the frame of the normal form")
+        first, second = restricted if trial % 2 == 0 else restricted[::-1]
+        frame = _frame(b0, first, second, forms, linear, rng)
+        if frame is not None and frame not in frames:
+            frames.append(frame)
+    return frames
+
+
+def _frame(b0: flint.fmpq_mat, first: list[flint.fmpq_mat], second: list[flint.fmpq_mat],
+           forms: list[flint.fmpq_mat], linear: list[Vector], rng: random.Random) -> Matrix | None:
+    """One frame: Q0 a random non-degenerate combination of `first` (else of `second`) on W0 (the columns of b0),
+    the eigenspaces of Q0^-1 Q, their bases, and the linear integrals' coordinates."""
+    n, m = b0.nrows(), b0.ncols()
+    q0 = _nondegenerate(first, rng) or _nondegenerate(second, rng)
+    if q0 is None:
+        return None
+    operators = [q0.inv() * q for q in [*first, *second]]
+    chosen: list[Vector] = []
+    sizes = [1] * len(linear)
+    for block in _eigenspaces([_identity(m)], operators):
+        candidates = [_project(_column(op * flint.fmpq_mat(m, 1, v)), block, q0) for v in chosen for op in operators]
+        free_from = len(candidates)
+        candidates += [_project([flint.fmpq(int(i == j)) for i in range(m)], block, q0) for j in range(m)]
+        own: list[Vector] = []
+        for k, v in enumerate(candidates):
+            w = _orthogonalized(v, own, q0)
+            if any(w):
+                if k >= free_from and own:
+                    w = _equal_norm(w, own[0], q0)
+                own.append(w)
+            if len(own) == len(block):
+                break
+        chosen += own
+        sizes.append(len(own))
+    if len(chosen) != m:
+        return None
+    frame = [_column(b0 * flint.fmpq_mat(m, 1, v)) for v in chosen]
+    ambient = _nondegenerate(forms, rng)
+    complement = ([_column(ambient.inv() * flint.fmpq_mat(n, 1, ell)) for ell in linear] if ambient is not None
+                  else [[flint.fmpq(e) for e in ell] for ell in linear])
+    vectors = complement + frame
+    basis = flint.fmpq_mat(n, n, [vectors[j][i] for i in range(n) for j in range(n)])
+    if basis.det() == 0:
+        return None
+    dual = basis.inv()
+    rows = [[dual[i, j] for j in range(n)] for i in range(n)]
+    starts = [sum(sizes[:k]) for k in range(len(sizes) + 1)]
+    scaled = [row for a, b in zip(starts, starts[1:]) for row in _primitive_matrix(rows[a:b])]
+    return tuple(tuple(str(e) for e in row) for row in scaled)
+
+
+def _primitive_matrix(rows: list[Vector]) -> list[list[flint.fmpz]]:
+    """The rows times one rational factor: integer entries with no common factor (the rows' relative scales kept)."""
+    flat = primitive_vector([e for row in rows for e in row])
+    n = len(rows[0])
+    return [flat[i * n:(i + 1) * n] for i in range(len(rows))]
+
+
+def _small_integrals(field: QuadraticField) -> tuple[list[flint.fmpq_mat], list[flint.fmpq_mat], list[Vector]]:
+    """For a field with numbers for parameters: the quadratic forms Q of its homogeneous integrals x^T Q x, the
+    quadratic parts of all its integrals x^T Q x + l.x, and its linear integrals l (linear algebra on L_F I = 0)."""
+    names = field.variables
+    n = len(names)
+    xs = [Frac(field.ring, field.ring.gen(v)) for v in names]
+    pairs = [(i, j) for i in range(n) for j in range(i, n)]
+    quadratic = [xs[i] * field.rhs[j] + xs[j] * field.rhs[i] for i, j in pairs]      # L_F (x_i x_j)
+    linear = list(field.rhs)                                                          # L_F x_i
+
+    def kernel(derivs: Sequence[Frac]) -> list[Vector]:
+        columns = [{tuple(m): flint.fmpq(c) / d.den.leading_coefficient() for m, c in d.num.to_dict().items()}
+                   for d in derivs]
+        monomials = sorted({m for col in columns for m in col})
+        return nullspace_q([[col.get(m, 0) for col in columns] for m in monomials])
+
+    def form(vec: Vector) -> flint.fmpq_mat:
+        q = flint.fmpq_mat(n, n)
+        for (i, j), c in zip(pairs, vec, strict=False):
+            q[i, j] += c if i == j else c / 2
+            if i != j:
+                q[j, i] += c / 2
+        return q
+
+    everything = [form(v) for v in kernel(quadratic + linear) if any(v[:len(pairs)])]
+    return [form(v) for v in kernel(quadratic)], everything, kernel(linear)
+
+
+def _nondegenerate(forms: Sequence[flint.fmpq_mat], rng: random.Random) -> flint.fmpq_mat | None:
+    """A random integer combination of the forms with det != 0 (a few tries), or None."""
+    if not forms:
+        return None
+    for _ in range(8):
+        q = forms[0] * 0
+        for f in forms:
+            q += f * rng.randint(1, 97)
+        if q.det() != 0:
+            return q
+    return None
+
+
+def _eigenspaces(blocks: list[flint.fmpq_mat], operators: Sequence[flint.fmpq_mat]) -> list[list[Vector]]:
+    """Split the space (the columns of blocks[0]) into common eigenspaces of the operators with rational eigenvalues,
+    each operator applied to each block it leaves invariant, until nothing splits."""
+    spaces = [_columns(b) for b in blocks]
+    changed = True
+    while changed:
+        changed = False
+        out: list[list[Vector]] = []
+        for space in spaces:
+            split = _split(space, operators)
+            changed |= len(split) > 1
+            out += split
+        spaces = out
+    return spaces
+
+
+def _split(space: list[Vector], operators: Sequence[flint.fmpq_mat]) -> list[list[Vector]]:
+    """The eigenspaces (rational eigenvalues) of the first operator that leaves `space` invariant and splits it."""
+    n = len(space[0])
+    basis = flint.fmpq_mat(n, len(space), [space[j][i] for i in range(n) for j in range(len(space))])
+    for m in operators:
+        image = m * basis
+        coords = _solve_in(basis, image)
+        if coords is None:
+            continue
+        k = len(space)
+        pieces = []
+        for factor, multiplicity in coords.charpoly().factor()[1]:
+            kernel = nullspace_q((_at_matrix(factor, coords) ** multiplicity).tolist())
+            pieces.append([_column(basis * flint.fmpq_mat(k, 1, v)) for v in kernel])
+        if len(pieces) > 1 and sum(len(p) for p in pieces) == len(space):
+            return pieces
+    return [space]
+
+
+def _at_matrix(g: flint.fmpq_poly, m: flint.fmpq_mat) -> flint.fmpq_mat:
+    """g(M) by Horner's rule."""
+    k = m.nrows()
+    out = flint.fmpq_mat(k, k)
+    for c in reversed(g.coeffs()):
+        out = out * m + c * _identity(k)
+    return out
+
+
+def _identity(k: int) -> flint.fmpq_mat:
+    return flint.fmpq_mat(k, k, [int(i == j) for i in range(k) for j in range(k)])
+
+
+def _solve_in(basis: flint.fmpq_mat, image: flint.fmpq_mat) -> flint.fmpq_mat | None:
+    """C with basis C = image, or None when the image leaves the span."""
+    cols = basis.ncols()
+    normal = basis.transpose() * basis
+    c = normal.solve(basis.transpose() * image)
+    return c if basis * c == image else None
+
+
+def _project(v: Vector, block: list[Vector], q0: flint.fmpq_mat) -> Vector:
+    """The Q0-orthogonal projection of v onto the span of `block` (eigenspaces of self-adjoint operators are
+    Q0-orthogonal to one another, so this is the component of v in that eigenspace)."""
+    k = len(block)
+    b = flint.fmpq_mat(len(v), k, [block[j][i] for i in range(len(v)) for j in range(k)])
+    gram = b.transpose() * q0 * b
+    coeffs = gram.solve(b.transpose() * q0 * flint.fmpq_mat(len(v), 1, v))
+    return _column(b * coeffs)
+
+
+def _orthogonalized(v: Vector, basis: Sequence[Vector], q0: flint.fmpq_mat) -> Vector:
+    """v minus its Q0-projections on the (Q0-orthogonal) vectors of `basis`."""
+    out = list(v)
+    for b in basis:
+        nb = _form(q0, b, b)
+        if nb != 0:
+            c = _form(q0, out, b) / nb
+            out = [x - c * y for x, y in zip(out, b, strict=True)]
+    return out
+
+
+def _equal_norm(w: Vector, ref: Vector, q0: flint.fmpq_mat) -> Vector:
+    """w scaled to the Q0-norm of `ref` when the ratio of the norms is a rational square (otherwise w)."""
+    a, b = _form(q0, ref, ref), _form(q0, w, w)
+    if a == 0 or b == 0:
+        return w
+    ratio = a / b
+    num, den = ratio.p, ratio.q
+    if num < 0:
+        return w
+    rn, rd = flint.fmpz(num).sqrtrem(), flint.fmpz(den).sqrtrem()
+    if rn[1] != 0 or rd[1] != 0:
+        return w
+    s = flint.fmpq(rn[0], rd[0])
+    return [s * x for x in w]
+
+
+def _form(q0: flint.fmpq_mat, u: Vector, v: Vector) -> flint.fmpq:
+    n = len(u)
+    return (flint.fmpq_mat(1, n, u) * q0 * flint.fmpq_mat(n, 1, v))[0, 0]
+
+
+def _column(m: flint.fmpq_mat) -> Vector:
+    return [m[i, 0] for i in range(m.nrows())]
+
+
+def _columns(m: flint.fmpq_mat) -> list[Vector]:
+    return [[m[i, j] for i in range(m.nrows())] for j in range(m.ncols())]
+
+
+def _composed(field: QuadraticField, moves: Sequence[AffineChange]) -> AffineChange:
+    """One change y = T x + c equal to the moves applied in order (each read in the field's ring)."""
+    n = len(field.variables)
+    t = [[Frac(field.ring, int(i == j)) for j in range(n)] for i in range(n)]
+    c = [Frac(field.ring, 0) for _ in range(n)]
+    for move in moves:
+        tm, cm = move.entries(field)
+        t = [[sum((tm[i][k] * t[k][j] for k in range(n)), Frac(field.ring, 0)) for j in range(n)] for i in range(n)]
+        c = [sum((tm[i][k] * c[k] for k in range(n)), cm[i]) for i in range(n)]
+    return AffineChange(tuple(tuple(str(e) for e in row) for row in t), tuple(str(e) for e in c))
