@@ -18,8 +18,10 @@ KIND = "modified Hamiltonian"
 
 def seed_modified_hamiltonian(ctx: SearchContext, report: DiscoveryReport) -> None:
     """Detect F = J grad H on the searched field, build H~ and append it to the report with its certificate (the
-    substitution step); say what was done. A field that is not of this form adds nothing."""
+    substitution step); say what was done, timed as the stage "modified Hamiltonian". A field that is not of this
+    form adds nothing."""
     kmap = ctx.full_map
+    ctx.stages.start(KIND, "looking for F = J grad H with J constant and skew and H cubic")
     start = time.perf_counter()
     structure = hamiltonian_structure(kmap.field)
     if structure is None:
