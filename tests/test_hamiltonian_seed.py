@@ -21,6 +21,7 @@ from hkproof.hk.flow_integrals import continuous_integral_circuits
 from hkproof.hk.hamiltonian_structure import hamiltonian_structure, invariant_poisson_matrices
 from hkproof.hk.integrals import lie_derivative
 from hkproof.hk.modified_hamiltonian import modified_hamiltonian
+from hkproof.pipelines.discover import run
 from hkproof.pipelines.discover.bases import confirm_basis
 from hkproof.pipelines.discover.context import SearchContext
 from hkproof.pipelines.discover.hamiltonian_seed import KIND, seed_modified_hamiltonian
@@ -169,3 +170,20 @@ def test_a_basis_is_confirmed_mod_p_when_exact_heights_explode():
     assert "from above" in entry["check"] and "grow exponentially" in entry["check"]
     wrong = confirm_basis(scene, basis[1:])
     assert wrong["status"] == Status.UNKNOWN.label and wrong["dimension"] is None
+
+
+def test_discover_with_the_seed_first_proves_what_the_search_alone_does_not_see(monkeypatch):
+    """The seed called at the start of the search (monkeypatched here; run.py calls it there): on the KdV-case map
+    at degree 2 the search alone finds no kernel, with the seed H~ is proven, independent, and in the report."""
+    field = QuadraticField.from_toml(KDV)
+    assert run.discover(field, 2).verified == []
+    search = run._search
+
+    def seeded(ctx, report):
+        seed_modified_hamiltonian(ctx, report)
+        search(ctx, report)
+    monkeypatch.setattr(run, "_search", seeded)
+    report = run.discover(field, 2)
+    [found] = report.verified
+    assert found.kind == KIND and found.independent and found.status is Status.VERIFIED
+    assert KIND in report.stages and "modified Hamiltonian" in report.text()
