@@ -107,3 +107,16 @@ def test_normal_form_is_sparser_and_can_be_switched_off():
     change, searched = normal_form(field)
     assert field_size(searched) < field_size(field) and field_mismatches(field, searched, change) == []
     assert discover(field, 2, charts=False).chart is None
+
+
+def test_centring_translation_and_diagonal_scaling_recover_the_catalogue_size():
+    """A field with a linear part of its own (Gaudin: b s2 in s1') translated, and a field stretched along its axes:
+    the normal form is as short as the catalogue's field (up to signs)."""
+    gaudin = get_system("gaudin-2")
+    moved = _in_chart("gaudin-2", "translation", 7)
+    change, searched = normal_form(moved)
+    assert change.is_translation() and field_size(searched) == field_size(gaudin)
+    stretched = transformed(get_system("euler-top"), AffineChange((("2", "0", "0"), ("0", "3", "0"), ("0", "0", "-5")),
+                                                                  ("0", "0", "0")))
+    _, searched = normal_form(stretched)
+    assert field_size(searched) <= field_size(get_system("euler-top")) + 3

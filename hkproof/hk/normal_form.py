@@ -5,7 +5,9 @@ catalogue's charts stay as they are); nothing here decides a result: the search 
 is proven back in the user's:
 
 1. a translation y = x - x0 that removes the linear part (D F(x0) = 0: linear equations in x0, solved exactly with
-   every parameter symbolic), making a homogeneous field homogeneous again;
+   every parameter symbolic), making a homogeneous field homogeneous again; or, when the field has a linear part of
+   its own, the translation that removes every part of the linear part that depends on x0, parameter monomial by
+   parameter monomial (`centring_translation`);
 2. a linear frame adapted to the invariants of the continuous flow, computed at a random rational value of the
    parameters: the integrals of degree <= 2 (linear algebra on L_F I = 0) give quadratic forms Q_i and linear
    integrals; a non-degenerate combination Q0 makes each Q0^-1 Q_i self-adjoint; the space splits into their common
@@ -30,7 +32,7 @@ from hkproof.dynamics.field import QuadraticField
 from hkproof.errors import HKProofError
 from hkproof.hk.affine_chart import AffineChange, transformed
 
-__all__ = ["field_size", "homogenizing_translation", "invariant_frames", "normal_form"]
+__all__ = ["centring_translation", "diagonal_scaling", "field_size", "homogenizing_translation", "invariant_frames", "normal_form"]
 
 Vector = list[flint.fmpq]
 Matrix = tuple[tuple[str, ...], ...]
@@ -50,11 +52,11 @@ def normal_form(field: QuadraticField, seed: int = 0) -> tuple[AffineChange, Qua
     when the given chart is as sparse as these moves make it."""
     best = field
     moves: list[AffineChange] = []
-    shift = homogenizing_translation(field)
-    if shift is not None:
-        moved = transformed(field, AffineChange.translation(shift), f"{field.name}[translated]")
-        if field_size(moved) < field_size(best):
-            best, moves = moved, [AffineChange.translation(shift)]
+    for shift in (homogenizing_translation(field), centring_translation(field)):
+        if shift is not None and any(c != "0" for c in shift):
+            moved = transformed(field, AffineChange.translation(shift), f"{field.name}[translated]")
+            if field_size(moved) < field_size(best):
+                best, moves = moved, [AffineChange.translation(shift)]
     base = best
     for frame in invariant_frames(base, random.Random(seed)):
         linear = AffineChange(frame, ("0",) * len(frame))
@@ -63,7 +65,17 @@ def normal_form(field: QuadraticField, seed: int = 0) -> tuple[AffineChange, Qua
         except HKProofError:
             continue
         if SPARSER * field_size(moved) <= field_size(best):
-            best, moves = moved, moves[:1 if shift is not None and moves else 0] + [linear]
+            best, moves = moved, moves[:1] if moves and moves[0].is_translation() else []
+            moves.append(linear)
+    scaling = diagonal_scaling(best)
+    if scaling is not None:
+        n = len(scaling)
+        diagonal = AffineChange(tuple(tuple(scaling[i] if i == j else "0" for j in range(n)) for i in range(n)),
+                                ("0",) * n)
+        moved = transformed(best, diagonal, f"{field.name}[scaled]")
+        if field_size(moved) < field_size(best):
+            best = moved
+            moves.append(diagonal)
     if not moves:
         return None
     change = _composed(field, moves)
@@ -98,6 +110,92 @@ def homogenizing_translation(field: QuadraticField) -> list[str] | None:
         if sum((a * x for a, x in zip(row, x0, strict=True)), Frac(ring, 0)) != b:
             return None
     return [str(-x) for x in x0]
+
+
+def centring_translation(field: QuadraticField) -> list[str] | None:
+    """-x0 (rational numbers) with every part of D F(x0) that depends on x0 vanishing, coefficient by coefficient in
+    the parameters: for each entry (i, j) and each monomial mu in eps-free parameters, the mu-part of d F_i/d x_j is
+    affine in x0; the parts with a non-zero x0-coefficient are set to 0 (exact linear algebra over Q), the others
+    (a linear part of the field such as b s2 in the Gaudin magnet) are what no translation changes. None when these
+    equations have no solution or not a unique one."""
+    names = field.variables
+    ring = field.ring
+    phase = [ring.index(v) for v in names]
+    rows: dict[tuple, list[flint.fmpq]] = {}
+    for i, f in enumerate(field.rhs):
+        for j in phase:
+            for m, c in f.num.derivative(j).to_dict().items():
+                mu = tuple(e for k, e in enumerate(m) if k not in phase)
+                row = rows.setdefault((i, j, mu), [flint.fmpq(0)] * (len(names) + 1))
+                degree = [m[k] for k in phase]
+                if sum(degree):
+                    row[degree.index(1)] += flint.fmpq(c)
+                else:
+                    row[-1] -= flint.fmpq(c)
+    system = [r for r in rows.values() if any(r[:-1])]
+    if not system:
+        return None
+    x0 = _particular_solution(system)
+    return None if x0 is None else [str(-v) for v in x0]
+
+
+def _particular_solution(system: Sequence[Vector]) -> Vector | None:
+    """A solution of the rows [a | b] (a x = b) with the free unknowns 0, None when there is none."""
+    n = len(system[0]) - 1
+    if flint.fmpq_mat([r[:-1] for r in system]).rank() != flint.fmpq_mat(list(system)).rank():
+        return None
+    reduced, rank = flint.fmpq_mat(list(system)).rref()
+    x = [flint.fmpq(0)] * n
+    for i in range(rank):
+        pivot = next(j for j in range(n) if reduced[i, j] != 0)
+        x[pivot] = reduced[i, n]
+    return x
+
+
+def diagonal_scaling(field: QuadraticField) -> list[str] | None:
+    """lambda with y_i = lambda_i x_i making the numerical factors of the field's terms 1 where they can be: for each
+    prime p, the p-adic valuations e (lambda_i = prod p^(e_i)) solve (e_j - m).e = -v_p(factor) over all terms
+    x^m of F_j exactly (each prime with a consistent integer solution; the others left as they are); None when
+    every factor is 1 already or no prime can be removed."""
+    names = field.variables
+    ring = field.ring
+    phase = [ring.index(v) for v in names]
+    terms: list[tuple[list[int], flint.fmpq]] = []
+    for j, f in enumerate(field.rhs):
+        groups: dict[tuple[int, ...], list[int]] = {}
+        for m, c in f.num.to_dict().items():
+            groups.setdefault(tuple(m[k] for k in phase), []).append(int(c))
+        below = _content(f.den.coeffs())
+        for m, coefficients in groups.items():
+            row = [int(j == k) - m[k] for k in range(len(names))]
+            terms.append((row, flint.fmpq(_content(coefficients), below)))
+    primes = sorted({int(p) for _, c in terms for q in (c.p, c.q) for p, _ in flint.fmpz(q).factor()})
+    scale = [flint.fmpq(1)] * len(names)
+    for p in primes:
+        system = [[flint.fmpq(e) for e in row] + [flint.fmpq(-_valuation(c, p))] for row, c in terms]
+        e = _particular_solution(system)
+        if e is None or any(v.q != 1 for v in e):
+            continue
+        scale = [s * flint.fmpq(p) ** int(v.p) for s, v in zip(scale, e, strict=True)]
+    return None if all(s == 1 for s in scale) else [str(s) for s in scale]
+
+
+def _content(coefficients: Sequence) -> int:
+    g = flint.fmpz(0)
+    for c in coefficients:
+        g = g.gcd(flint.fmpz(c))
+    return int(g)
+
+
+def _valuation(c: flint.fmpq, p: int) -> int:
+    """The p-adic valuation of a non-zero rational."""
+    out = 0
+    num, den = flint.fmpz(c.p), flint.fmpz(c.q)
+    while num % p == 0:
+        num, out = num // p, out + 1
+    while den % p == 0:
+        den, out = den // p, out - 1
+    return out
 
 
 def invariant_frames(field: QuadraticField, rng: random.Random) -> list[Matrix]:
