@@ -305,7 +305,7 @@ def test_henon_heiles_modified_energy_by_sparse_reconstruction_and_substitution(
     from tests.sympy_bridge import constant_along_sympy_orbit
 
     path = str(Path(__file__).resolve().parents[1] / "docs" / "examples" / "henon-heiles.toml")
-    report = discover(get_system(path), 4, budget=Budget(300))
+    report = discover(get_system(path), 4, budget=Budget(300), hamiltonian=False)
     proven = [i for i in report.integrals if i.status is Status.VERIFIED and i.frac is not None]
     assert len(proven) == 1 and proven[0].independent and report.complete
     assert any("sparse reconstruction over prime fields" in n for n in proven[0].notes)
@@ -371,3 +371,13 @@ def test_independent_subset_skips_dependent_functions_and_evaluates_each_gradien
     xs = sympy.symbols("x1 x2 x3")
     jac = sympy.Matrix([[sympy.diff(sympy.sympify(texts[i]), x) for x in xs] for i in chosen])
     assert jac.rank() == 3
+
+
+def test_henon_heiles_seeded_modified_hamiltonian_is_not_proven_twice():
+    """With the seed (the default) H~ is proven first, and the kernel coordinate it makes dependent is not proven
+    again: one verified integral, found by the modified-Hamiltonian route."""
+    from hkproof.dynamics.catalogue import get_system
+    path = str(Path(__file__).resolve().parents[1] / "docs" / "examples" / "henon-heiles.toml")
+    report = discover(get_system(path), 4, budget=Budget(300))
+    [proven] = report.verified
+    assert proven.kind == "modified Hamiltonian" and proven.independent

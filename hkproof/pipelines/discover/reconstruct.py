@@ -81,11 +81,12 @@ class _Progress:
 
 
 def reconstruct_candidates(ctx: SearchContext, report: DiscoveryReport, candidates: list[Candidate], target: int,
-                           p: int) -> Reconstructed:
-    """Prove kernel coordinates, one per new independent gradient, simplest first; passes repeat while a pass proves
-    a new integral (a postponed basis may go through then). The integrals are appended to `report` as they are found,
-    so that a budget running out keeps them."""
-    state = _Progress(known={i.name: i.frac.to_ring(ctx.kmap.ring) for i in report.integrals
+                           p: int, proven: Sequence[list[int]] = ()) -> Reconstructed:
+    """Prove kernel coordinates, one per new independent gradient, simplest first (`proven`: gradients of integrals
+    proven before, which candidates must go beyond); passes repeat while a pass proves a new integral (a postponed
+    basis may go through then). The integrals are appended to `report` as they are found, so that a budget running
+    out keeps them."""
+    state = _Progress(accepted=list(proven), known={i.name: i.frac.to_ring(ctx.kmap.ring) for i in report.integrals
                              if i.frac is not None and i.status >= Status.VERIFIED_SPECIALIZED
                              and not is_phase_constant(i.frac, ctx.full_map.variables)
                              and set(i.frac.variables()) <= set(ctx.kmap.ring.names)})

@@ -31,6 +31,7 @@ from hkproof.experiments.scene import make_scene
 from hkproof.hk.certified_integrals import certify, independent_subset, jacobian_points
 from hkproof.pipelines.discover.bases import confirm_basis, minimal_bases
 from hkproof.pipelines.discover.context import SearchContext
+from hkproof.pipelines.discover.hamiltonian_seed import seed_modified_hamiltonian
 from hkproof.pipelines.discover.integral_bases import prove_with_integral_bases
 from hkproof.pipelines.discover.reconstruct import reconstruct_candidates
 from hkproof.pipelines.discover.report import DiscoveryReport, FoundIntegral
@@ -50,13 +51,14 @@ INTEGRAL_BASIS_ROUNDS = 2    # groups of bases with integrals of the flow proven
 def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[str, Rational] | None = None,
              budget: Budget | None = None, seed: int = 0, progress: Progress | None = None, max_degree: int = 16,
              max_unknowns: int = 2500, mapper: Mapper | None = None, translations: bool = True,
-             symmetries: bool = True, charts: bool = True) -> DiscoveryReport:
+             symmetries: bool = True, charts: bool = True, hamiltonian: bool = True) -> DiscoveryReport:
     """Integrals of the Kahan map of `system` whose HK-bases are monomials of degree <= `degree`, certified; when the
     budget runs out, the report says what was covered ("complete": false). `mapper` runs the batches of probes of
     the sparse reconstruction (e.g. on a process pool); the result does not depend on it. `translations=False`
     searches with every parameter instead of on the slice of the field's parameter translations, `symmetries=False`
     rebuilds every block of step 5d instead of carrying blocks by symmetries of the field, `charts=False` searches in
-    the coordinates given instead of the chart of the field's affine normal form (comparisons)."""
+    the coordinates given instead of the chart of the field's affine normal form, `hamiltonian=False` does not seed the
+    modified Hamiltonian of a field F = J grad H (comparisons)."""
     if not 1 <= degree <= MAX_SEARCH_DEGREE:
         raise ParseError(f"the degree of the basis monomials must be between 1 and {MAX_SEARCH_DEGREE}, got {degree}")
     base = get_system(system) if isinstance(system, str) else system
@@ -91,7 +93,7 @@ def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[s
     kmap = kahan_map(field)
     ctx = SearchContext.for_maps(kmap, full_map, fixed=fixed, seed=seed, budget=budget, stages=stages,
                                  max_degree=max_degree, max_unknowns=max_unknowns, mapper=mapper,
-                                 symmetries=symmetries)
+                                 symmetries=symmetries, hamiltonian=hamiltonian)
     with budget.active():
         _run(ctx, report, conserved, kahan_map(in_chart) if where.shifts else full_map, kahan_map(original))
     return report
@@ -135,8 +137,11 @@ def _conserved(kmap: KahanMap, conserved: list[str], fixed: Mapping[str, flint.f
 
 
 def _search(ctx: SearchContext, report: DiscoveryReport) -> None:
-    """Screen, find minimal bases and candidates, confirm the bases, reconstruct and certify."""
+    """The modified Hamiltonian when the field has one (hamiltonian_seed); then screen, find minimal bases and
+    candidates, confirm the bases, reconstruct and certify."""
     kmap, rng, stages = ctx.kmap, ctx.rng, ctx.stages
+    if ctx.hamiltonian:
+        seed_modified_hamiltonian(ctx, report)
     n = len(kmap.variables)
     degree = report.degree
     # a generic scene: normalized names 1 (as in reconstruction), the others random
@@ -177,6 +182,8 @@ def _search(ctx: SearchContext, report: DiscoveryReport) -> None:
     # how many independent integrals the kernels carry (gradients mod p), and which coordinates show them
     chosen_rank = rank_mod_p([c.gradient for c in candidates], probe.p) if candidates else 0
     report.expected_independent = chosen_rank
+    seeded = _proven_gradients(ctx, report, probe, values)      # the modified Hamiltonian, when it was seeded
+    target = rank_mod_p([c.gradient for c in candidates] + seeded, probe.p) if candidates or seeded else 0
     stages.say(f"{len(report.bases)} minimal HK-bases; their kernel coordinates carry {chosen_rank} independent "
                "integrals (gradients mod p)")
 
@@ -187,10 +194,29 @@ def _search(ctx: SearchContext, report: DiscoveryReport) -> None:
                      if k < MAX_CONFIRMED else
                      {"dimension": None, "status": Status.UNKNOWN.label, "check": "not confirmed (cap)"})
 
-    done = reconstruct_candidates(ctx, report, candidates, chosen_rank, probe.p)
+    done = reconstruct_candidates(ctx, report, candidates, target, probe.p, seeded)
     report.skipped += done.skipped
     report.covered.append(done.covered)
-    _with_integral_bases(ctx, report, probe, new_degrees, chosen_rank)
+    _with_integral_bases(ctx, report, probe, new_degrees, target)
+
+
+def _proven_gradients(ctx: SearchContext, report: DiscoveryReport, probe, values: Mapping[str, flint.fmpq]
+                      ) -> list[list[int]]:
+    """Independent gradients mod p, at the probe's point, of the integrals proven before the search (the seeded
+    modified Hamiltonian): kernel coordinates that depend on them are not proven again."""
+    ring, p = ctx.kmap.ring, probe.p
+    at = dict(zip(ctx.kmap.variables, probe.point, strict=True)) | dict(values)
+    point = [int(at[name].p) * pow(int(at[name].q), -1, p) % p for name in ring.names]
+    phase = [ring.index(v) for v in ctx.kmap.variables]
+    out: list[list[int]] = []
+    for found in report.integrals:
+        if found.frac is None or found.status < Status.VERIFIED_SPECIALIZED or \
+                not set(found.frac.variables()) <= set(ring.names):
+            continue
+        g = found.frac.to_ring(ring).mod_p(p).gradient(point, phase)
+        if g is not None and rank_mod_p(out + [g], p) > len(out):
+            out.append(g)
+    return out
 
 
 def _with_integral_bases(ctx: SearchContext, report: DiscoveryReport, probe, degrees: list[int], target: int) -> None:
