@@ -1,20 +1,22 @@
 """An affine chart in which a quadratic field is sparse, found from the field alone (hk.affine_chart proves the change).
 
-Two moves, each accepted only when the field in the new chart is shorter (a frame: at least SPARSER times, so the
-catalogue's charts stay as they are); nothing here decides a result: the search runs in the chart and every integral
-is proven back in the user's:
+Three moves, each accepted only when the right-hand sides get shorter (a frame: at least SPARSER times, so the
+catalogue's charts stay as they are). Nothing here decides a result: the search runs in the chart and every integral
+is proven back in the user's.
 
-1. a translation y = x - x0 that removes the linear part (D F(x0) = 0: linear equations in x0, solved exactly with
+1. A translation y = x - x0 that removes the linear part (D F(x0) = 0: linear equations in x0, solved exactly with
    every parameter symbolic), making a homogeneous field homogeneous again; or, when the field has a linear part of
-   its own, the translation that removes every part of the linear part that depends on x0, parameter monomial by
-   parameter monomial (`centring_translation`);
-2. a linear frame adapted to the invariants of the continuous flow, computed at a random rational value of the
+   its own, the translation that removes every part of D F(x0) that depends on x0, parameter monomial by parameter
+   monomial (`centring_translation`).
+2. A linear frame adapted to the invariants of the continuous flow, computed at a random rational value of the
    parameters: the integrals of degree <= 2 (linear algebra on L_F I = 0) give quadratic forms Q_i and linear
-   integrals; a non-degenerate combination Q0 makes each Q0^-1 Q_i self-adjoint; the space splits into their common
-   eigenspaces with rational eigenvalues; each eigenspace gets a Q0-orthogonal basis that starts from the linear
-   integrals, continues with the images of vectors already chosen (operators carry one block's frame to the next, as
-   m to p in the Lagrange top) and is completed from the standard basis, vectors of one eigenspace scaled to equal
-   Q0-norm where the ratio is a rational square (a rotation, not a stretch). The new coordinates are the dual basis.
+   integrals l. The linear integrals become coordinates. On W0 = {l = 0} a non-degenerate combination Q0 of the
+   forms (homogeneous integrals first) makes each Q0^-1 Q_i self-adjoint, W0 splits into their primary components
+   over Q, and each block gets a Q0-orthogonal basis that continues with the images of vectors already chosen
+   (operators carry one block's frame to the next) and is completed from the standard basis, scaled to equal
+   Q0-norms where the ratio is a rational square (a rotation, not a stretch). The new coordinates are the dual basis.
+3. A diagonal scaling that makes the numerical factors of the terms 1 where it can (p-adic valuations, one linear
+   system per prime): a chart that stretched the axes is stretched back.
 """
 from __future__ import annotations
 
@@ -235,7 +237,7 @@ def _frame(b0: flint.fmpq_mat, first: list[flint.fmpq_mat], second: list[flint.f
     operators = [q0.inv() * q for q in [*first, *second]]
     chosen: list[Vector] = []
     sizes = [1] * len(linear)
-    for block in _eigenspaces([_identity(m)], operators):
+    for block in _eigenspaces(m, operators):
         candidates = [_project(_column(op * flint.fmpq_mat(m, 1, v)), block, q0) for v in chosen for op in operators]
         free_from = len(candidates)
         candidates += [_project([flint.fmpq(int(i == j)) for i in range(m)], block, q0) for j in range(m)]
@@ -315,10 +317,11 @@ def _nondegenerate(forms: Sequence[flint.fmpq_mat], rng: random.Random) -> flint
     return None
 
 
-def _eigenspaces(blocks: list[flint.fmpq_mat], operators: Sequence[flint.fmpq_mat]) -> list[list[Vector]]:
-    """Split the space (the columns of blocks[0]) into common eigenspaces of the operators with rational eigenvalues,
-    each operator applied to each block it leaves invariant, until nothing splits."""
-    spaces = [_columns(b) for b in blocks]
+def _eigenspaces(m: int, operators: Sequence[flint.fmpq_mat]) -> list[list[Vector]]:
+    """Split Q^m into the primary components over Q (kernels of g(M)^k for the irreducible factors g^k of the
+    characteristic polynomial) of the operators, each applied to each block it leaves invariant, until nothing
+    splits."""
+    spaces = [_columns(_identity(m))]
     changed = True
     while changed:
         changed = False
@@ -332,7 +335,7 @@ def _eigenspaces(blocks: list[flint.fmpq_mat], operators: Sequence[flint.fmpq_ma
 
 
 def _split(space: list[Vector], operators: Sequence[flint.fmpq_mat]) -> list[list[Vector]]:
-    """The eigenspaces (rational eigenvalues) of the first operator that leaves `space` invariant and splits it."""
+    """The primary components of the first operator that leaves `space` invariant and splits it."""
     n = len(space[0])
     basis = flint.fmpq_mat(n, len(space), [space[j][i] for i in range(n) for j in range(len(space))])
     for m in operators:
@@ -365,7 +368,6 @@ def _identity(k: int) -> flint.fmpq_mat:
 
 def _solve_in(basis: flint.fmpq_mat, image: flint.fmpq_mat) -> flint.fmpq_mat | None:
     """C with basis C = image, or None when the image leaves the span."""
-    cols = basis.ncols()
     normal = basis.transpose() * basis
     c = normal.solve(basis.transpose() * image)
     return c if basis * c == image else None
