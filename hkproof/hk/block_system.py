@@ -200,7 +200,8 @@ def verify_candidate(cert: Certificate, system: BlockSystem, names: Sequence[str
     carried = {dst for _, dst, _ in symmetry.images} if symmetry else set()
     with cert.step("the candidate satisfies the system", "substitution: relations and rows i = 0 exactly, rows with "
                    "iterates by Horner's scheme in the numerators of f^i (hk.row_check: expanded, or at the points of "
-                   "a unisolvent lattice in the parameters; the route of each row is noted)" +
+                   "a unisolvent lattice in the parameters, or modulo primes beyond twice a proven coefficient "
+                   "bound; the route of each row is noted)" +
                    ("; the rows of the carried blocks as images under a symmetry of f (checked)" if carried else ""),
                    ring) as s:
         for k, rel in enumerate(system.relations):
