@@ -83,16 +83,17 @@ def decide_identity(terms: dict[Exponents, flint.fmpz_mpoly], factors: Sequence[
                     names: Sequence[str], free: Sequence[str], route: Route, what: str, where: str) -> RowCheck:
     """sum_mu terms[mu] prod_j factors[j]^mu_j == 0 in Z[names] by `route` ("auto": the cheapest by `RouteCosts`);
     `free` are the names the gradings may set to 1, and the lattice is on those after the first (the parameters)."""
-    costs = RouteCosts(terms, factors, names, free)
-    chosen = costs.cheapest if route == "auto" else route
+    costs = RouteCosts(terms, factors, names, free) if route == "auto" else None
+    chosen = costs.cheapest if costs else route
     if chosen == "lattice":
-        plan = costs.lattice or plan_lattice(terms, factors, names, free, ())
+        plan = costs.lattice if costs and costs.lattice else plan_lattice(terms, factors, names, free, tuple(free[1:]))
         with flint_threads():
             holds, bad = vanishes_on_lattice(terms, factors, plan, jobs=cores())
         return RowCheck(holds, f"{what}: {plan.describe()}" + (f"; not zero at {bad}" if bad else ""), "lattice")
     if chosen == "modular":
-        holds, prime = vanishes_modulo(terms, factors, costs.modular.primes, jobs=cores())
-        return RowCheck(holds, f"{what} by Horner's scheme in {where}, modulo primes: {costs.modular.describe()}" +
+        modular = costs.modular if costs else plan_modular(terms, factors, 0, cores())
+        holds, prime = vanishes_modulo(terms, factors, modular.primes, jobs=cores())
+        return RowCheck(holds, f"{what} by Horner's scheme in {where}, modulo primes: {modular.describe()}" +
                         (f"; not zero modulo {prime}" if prime else ""), "modular")
     holds = current().call(f"checking {what} by Horner's scheme", _vanishes, terms, factors)
     return RowCheck(holds, f"{what} by Horner's scheme in {where}, expanded", "horner")
