@@ -3,15 +3,20 @@ from __future__ import annotations
 
 import json
 import math
+import random
 from pathlib import Path
 
+import flint
 import pytest
 
 from hkproof.cli import main
 from hkproof.dynamics.catalogue import kahan_map
+from hkproof.algebra.modular import random_prime
 from hkproof.dynamics.degree_growth import degree_growth, fit_growth
+from hkproof.dynamics.line_iterates import LineKahanMap, degree
 
-RIGID = str(Path(__file__).resolve().parent.parent / "docs" / "examples" / "rigid-body.toml")
+EXAMPLES = Path(__file__).resolve().parent.parent / "docs" / "examples"
+RIGID = str(EXAMPLES / "rigid-body.toml")
 
 
 def run(capsys, *args: str) -> tuple[int, dict]:
@@ -132,8 +137,9 @@ def test_help_states_the_eps_convention(capsys, command):
 
 
 def test_iterates_stop_before_the_degree_explodes():
-    res = degree_growth(kahan_map("lotka-volterra"), 40, runs=1)
-    assert len(res.degrees) == 15 and res.degrees[-1] == 2 ** 15
+    res = degree_growth(kahan_map("lotka-volterra"), 40, runs=1, max_degree=5000)
+    assert len(res.degrees) == 12 and res.degrees[-1] == 2 ** 12
+    assert res.stopped == "the step to f^13 works with polynomials in t of degree up to 8192 > 5000"
 
 
 def test_symbolic_iterates_make_small_degrees_exact(capsys):
@@ -141,3 +147,68 @@ def test_symbolic_iterates_make_small_degrees_exact(capsys):
     assert code == 0 and out["symbolic_degrees"] == [2, 4, 8] and out["status"] == "verified"
     code, out = run(capsys, "degrees", "lotka-volterra", "--iterates", "5", "--symbolic-up-to", "2")
     assert out["status"] == "evidence(exact)" and out["symbolic_agree"]
+
+
+CUBIC_5D = str(EXAMPLES / "cubic-hamiltonian-5d.toml")
+VOLTERRA_6 = str(EXAMPLES / "volterra-6.toml")
+CUBIC_5D_DEGREES = [5, 21, 85, 321, 1205, 4501, 16805, 62721]       # d_n = 4 d_(n-1) - d_(n-2) + 4 + 2 (-1)^n
+
+
+def test_cubic_hamiltonian_5d_is_exponential_with_the_default_options(capsys):
+    code, out = run(capsys, "degrees", CUBIC_5D)
+    assert code == 0 and out["degrees"] == CUBIC_5D_DEGREES and out["agree"] and not out["stopped"]
+    assert out["growth"] == "exponential" and "every 2 steps (the ratios alternate)" in out["growth_evidence"]
+    assert abs(out["lambda"] - (2 + 3 ** 0.5)) <= out["lambda_error"] < 0.01
+
+
+@pytest.mark.slow
+def test_volterra_6_is_exponential_with_the_default_options(capsys):
+    code, out = run(capsys, "degrees", VOLTERRA_6)
+    assert code == 0 and out["degrees"] == [(5 ** (n + 1) - 1) // 4 for n in range(1, 8)] and out["agree"]
+    assert out["growth"] == "exponential" and abs(out["lambda"] - 5) <= out["lambda_error"] < 0.01
+    assert out["stopped"] and "585936 > 200000" in out["stopped_because"]
+
+
+def test_volterra_6_first_degrees_and_their_growth():
+    res = degree_growth(kahan_map(VOLTERRA_6), 6, runs=1)
+    assert res.degrees == [(5 ** (n + 1) - 1) // 4 for n in range(1, 7)] and res.growth.kind == "undecided"
+    assert fit_growth([*res.degrees, 97656]).kind == "exponential"
+
+
+def test_alternating_ratios_need_the_stride_and_a_perturbation_is_not_exponential():
+    assert fit_growth(CUBIC_5D_DEGREES).kind == "exponential"
+    assert fit_growth(CUBIC_5D_DEGREES, strides=1).kind == "undecided"       # stride 1: the ratios alternate
+    assert fit_growth(CUBIC_5D_DEGREES[:-1]).kind == "undecided"             # 7 terms show no stride-2 window
+    assert fit_growth([*CUBIC_5D_DEGREES[:-1], 63500]).kind == "undecided"   # the last term perturbed
+
+
+@pytest.mark.parametrize("system, steps", [("euler-top", 4), ("clebsch", 3), ("volterra-4", 3), ("lotka-volterra", 5)])
+def test_line_iterates_are_the_homogenized_composition(system, steps):
+    """The Bareiss step on polynomials in t gives the same reduced projective vectors as composing the explicit map
+    N/Delta, homogenized, with the vector (nmod_mpoly compose) and cancelling the gcd: an independent route."""
+    kmap = kahan_map(system)
+    rng = random.Random(7)
+    p = random_prime(rng)
+    values = {name: rng.randrange(1, p) for name in kmap.field.control_names}
+    line_map = LineKahanMap(kmap.mod(p, values))
+    hom, _ = kmap.mod(p, values).homogenized()
+    tctx = flint.nmod_mpoly_ctx.get(("t",), p, "lex")
+    ours = line_map.line(rng)
+    theirs = [tctx.from_dict({(k,): int(c) for k, c in enumerate(q.coeffs()) if int(c)}) for q in ours]
+    for _ in range(steps):
+        ours = line_map.next(ours, rng)
+        theirs = [h.compose(*theirs, ctx=tctx) for h in hom]
+        g = theirs[0]
+        for q in theirs[1:]:
+            g = g.gcd(q)
+        theirs = [q / g for q in theirs]
+        flat = [_univariate(q, p) for q in theirs]
+        assert all(a * flat[j] == b * ours[j] for a, b in zip(ours, flat) for j in range(len(ours)))
+        assert degree(ours) == max(q.total_degree() for q in theirs)
+
+
+def _univariate(q: flint.nmod_mpoly, p: int) -> flint.nmod_poly:
+    coeffs = [0] * (int(q.total_degree()) + 1 if not q.is_zero() else 0)
+    for (k,), c in q.to_dict().items():
+        coeffs[k] = int(c)
+    return flint.nmod_poly(coeffs, p)

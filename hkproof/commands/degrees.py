@@ -9,6 +9,7 @@ from hkproof.commands._certificates import add_certificate_option, certificate_t
 from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.degree_growth import MAX_DEGREE
+from hkproof.exit_codes import ExitCode
 from hkproof.experiments.degree_report import degree_report
 from hkproof.proof.export import degrees_step, document
 from hkproof.proof.status import Status
@@ -23,7 +24,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_budget_option(p)
     add_system_argument(p)
     add_values_options(p)
-    p.add_argument("--iterates", type=at_least(1), default=8, help="largest n (default 8)")
+    p.add_argument("--iterates", type=at_least(1), default=8,
+                   help=f"largest n (default 8; fewer when a step would work with polynomials in t of degree above "
+                        f"{MAX_DEGREE}, or when --seconds runs out: then the degrees found so far, exit 4)")
     p.add_argument("--runs", type=at_least(1), default=2,
                    help="independent (prime, line, values) runs that must agree (default 2)")
     p.add_argument("--symbolic-up-to", type=at_least(0), default=0, metavar="K",
@@ -41,7 +44,7 @@ def run_degrees(args: argparse.Namespace) -> Result:
     res, exact, status = report.found, report.symbolic, report.status
     payload = {"system": res.system, "degrees": res.degrees, "second_differences": res.second_differences,
                **res.growth.to_dict(), "status": status.label, "agree": res.agree, "stopped": report.stopped,
-               "symbolic_degrees": exact, "symbolic_agree": report.symbolic_agree,
+               "stopped_because": res.stopped, "symbolic_degrees": exact, "symbolic_agree": report.symbolic_agree,
                "runs": [{"prime": r.prime, "values_mod_p": r.values, "degrees": r.degrees} for r in res.runs],
                "eps_convention": EPS_CONVENTION}
     lines = [f"deg f^n of the Kahan map of {res.system}, n = 1..{len(res.degrees)}: {res.degrees}",
@@ -54,7 +57,7 @@ def run_degrees(args: argparse.Namespace) -> Result:
                      + ("(exact; they agree with the modular values)" if report.symbolic_agree else
                         "(exact; the modular values DISAGREE: trust these)"))
     if report.stopped:
-        lines.append(f"stopped after {len(res.degrees)} iterates: the next degree could exceed {MAX_DEGREE}")
+        lines.append(f"stopped after {len(res.degrees)} iterates: {res.stopped}")
     lines.append(("the runs agree" if res.agree else "the runs DISAGREE (the largest degree is kept: a special "
                   "choice only lowers degrees)") + f"; status {status.label}: {report.status_reason}")
     lines.append(f"({EPS_CONVENTION})")
@@ -63,5 +66,6 @@ def run_degrees(args: argparse.Namespace) -> Result:
         doc = document(f"the degrees of the iterates of the Kahan map of {res.system}",
                        f"deg f^n = {exact} for n = 1..{len(exact)}, eps and every parameter symbolic",
                        [degrees_step(kmap.field, exact)])
-    return Result(payload, "\n".join(lines) + write_certificate(target, doc, payload))
+    return Result(payload, "\n".join(lines) + write_certificate(target, doc, payload),
+                  ExitCode.LIMIT if res.budget_ran_out else ExitCode.VERIFIED)
 

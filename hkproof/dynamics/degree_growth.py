@@ -15,37 +15,70 @@ from hkproof.algebra.modular import random_prime, residue_or_none
 from hkproof.algebra.ring import Rational
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import ParseError
+from hkproof.dynamics.line_iterates import Line, LineKahanMap, degree
+from hkproof.errors import BudgetExhausted, ParseError
 
 __all__ = ["degree_growth", "DegreeGrowth", "DegreeRun", "degrees_on_line", "differences", "fit_growth", "Growth",
-           "MAX_DEGREE", "NAMES", "symbolic_degree"]
+           "LineRun", "MAX_DEGREE", "NAMES", "symbolic_degree", "walk"]
 
-MAX_DEGREE = 50_000       # polynomials in t of higher degree are not computed (Lotka-Volterra stops at n = 15)
+MAX_DEGREE = 200_000
+"""A step whose polynomials in t could pass this degree (n times the last deg f^k, n the dimension) is not taken: the
+largest step allowed costs about 20 s and a hundred MB (Volterra N = 6 stops after deg f^7 = 97 656, whose next step
+would work at degree 585 936 for a minute; docs/geometry.md)."""
+
+
+@dataclass
+class LineRun:
+    """One run on a line: the map mod p on polynomials in t, the reduced image f^k(line), deg f^1..f^k, and the
+    random source of its gcds."""
+
+    line_map: LineKahanMap
+    point: Line
+    rng: random.Random
+    degrees: list[int] = field(default_factory=list)
+
+    @classmethod
+    def start(cls, kmap: KahanMap, values: Mapping[str, int], prime: int, rng: random.Random) -> LineRun:
+        """A random line x = a + t b at eps and the parameters fixed to `values` mod `prime`."""
+        line_map = LineKahanMap(kmap.mod(prime, values))
+        return cls(line_map, line_map.line(rng), rng)
+
+    def coefficients_of_next(self, seed: int) -> list[list[int]]:
+        """The reduced f^(k+1)(line) as coefficient lists (picklable: it may be computed in a forked child)."""
+        return [[int(c) for c in q.coeffs()] for q in self.line_map.next(self.point, random.Random(seed))]
+
+    def advance(self, coefficients: list[list[int]]) -> None:
+        self.point = [flint.nmod_poly(c, self.line_map.p) for c in coefficients]
+        self.degrees.append(degree(self.point))
+
+
+def walk(runs: Sequence[LineRun], iterates: int, max_degree: int = MAX_DEGREE) -> str | None:
+    """Advance every run to deg f^iterates in step, each step of each run in a forked child held to the active
+    budget (`Budget.call_each`: side by side on the cores, and stopped at the deadline even inside one FLINT call,
+    BudgetExhausted); None when done, else why the runs stopped early (a step's degree above max_degree)."""
+    while runs and len(runs[0].degrees) < iterates:
+        budget.check("iterating the map on a line mod p")
+        last = max(degree(r.point) for r in runs)
+        if last * runs[0].line_map.n > max_degree:
+            return (f"the step to f^{len(runs[0].degrees) + 1} works with polynomials in t of degree up to "
+                    f"{last * runs[0].line_map.n} > {max_degree}")
+        seeds = [r.rng.getrandbits(64) for r in runs]
+        doing = f"computing f^{len(runs[0].degrees) + 1} on a line mod p"
+        jobs = budget.current()
+        found = ([jobs.call(doing, runs[0].coefficients_of_next, seeds[0])] if len(runs) == 1 else
+                 jobs.call_each(doing, lambda k: runs[k].coefficients_of_next(seeds[k]), len(runs)))
+        for run, coefficients in zip(runs, found, strict=True):
+            run.advance(coefficients)
+    return None
 
 
 def degrees_on_line(kmap: KahanMap, values: Mapping[str, int], prime: int, iterates: int,
                     rng: random.Random, max_degree: int = MAX_DEGREE) -> list[int]:
-    """deg f^n, n = 1..iterates: the map iterated on x = a + t b (a, b random mod p), common factors in t cancelled;
-    stops early when the next degree could exceed max_degree (d times the last one)."""
-    hom, d = kmap.mod(prime, values).homogenized()
-    tctx = flint.nmod_mpoly_ctx.get(("t",), prime, "lex")  # type: ignore[call-arg, arg-type]  # flint's stubs lag the API
-    t = tctx.gen(0)
-    point = [rng.randrange(prime) + rng.randrange(1, prime) * t for _ in kmap.variables] + [tctx.constant(1)]
-    degrees: list[int] = []
-    for _ in range(iterates):
-        budget.check("iterating the map on a line mod p")
-        if degrees and degrees[-1] * d > max_degree:
-            break
-        point = [h.compose(*point, ctx=tctx) for h in hom]
-        g = point[0]
-        for q in point[1:]:
-            g = g.gcd(q)
-        if g.is_zero():
-            raise ParseError(f"the map collapses the random line to a point mod {prime} (every coordinate vanishes)")
-        if int(g.total_degree()) > 0:
-            point = [q / g for q in point]
-        degrees.append(int(max(q.total_degree() for q in point)))
-    return degrees
+    """deg f^n, n = 1..iterates: the map iterated on x = a + t b (a, b random mod p), common factors in t cancelled
+    (`LineKahanMap`); stops early when a step's polynomials could exceed max_degree (n times the last degree)."""
+    run = LineRun.start(kmap, values, prime, rng)
+    walk([run], iterates, max_degree)
+    return run.degrees
 
 
 def symbolic_degree(kmap: KahanMap, n: int) -> int:
@@ -149,22 +182,25 @@ def least_period(values: Sequence[int], confirm: int = 3) -> int | None:
 
 
 def fit_growth(degrees: Sequence[int], max_order: int = 3, confirm: int = 3, window: int = 4,
-               contraction: float = 0.5, precision: float = 0.1) -> Growth:
+               contraction: float = 0.5, precision: float = 0.1, strides: int = 2) -> Growth:
     """The growth class of deg f^n, n = 1..N, judged on the sequence alone (a guess from finitely many terms):
 
     - polynomial of degree k for the least k <= max_order whose k-th differences are periodic (`least_period`:
       periods up to half of them); period 1 gives the exact interpolating polynomial in n;
-    - exponential when the ratios r_n = d_n / d_(n-1) have converged: the last `window` of them are equal, or the
-      last `window` + 1 changes |r_n - r_(n-1)| each shrink to at most c = `contraction` times the one before
-      (geometric convergence: if it goes on, lambda lies within e = last change * c / (1 - c) of the last ratio),
-      with e at most `precision` times lambda - 1 (lambda told apart from 1, which polynomial growth approaches) and
-      the last differences d_n - d_(n-1) growing by the same lambda (polynomial growth does not);
+    - exponential when the ratios r_n = d_n / d_(n-1) have converged: the last `window` of them are equal, or, for
+      the least stride q <= `strides`, each of the last `window` changes |r_n - r_(n-1)| is at most c = `contraction`
+      times the change q steps before (geometric convergence; stride 2 lets the ratios alternate, as a bounded part
+      (-1)^n of d_n makes them: if it goes on, lambda lies within e = (sum of the last q changes) * c / (1 - c) of
+      the last ratio), with e at most `precision` times lambda - 1 (lambda told apart from 1, which polynomial growth
+      approaches) and the last differences d_n - d_(n-1) growing by the same lambda (polynomial growth does not);
     - undecided otherwise, saying why.
 
     >>> [fit_growth([2 ** n for n in range(1, 7)]).lam, fit_growth([3 ** n for n in range(1, 6)]).lam]
     [2.0, 3.0]
     >>> fit_growth([2, 4, 7, 11, 16]).kind
     'undecided'
+    >>> round(fit_growth([5, 21, 85, 321, 1205, 4501, 16805, 62721]).lam, 4)   # alternating ratios: stride 2
+    3.7323
     """
     for k in range(max_order + 1):
         diff = differences(degrees, k)
@@ -175,11 +211,11 @@ def fit_growth(degrees: Sequence[int], max_order: int = 3, confirm: int = 3, win
             return Growth(NAMES.get(k, f"polynomial of degree {k}"), k, q, diff[:q], poly,
                           evidence=f"{ORDINALS.get(k, f'the differences of order {k}')} are {how} over all "
                                    f"{len(diff)} values")
-    return _exponential(degrees, max_order, window, contraction, precision)
+    return _exponential(degrees, max_order, window, contraction, precision, strides)
 
 
-def _exponential(degrees: Sequence[int], max_order: int, window: int, contraction: float,
-                 precision: float) -> Growth:
+def _exponential(degrees: Sequence[int], max_order: int, window: int, contraction: float, precision: float,
+                 strides: int) -> Growth:
     """Exponential growth if the ratios d_n / d_(n-1) have converged (see fit_growth), else undecided."""
     no_period = (f"no differences of order <= {max_order} are periodic within {len(degrees)} terms (a period must "
                  "show twice)")
@@ -192,15 +228,17 @@ def _exponential(degrees: Sequence[int], max_order: int, window: int, contractio
         return Growth("undecided", evidence=f"{no_period}, and {window + 3} positive terms are needed to see the "
                                             f"ratios d_n/d_(n-1) converge ({window + 1} for an exactly geometric "
                                             "run)")
-    tail = ratios[-window - 2:]
+    factors = {q: _contraction(ratios, window, q) for q in range(1, strides + 1) if len(ratios) >= window + q + 1}
+    q = min((q for q, c in factors.items() if c <= contraction), default=None)
+    tail = ratios[-window - 1 - (q or 1):]
     shown = ", ".join(f"{float(r):.6g}" for r in tail)
-    changes = [abs(b - a) for a, b in pairwise(tail)]
-    c = max(float(b / a) if a else math.inf for a, b in pairwise(changes))
-    lam = float(tail[-1])
-    if c > contraction:
+    if q is None:
+        by = ", ".join(f"{c:.2g}" + (f" over {k} steps" if k > 1 else "") for k, c in factors.items())
         return Growth("undecided", evidence=f"{no_period}, and the ratios d_n/d_(n-1) ({shown}) have not converged: "
-                                            f"their changes shrink by a factor of {c:.2g} > {contraction}")
-    error = float(changes[-1]) * contraction / (1 - contraction)
+                                            f"their changes shrink by a factor of {by} > {contraction}")
+    changes = [abs(b - a) for a, b in pairwise(tail)]
+    c, lam = factors[q], float(tail[-1])
+    error = float(sum(changes[-q:])) * contraction / (1 - contraction)
     if lam <= 1 or error > precision * (lam - 1):
         return Growth("undecided", evidence=f"{no_period}, and the ratios d_n/d_(n-1) ({shown}) cannot yet tell "
                                             f"lambda from 1 (lambda = {lam:.6g} +- {error:.2g})")
@@ -210,9 +248,18 @@ def _exponential(degrees: Sequence[int], max_order: int, window: int, contractio
         return Growth("undecided", evidence=f"{no_period}; the ratios d_n/d_(n-1) ({shown}) seem to converge, but "
                                             f"the differences grow by {step:.6g}, not by the same lambda (polynomial "
                                             "growth looks so)")
+    every = "" if q == 1 else f" every {q} steps (the ratios alternate)"
     return Growth("exponential", lam=lam, lam_error=error,
                   evidence=f"the ratios d_n/d_(n-1) ({shown}) converge: their changes shrink by a factor <= "
-                           f"{c:.2g}, so lambda = {lam:.6g} +- {error:.2g}; the differences grow by {step:.6g} alike")
+                           f"{c:.2g}{every}, so lambda = {lam:.6g} +- {error:.2g}; the differences grow by "
+                           f"{step:.6g} alike")
+
+
+def _contraction(ratios: Sequence[Fraction], window: int, q: int) -> float:
+    """The largest factor by which one of the last `window` changes of the ratios shrinks against the change q steps
+    before (inf where that one is 0 and this one is not)."""
+    changes = [abs(b - a) for a, b in pairwise(ratios[-window - q - 1:])]
+    return max(float(b / a) if a else (0.0 if b == 0 else math.inf) for a, b in zip(changes, changes[q:]))
 
 
 def _interpolate(degrees: Sequence[int], k: int) -> list[Fraction]:
@@ -224,13 +271,16 @@ def _interpolate(degrees: Sequence[int], k: int) -> list[Fraction]:
 
 @dataclass
 class DegreeGrowth:
-    """The degree sequence of f^n (evidence(exact): computed mod p at random values), runs and growth."""
+    """The degree sequence of f^n (evidence(exact): computed mod p at random values), runs and growth; `stopped`
+    says why there are fewer degrees than asked for (None: all of them)."""
 
     system: str
     degrees: list[int]
     runs: list[DegreeRun]
     growth: Growth
     agree: bool
+    stopped: str | None = None
+    budget_ran_out: bool = False
 
     @property
     def second_differences(self) -> list[int]:
@@ -238,16 +288,17 @@ class DegreeGrowth:
 
 
 def degree_growth(kmap: KahanMap, iterates: int, fixed: Mapping[str, Rational] | None = None, *,
-                  seed: int = 0, runs: int = 2) -> DegreeGrowth:
-    """deg f^n for n = 1..iterates by `runs` independent (prime, line, eps, parameters); the largest value wins (a
-    special choice can only lower a degree), and `agree` says whether all runs gave the same sequence."""
+                  seed: int = 0, runs: int = 2, max_degree: int = MAX_DEGREE) -> DegreeGrowth:
+    """deg f^n for n = 1..iterates by `runs` independent (prime, line, eps, parameters), side by side (`walk`); the
+    largest value wins (a special choice can only lower a degree), and `agree` says whether all runs gave the same
+    sequence. When the active budget runs out, the degrees computed so far are kept and `stopped` says so."""
     if iterates < 1:
         raise ParseError(f"the number of iterates must be at least 1, got {iterates}")
     fixed = kmap.field.check_values(fixed or {})
     names = (EPS,) + kmap.field.parameters
     rng = random.Random(seed)
-    done: list[DegreeRun] = []
-    while len(done) < runs:
+    started: list[tuple[int, dict[str, int], LineRun]] = []
+    while len(started) < runs:
         prime = random_prime(rng)
         values = {}
         for name in names:
@@ -256,8 +307,15 @@ def degree_growth(kmap: KahanMap, iterates: int, fixed: Mapping[str, Rational] |
                 break
             values[name] = v
         else:
-            done.append(DegreeRun(prime, values, degrees_on_line(kmap, values, prime, iterates, rng)))
+            started.append((prime, values, LineRun.start(kmap, values, prime, rng)))
+    lines = [run for _, _, run in started]
+    ran_out = False
+    try:
+        stopped = walk(lines, iterates, max_degree)
+    except BudgetExhausted as exc:
+        stopped, ran_out = f"{exc}", True
+    done = [DegreeRun(prime, values, run.degrees) for prime, values, run in started]
     count = min(len(r.degrees) for r in done)
     best = [max(r.degrees[i] for r in done) for i in range(count)]
     agree = all(r.degrees[:count] == best for r in done)
-    return DegreeGrowth(kmap.field.name, best, done, fit_growth(best), agree)
+    return DegreeGrowth(kmap.field.name, best, done, fit_growth(best), agree, stopped, ran_out)

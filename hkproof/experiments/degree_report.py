@@ -26,7 +26,7 @@ class DegreeReport:
 
     @property
     def stopped(self) -> bool:
-        """Fewer degrees than asked for: the next one could exceed the degree limit."""
+        """Fewer degrees than asked for: the next step's degree limit or the time budget stopped the runs."""
         return len(self.found.degrees) < self.requested
 
     @property
