@@ -169,6 +169,13 @@ def test_volterra_6_is_exponential_with_the_default_options(capsys):
     assert out["stopped"] and "585936 > 200000" in out["stopped_because"]
 
 
+def test_a_budget_keeps_the_degrees_found_so_far(capsys):
+    """--seconds 1 on a run of about a minute: the degrees computed before the deadline, the reason, exit 4."""
+    code, out = run(capsys, "degrees", CUBIC_5D, "--iterates", "9", "--seconds", "1")
+    assert code == 4 and out["stopped"] and "time budget of 1 s ran out" in out["stopped_because"]
+    assert len(out["degrees"]) < 9 and out["degrees"] == CUBIC_5D_DEGREES[:len(out["degrees"])]
+
+
 def test_volterra_6_first_degrees_and_their_growth():
     res = degree_growth(kahan_map(VOLTERRA_6), 6, runs=1)
     assert res.degrees == [(5 ** (n + 1) - 1) // 4 for n in range(1, 7)] and res.growth.kind == "undecided"

@@ -54,7 +54,7 @@ class LineKahanMap:
         identity) and fraction-free back substitution; not yet reduced."""
         n = self.n
         a = [[self._affine(form, point) for form in row] for row in self.rows]
-        previous = None
+        previous: _ExactQuotient | None = None
         for k in range(n):
             pivot = next((i for i in range(k, n) if not a[i][k].is_zero()), None)
             if pivot is None:
@@ -64,8 +64,9 @@ class LineKahanMap:
             for i in range(k + 1, n):
                 for j in range(k + 1, n + 1):
                     entry = a[k][k] * a[i][j] - a[i][k] * a[k][j]
-                    a[i][j] = entry if previous is None else entry // previous
-            previous = a[k][k]
+                    a[i][j] = entry if previous is None else previous(entry)
+            following = [a[i][j] for i in range(k + 1, n) for j in range(k + 1, n + 1)] if k + 2 < n else []
+            previous = _ExactQuotient(a[k][k], 2 * max((int(q.degree()) for q in following), default=0))
         det = a[n - 1][n - 1]
         ys: list[flint.nmod_poly] = [det] * n
         for i in range(n - 1, -1, -1):
@@ -94,6 +95,23 @@ class LineKahanMap:
     def next(self, point: Line, rng: random.Random) -> Line:
         """f applied to the reduced vector, reduced."""
         return self.reduce(self.step(point), rng)
+
+
+class _ExactQuotient:
+    """Exact division by d: where d(0) != 0, a / d is the power series a d^(-1) cut after deg a - deg d + 1 terms, one
+    product once d^(-1) is known (inverted once for every dividend of degree up to `top`); floor division else."""
+
+    def __init__(self, divisor: flint.nmod_poly, top: int):
+        self.divisor, self.degree = divisor, int(divisor.degree())
+        length = top - self.degree + 1
+        self.inverse = divisor.inverse_series_trunc(length) if length > 0 and int(divisor[0]) else None
+        self.length = length
+
+    def __call__(self, dividend: flint.nmod_poly) -> flint.nmod_poly:
+        terms = int(dividend.degree()) - self.degree + 1
+        if self.inverse is None or not 0 < terms <= self.length:
+            return dividend // self.divisor
+        return dividend.mul_low(self.inverse, terms)
 
 
 def _gcd_of(point: Line) -> flint.nmod_poly:

@@ -78,7 +78,8 @@ class DegreeReport:
             + ("(they agree)" if found.agree else "(they DISAGREE: the largest degree is kept)"))
         table = markdown_table(["n", *range(1, len(found.degrees) + 1)], [["deg f^n", *found.degrees]])
         return "\n".join([f"**[{self.status.label}] degree growth of the Kahan map of {found.system}**", "", table,
-                          "", *(f"- {line.strip()}" for line in found.growth.describe()), f"- degrees: {how}"])
+                          "", *(f"- {line.strip()}" for line in found.growth.describe()), f"- degrees: {how}",
+                          *([f"- stopped after {len(found.degrees)} iterates: {found.stopped}"] if self.stopped else [])])
 
 
 def degree_report(kmap: KahanMap, iterates: int, fixed: Mapping[str, Rational] | None = None, *, seed: int = 0,
