@@ -16,9 +16,9 @@ from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.affine_chart import AffineChange, field_mismatches
 from hkproof.hk.normal_form import field_size, normal_form
+from hkproof.pipelines.carried import carry_integrals
 from hkproof.pipelines.stages import Stages
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.status import Status
 
 if TYPE_CHECKING:
     from hkproof.pipelines.discover.report import DiscoveryReport
@@ -64,17 +64,6 @@ def pull_back_integrals(report: "DiscoveryReport", chart: Chart, target: KahanMa
     """Replace each integral found in the chart by its pull-back J(T x + c); each certificate records the step that
     makes the pull-back an integral of the field as given (the identity G(T x + c) = T F(x) checked again)."""
     stages.start("pull back", "pulling the integrals back from the chart of the normal form")
-    done: dict[int, Status] = {}
-    for found in report.integrals:
-        if found.frac is None:
-            continue
-        found.in_chart = found.frac
-        found.frac = chart.pull_back(found.frac).to_ring(target.ring)
-        found.method += "; found in the chart of the normal form, pulled back"
-        cert = found.certificate
-        if cert is None:
-            continue
-        if id(cert) not in done:
-            chart.record(cert, target.ring)
-            done[id(cert)] = cert.status
-        found.status = min(found.status, done[id(cert)])
+    carry_integrals(report, lambda h: chart.pull_back(h).to_ring(target.ring),
+                    lambda cert: chart.record(cert, target.ring), "in_chart",
+                    "; found in the chart of the normal form, pulled back")

@@ -18,9 +18,9 @@ from hkproof.algebra.ring import Ring
 from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.translation import ParameterTranslation, field_translations, lift_through
+from hkproof.pipelines.carried import carry_integrals
 from hkproof.pipelines.stages import Stages
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.status import Status
 
 if TYPE_CHECKING:
     from hkproof.pipelines.discover.report import DiscoveryReport
@@ -81,17 +81,6 @@ def lift_integrals(report: DiscoveryReport, where: Slice, target: KahanMap, stag
     """Replace each integral found on the slice by its lift; each certificate records the invariance of the field
     that makes the lift an integral (checked exactly again)."""
     stages.start("lift", "lifting the integrals from the slice along the parameter translations")
-    done: dict[int, Status] = {}
-    for found in report.integrals:
-        if found.frac is None:
-            continue
-        found.searched = found.frac
-        found.frac = where.lift(found.frac, target.ring)
-        found.method += f"; on the slice {where.pivots()}, lifted along the parameter translation"
-        cert = found.certificate
-        if cert is None:
-            continue
-        if id(cert) not in done:
-            where.record_lift(cert, target.ring)
-            done[id(cert)] = cert.status
-        found.status = min(found.status, done[id(cert)])
+    carry_integrals(report, lambda h: where.lift(h, target.ring), lambda cert: where.record_lift(cert, target.ring),
+                    "searched",
+                    f"; on the slice {where.pivots()}, lifted along the parameter translation")
