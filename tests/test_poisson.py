@@ -153,3 +153,18 @@ def test_cli_bad_input_exits_2() -> None:
 
 def test_pairs_order() -> None:
     assert pairs(3) == [(0, 1), (0, 2), (1, 2)]
+
+
+@pytest.mark.parametrize("kind", ["affine"])
+def test_euler_top_structures_in_a_random_affine_chart(kind: str) -> None:
+    """Metamorphic: a quadratic bivector transforms by Pi -> T Pi T^T under y = T x + c, so its degree is kept and
+    the number of invariant Poisson structures of degree <= 3 of the Euler top is the same in a random chart."""
+    import random as _random
+
+    from hkproof.dynamics.catalogue import get_system
+    from hkproof.hk.affine_chart import random_change, transformed
+
+    field = transformed(get_system("euler-top"), random_change(3, _random.Random(3), kind), f"euler-top-{kind}")
+    report = search_poisson(kahan_map(field), 3)
+    assert len(report.structures) == 3
+    assert all(s.status is Status.VERIFIED and s.poisson for s in report.structures)
