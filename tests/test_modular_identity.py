@@ -98,9 +98,9 @@ def test_the_primes_are_as_few_as_the_bound_allows():
 
 
 def test_the_cost_model_takes_the_primes_only_for_large_coefficients_on_many_cores():
-    """Coefficients of ~300 bits: on two cores the expansion over Z stays cheaper (measured), on 16 cores the six
-    primes run side by side; with small coefficients (one prime) the expansion over Z wins everywhere."""
-    big = 3 ** 190
+    """Coefficients of ~950 bits: on two cores the expansion over Z stays cheaper (measured), on 16 cores the primes
+    run side by side; with small coefficients (one prime) the expansion over Z wins everywhere."""
+    big = 3 ** 600
     f1, f2 = big * X + Y, big * Y - X
     g = (X + Y) ** 6
     terms = {(1, 1): g, (1, 0): -g * f2, (0, 0): X * Y}

@@ -27,9 +27,11 @@ __all__ = ["check_solution_by_rows", "decide_identity", "phase_coefficients", "r
            "Route"]
 
 Route = Literal["auto", "horner", "lattice", "modular"]
-# measured by benchmarks/routes.py on so(4) and Clebsch rows (docs/performance-frontier.md)
-MODULAR_WEIGHT = 1.5     # one expansion mod a prime in a one-thread child, against one over Z on every core
-WORD_WEIGHT = 0.3        # the expansion over Z: each further 64 bits of the coefficient bound adds this much
+# measured by benchmarks/routes.py on so(4) and Clebsch rows (docs/performance-frontier.md), against one expansion
+# over Z with one-word coefficients on every core
+ONE_PRIME_WEIGHT = 1.05  # one expansion modulo a lone prime, in this process on every core
+MODULAR_WEIGHT = 2.0     # one round of expansions modulo primes, one prime per one-thread child
+WORD_WEIGHT = 0.25       # the expansion over Z: each further 64 bits of the coefficient bound adds this much
 LIMB_BITS = 62           # FLINT keeps an integer below 2^62 in one word
 
 
@@ -102,9 +104,9 @@ def decide_identity(terms: dict[Exponents, flint.fmpz_mpoly], factors: Sequence[
 class RouteCosts:
     """The cost model of the three routes: term products of Horner's scheme (`lattice_identity.horner_work`), over Z
     times 1 + WORD_WEIGHT per further word of the coefficient bound, at the lattice points likewise (parameters only,
-    the names of `free` after the first), and modulo primes times the primes each of `jobs` children takes times
-    MODULAR_WEIGHT (so on two cores the expansion over Z stays cheaper; with many cores and large coefficients the
-    primes win)."""
+    the names of `free` after the first), and modulo primes times ONE_PRIME_WEIGHT for a lone prime, else the
+    primes each of `jobs` children takes times MODULAR_WEIGHT (so on two cores the expansion over Z stays cheaper;
+    with many cores and large coefficients the primes win)."""
 
     def __init__(self, terms: dict[Exponents, flint.fmpz_mpoly], factors: Sequence[flint.fmpz_mpoly],
                  names: Sequence[str], free: Sequence[str], jobs: int | None = None):
@@ -112,7 +114,8 @@ class RouteCosts:
         self.modular = plan_modular(terms, factors, plain, jobs or cores())
         words = 1 + WORD_WEIGHT * max(0, self.modular.bound.bit_length() - LIMB_BITS) / 64
         self.lattice = plan_lattice(terms, factors, names, free, tuple(free[1:])) if free[1:] else None
-        self.costs = {"horner": plain * words, "modular": self.modular.work * MODULAR_WEIGHT}
+        weight = ONE_PRIME_WEIGHT if len(self.modular.primes) <= 1 else MODULAR_WEIGHT
+        self.costs = {"horner": plain * words, "modular": self.modular.work * weight}
         if self.lattice is not None:
             self.costs["lattice"] = self.lattice.work * words
 
