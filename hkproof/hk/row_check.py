@@ -115,12 +115,12 @@ class RouteCosts:
         words = 1 + WORD_WEIGHT * max(0, self.modular.bound.bit_length() - LIMB_BITS) / 64
         self.lattice = plan_lattice(terms, factors, names, free, tuple(free[1:])) if free[1:] else None
         weight = ONE_PRIME_WEIGHT if len(self.modular.primes) <= 1 else MODULAR_WEIGHT
-        self.costs = {"horner": plain * words, "modular": self.modular.work * weight}
+        self.costs: dict[Route, float] = {"horner": plain * words, "modular": self.modular.work * weight}
         if self.lattice is not None:
             self.costs["lattice"] = self.lattice.work * words
 
     @property
-    def cheapest(self) -> str:
+    def cheapest(self) -> Route:
         return min(self.costs, key=lambda r: self.costs[r])
 
 
