@@ -112,7 +112,8 @@ def plan_modular(terms: Terms, factors: Sequence[flint.fmpz_mpoly], horner_work:
 
 def vanishes_modulo(terms: Terms, factors: Sequence[flint.fmpz_mpoly], primes: Sequence[int], jobs: int = 1
                     ) -> tuple[bool, int | None]:
-    """Whether R = 0 modulo every prime: (True, None), or (False, a prime p with R != 0 mod p). With jobs > 1 the
+    """Whether R = 0 modulo every prime: (True, None), or (False, a prime p with R != 0 mod p). It proves R = 0 over Z
+    only when the primes' product exceeds 2 `coefficient_bound` (as `plan_modular`'s do). With jobs > 1 the
     primes are shared among forked children (`Budget.call_each`, under the active deadline); a child with the whole
     machine to itself uses FLINT's threads."""
     if not any(not t.is_zero() for t in terms.values()):
