@@ -141,7 +141,7 @@ def test_a_failure_inside_the_stage_is_reported_not_raised(monkeypatch):
     from hkproof.errors import UnluckyPrimeError
     from hkproof.pipelines.discover.reconstruct import Reconstructed
 
-    def nothing(ctx, report, candidates, target, p):
+    def nothing(ctx, report, candidates, target, p, proven=()):
         return Reconstructed(covered="nothing reconstructed (test)")
 
     def unlucky(*args, **kwargs):
