@@ -154,6 +154,7 @@ VOLTERRA_6 = str(EXAMPLES / "volterra-6.toml")
 CUBIC_5D_DEGREES = [5, 21, 85, 321, 1205, 4501, 16805, 62721]       # d_n = 4 d_(n-1) - d_(n-2) + 4 + 2 (-1)^n
 
 
+@pytest.mark.slow
 def test_cubic_hamiltonian_5d_is_exponential_with_the_default_options(capsys):
     code, out = run(capsys, "degrees", CUBIC_5D)
     assert code == 0 and out["degrees"] == CUBIC_5D_DEGREES and out["agree"] and not out["stopped"]
