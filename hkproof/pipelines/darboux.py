@@ -34,7 +34,7 @@ from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.budget import current
 from hkproof.errors import BudgetExhausted, HKProofError, SingularSystemError
 from hkproof.hk.darboux import (IDENTITY, Atom, Cofactor, DarbouxPolynomial, candidate_cofactors, check_darboux,
-                                darboux_certificate, darboux_identities_hold, jacobian_atoms)
+                                darboux_certificate, darboux_identity_checks, jacobian_atoms)
 from hkproof.hk.jacobian import matrix_identity_holds
 from hkproof.pipelines.slices import Slice
 from hkproof.proof.status import Status, specialized_label
@@ -459,9 +459,10 @@ def _weight_zero(kmap: KahanMap, weights: Weights, atoms: Sequence[Atom], cofact
 
 def _checked_exactly(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, polys: Sequence[flint.fmpz_mpoly]
                      ) -> list[tuple[Status, str]]:
-    """P o f = K P exactly for each P (polynomial identities; a pulled atom composed with f once)."""
-    return [(Status.VERIFIED if ok else Status.REFUTED, IDENTITY)
-            for ok in darboux_identities_hold(kmap, atoms, cofactor, polys)]
+    """P o f = K P exactly for each P (polynomial identities; a pulled atom composed with f once), with the route
+    that decided it (expanded, lattice or modulo primes) in the method text."""
+    return [(Status.VERIFIED if check.holds else Status.REFUTED, f"{IDENTITY}; route: {check.route}")
+            for check in darboux_identity_checks(kmap, atoms, cofactor, polys)]
 
 
 def _not_covered(exc: BudgetExhausted, atoms: Sequence[Atom], monos: Sequence[Exponents],
