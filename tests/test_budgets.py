@@ -93,7 +93,7 @@ def test_measure_stops_an_exact_check_at_the_deadline(capsys, monkeypatch):
     """The exact check P o f = K P is one FLINT computation; made to hang, measure still returns near its budget,
     lists the polynomial as evidence(exact) (checked at exact points only) and says the exact check was stopped."""
     from hkproof.pipelines import darboux
-    monkeypatch.setattr(darboux, "darboux_identities_hold", lambda *args: _slow(60))
+    monkeypatch.setattr(darboux, "darboux_identity_checks", lambda *args: _slow(60))
     start = time.perf_counter()
     code = main(["measure", "lotka-volterra", "--seconds", "3", "--json"])
     payload = json.loads(capsys.readouterr().out)
