@@ -23,7 +23,7 @@ from hkproof.proof.certificate import Certificate, Step, describe_ring
 from hkproof.proof.status import Status
 
 __all__ = ["Atom", "Cofactor", "DarbouxPolynomial", "candidate_cofactors", "check_at_points", "check_darboux",
-           "cofactor_value", "darboux_identities_hold", "darboux_identity_checks", "IDENTITY", "jacobian_atoms"]
+           "cofactor_value", "darboux_identity_checks", "IDENTITY", "jacobian_atoms"]
 
 
 @dataclass(frozen=True)
@@ -129,7 +129,7 @@ def candidate_cofactors(jac: Cofactor, limit: int = 400) -> list[Cofactor]:
 COMPOSE_WEIGHT = 0.5   # one compose of P against Horner's scheme in (N, Delta): dc-invariant-measures, 11.7 s / 22.8 s
 IDENTITY = ("P o f = K P with f = N/Delta, cleared of the powers of Delta and of the denominator atoms: a polynomial "
             "identity in Z[x, eps, params]")
-"""How darboux_identities_hold checks (the certificate's wording)."""
+"""How darboux_identity_checks checks (the certificate's wording)."""
 
 
 def cofactor_value(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor) -> Frac:
@@ -167,12 +167,6 @@ def check_at_points(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, p
                 return False
             done += 1
     return True
-
-
-def darboux_identities_hold(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor,
-                            polys: Sequence[flint.fmpz_mpoly]) -> list[bool]:
-    """Whether P o f = K P for each P (`darboux_identity_checks` by the cheapest route)."""
-    return [check.holds for check in darboux_identity_checks(kmap, atoms, cofactor, polys)]
 
 
 def darboux_identity_checks(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor,
@@ -223,7 +217,7 @@ def darboux_identity_checks(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cof
 def check_darboux(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, p: flint.fmpz_mpoly,
                   exact: bool = True, rng: random.Random | None = None,
                   fixed: Mapping[str, flint.fmpq] | None = None) -> tuple[Status, str]:
-    """Is P o f = K P? Verified (or refuted) exactly in Z[x, eps, params] (darboux_identities_hold); with
+    """Is P o f = K P? Verified (or refuted) exactly in Z[x, eps, params] (darboux_identity_checks); with
     exact=False, evidence(exact) (or refuted) at three random exact points (eps and parameters random too, except
     those `fixed`)."""
     if exact:
