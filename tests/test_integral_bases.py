@@ -178,6 +178,7 @@ def test_the_block_proof_is_a_certificate_the_checker_verifies_and_refutes_when_
     assert check_document(short).verdict == "malformed"
 
 
+@pytest.mark.slow          # a whole discover of so4-euler-top-split (30-40 s)
 def test_a_budget_that_runs_out_in_step_5d_says_how_far_it_got(monkeypatch, capsys):
     """The budget running out inside the group's reconstruction is reported with the coordinates already rebuilt
     (here the second reconstruction is stopped: 1 of the group's 14), not only with the stage it stopped in."""
@@ -228,6 +229,7 @@ def test_candidates_whose_proof_the_budget_stopped_are_evidence_at_exact_points_
     assert evidence_at_points(split_ctx.kmap, names, bumped, random.Random(4), {}).status is Status.REFUTED
 
 
+@pytest.mark.slow          # a whole discover of so4-euler-top-split (30-40 s)
 def test_a_block_proof_stopped_by_the_budget_reports_its_integrals_as_evidence(monkeypatch, capsys):
     """discover so4-euler-top-split with the row check i = 1 stopped as by the budget: the group's new integral is
     reported as evidence(exact) with the reason, and counted apart from the proven ones."""

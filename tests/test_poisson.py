@@ -155,6 +155,7 @@ def test_pairs_order() -> None:
     assert pairs(3) == [(0, 1), (0, 2), (1, 2)]
 
 
+@pytest.mark.slow          # 9-12 s
 @pytest.mark.parametrize("kind", ["affine"])
 def test_euler_top_structures_in_a_random_affine_chart(kind: str) -> None:
     """Metamorphic: a quadratic bivector transforms by Pi -> T Pi T^T under y = T x + c, so its degree is kept and
