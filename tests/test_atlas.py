@@ -86,6 +86,7 @@ def test_the_script_certifies_the_group(monkeypatch, capsys):
     assert_group_certified("atlas", monkeypatch, capsys)
 
 
+@pytest.mark.slow          # 30 s: the independent sympy cross-check of a verified claim
 def test_commuting_flow_integrals_at_fixed_a_are_constant_along_a_sympy_orbit():
     """The four integrals of the commuting so(4) flow at a = (1, 2, 3, 5) (claim atlas-so4-euler-top-flow2-integrals),
     by an independent route: constant along an orbit sympy computes from the printed field at those values; a
