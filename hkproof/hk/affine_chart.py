@@ -62,8 +62,7 @@ class AffineChange:
         """y_j -> (T x + c)_j in the field's ring."""
         t, c = self.entries(field)
         x = [Frac(field.ring, field.ring.gen(v)) for v in field.variables]
-        return {y: sum((a * xk for a, xk in zip(row, x, strict=True)), c[j])
-                for j, (y, row) in enumerate(zip(field.variables, t, strict=True))}
+        return {y: _row_times(row, x, c[j]) for j, (y, row) in enumerate(zip(field.variables, t, strict=True))}
 
     def inverse_images(self, field: QuadraticField) -> dict[str, Frac]:
         """x_k -> (T^-1 (y - c))_k in the field's ring (y named as x); HKProofError when T is singular."""
@@ -82,7 +81,7 @@ class AffineChange:
 
     def describe(self, field: QuadraticField) -> str:
         """The change as equations y_j = ... in the user's names."""
-        return ", ".join(f"{y}' = {img}" for y, img in self.images(field).items()).replace("' =", " ->")
+        return ", ".join(f"{y} -> {img}" for y, img in self.images(field).items())
 
 
 def transformed(field: QuadraticField, change: AffineChange, name: str | None = None) -> QuadraticField:
@@ -90,7 +89,7 @@ def transformed(field: QuadraticField, change: AffineChange, name: str | None = 
     t, _ = change.entries(field)
     back = _substitution(field.ring, change.inverse_images(field))
     moved = [back.apply(f) for f in field.rhs]
-    rhs = [str(sum((a * fk for a, fk in zip(row, moved, strict=True)), Frac(field.ring, 0))) for row in t]
+    rhs = [str(_row_times(row, moved, Frac(field.ring, 0))) for row in t]
     return QuadraticField(name or f"{field.name}[affine chart]", field.variables, field.parameters, tuple(rhs),
                           f"{field.name} in the chart y = T x + c", field.step)
 
@@ -103,8 +102,7 @@ def field_mismatches(field: QuadraticField, target: QuadraticField, change: Affi
     forward = _substitution(field.ring, change.images(field))
     out = []
     for y, g, row in zip(field.variables, target.rhs, t, strict=True):
-        if forward.apply(g.to_ring(field.ring)) != sum((a * f for a, f in zip(row, field.rhs, strict=True)),
-                                                       Frac(field.ring, 0)):
+        if forward.apply(g.to_ring(field.ring)) != _row_times(row, field.rhs, Frac(field.ring, 0)):
             out.append(f"{y}'")
     return out
 
@@ -125,6 +123,11 @@ def random_change(n: int, rng: random.Random, kind: str) -> AffineChange:
         t = [[rng.choice((-1, 1)) * rng.randint(1, 3) if j == order[i] else 0 for j in range(n)] for i in range(n)]
     shift = [rng.randint(-3, 3) if kind in ("translation", "affine") else 0 for _ in range(n)]
     return AffineChange(tuple(tuple(str(e) for e in row) for row in t), tuple(str(e) for e in shift))
+
+
+def _row_times(row: Sequence[Frac], values: Sequence[Frac], start: Frac) -> Frac:
+    """start + sum_k row_k values_k: one component of T v (+ c)."""
+    return sum((a * v for a, v in zip(row, values, strict=True)), start)
 
 
 def _substitution(ring: Ring, images: dict[str, Frac]) -> Substitution:

@@ -21,6 +21,7 @@ is proven back in the user's.
 from __future__ import annotations
 
 import random
+from dataclasses import replace
 from typing import Sequence
 
 import flint
@@ -80,8 +81,8 @@ def normal_form(field: QuadraticField, seed: int = 0) -> tuple[AffineChange, Qua
             moves.append(diagonal)
     if not moves:
         return None
-    change = _composed(field, moves)
-    return change, transformed(field, change, f"{field.name}[normal form]")
+    return _composed(field, moves), replace(best, name=f"{field.name}[normal form]",
+                                            description=f"{field.name} in the chart y = T x + c")
 
 
 def homogenizing_translation(field: QuadraticField) -> list[str] | None:

@@ -19,7 +19,7 @@ import flint
 from hkproof.algebra.reconstruction import Mapper
 from hkproof.algebra.sampling import random_point
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.modular import rank_mod_p
+from hkproof.algebra.modular import rank_mod_p, residue_or_none
 from hkproof.algebra.monomials import count_upto, exponents_upto
 from hkproof.algebra.ring import Rational
 from hkproof.budget import Budget, check
@@ -206,7 +206,12 @@ def _proven_gradients(ctx: SearchContext, report: DiscoveryReport, probe, values
     modified Hamiltonian): kernel coordinates that depend on them are not proven again."""
     ring, p = ctx.kmap.ring, probe.p
     at = dict(zip(ctx.kmap.variables, probe.point, strict=True)) | dict(values)
-    point = [int(at[name].p) * pow(int(at[name].q), -1, p) % p for name in ring.names]
+    point: list[int] = []
+    for name in ring.names:
+        r = residue_or_none(at[name], p)
+        if r is None:                    # p divides a denominator of the point: no gradient to skip with
+            return []
+        point.append(r)
     phase = [ring.index(v) for v in ctx.kmap.variables]
     out: list[list[int]] = []
     for found in report.integrals:
