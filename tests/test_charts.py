@@ -120,3 +120,38 @@ def test_centring_translation_and_diagonal_scaling_recover_the_catalogue_size():
                                                                   ("0", "0", "0")))
     _, searched = normal_form(stretched)
     assert field_size(searched) <= field_size(get_system("euler-top")) + 3
+
+
+def test_scaling_derivations_find_the_weights_and_the_centre_in_any_chart():
+    """The Lagrange top is weighted-homogeneous (m of weight 1, p of weight 2): the derivation with c = 1 has these
+    eigenvalues in a dense affine chart too, its centre is the translation back, and a field whose constant term
+    breaks every scaling has no centre."""
+    from hkproof.hk.scaling_derivations import scaling_centre, scaling_derivations
+    lagrange = get_system("lagrange-top")
+    change = random_change(6, random.Random(7), "affine")
+    field = transformed(lagrange, change)
+    scaled = [d for d in scaling_derivations(field) if d.time != 0]
+    assert scaled
+    roots = {str(r) for d in scaled for r, _ in d.linear.charpoly().roots()}
+    assert roots >= {str(1 * scaled[0].time), str(2 * scaled[0].time)}
+    shift = scaling_centre(field)
+    assert shift is not None
+    centred = transformed(field, AffineChange.translation(shift))
+    linear_only = transformed(lagrange, AffineChange(change.matrix, ("0",) * 6))
+    assert [str(f) for f in centred.rhs] == [str(f) for f in linear_only.rhs]
+    broken = QuadraticField("broken", field.variables, field.parameters,
+                            (field.rhs_text[0] + " + 1",) + field.rhs_text[1:], "")
+    assert scaling_centre(broken) is None
+
+
+@pytest.mark.parametrize("name, kind", [("lagrange-top", "dense"), ("lagrange-top", "affine"),
+                                        ("kirchhoff", "dense"), ("kirchhoff", "affine")])
+def test_dense_charts_of_the_tops_are_undone(name, kind):
+    """The frames from the field's weights (Lagrange: m from p) and its trace form (Kirchhoff: equal weights) bring
+    a dense chart back to the catalogue's size (up to signs and the order of the variables)."""
+    field = _in_chart(name, kind, 7)
+    found = normal_form(field)
+    assert found is not None
+    change, searched = found
+    assert field_mismatches(field, searched, change) == []
+    assert field_size(searched) <= field_size(get_system(name)) + 3

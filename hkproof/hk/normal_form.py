@@ -8,13 +8,20 @@ is proven back in the user's.
    every parameter symbolic), making a homogeneous field homogeneous again; or, when the field has a linear part of
    its own, the translation that removes every part of D F(x0) that depends on x0, parameter monomial by parameter
    monomial (`centring_translation`).
-2. A linear frame adapted to the invariants of the continuous flow, computed at a random rational value of the
-   parameters: the integrals of degree <= 2 (linear algebra on L_F I = 0) give quadratic forms Q_i and linear
-   integrals l. The linear integrals become coordinates. On W0 = {l = 0} a non-degenerate combination Q0 of the
-   forms (homogeneous integrals first) makes each Q0^-1 Q_i self-adjoint, W0 splits into their primary components
-   over Q, and each block gets a Q0-orthogonal basis that continues with the images of vectors already chosen
-   (operators carry one block's frame to the next) and is completed from the standard basis, scaled to equal
-   Q0-norms where the ratio is a rational square (a rotation, not a stretch). The new coordinates are the dual basis.
+2. A linear frame adapted to the invariants of the field, computed at a random rational value of the parameters:
+   the integrals of degree <= 2 of the continuous flow (linear algebra on L_F I = 0) give quadratic forms Q_i and
+   linear integrals l; the field itself gives the trace form K(y) = tr(A_y^2) of its quadratic part (A_y the
+   Jacobian of the quadratic part at y) and its scaling derivations, the matrices W with D F(x) W x - W F(x) = c F(x)
+   (the quasi-homogeneity x -> lambda^W x, time -> time / lambda^c, and the linear symmetries at c = 0; linear
+   equations in W and c). Every one of these objects is carried by a change of chart, so the frame they define is
+   the same up to the field's own symmetries in every chart. The linear integrals become coordinates. On W0 = {l = 0}
+   a non-degenerate form Q0 (a combination of the homogeneous integrals, of all of them, or K) makes each
+   Q0^-1 Q_i self-adjoint; W0 splits into the primary components over Q of these operators and of the derivations
+   (the weights separate variables of different weight, as m from p in the Lagrange top; K separates them where the
+   weights are equal, as in the Kirchhoff case), and each block gets a Q0-orthogonal basis that continues with the
+   images of vectors already chosen (operators carry one block's frame to the next, projected along the other
+   blocks) and is completed from the standard basis, scaled to equal Q0-norms where the ratio is a rational square
+   (a rotation, not a stretch). The new coordinates are the dual basis.
 3. A diagonal scaling that makes the numerical factors of the terms 1 where it can (p-adic valuations, one linear
    system per prime): a chart that stretched the axes is stretched back.
 """
@@ -34,12 +41,14 @@ from hkproof.budget import check
 from hkproof.dynamics.field import QuadraticField
 from hkproof.errors import HKProofError
 from hkproof.hk.affine_chart import AffineChange, transformed
+from hkproof.hk.scaling_derivations import scaling_centre, scaling_derivations
 
 __all__ = ["centring_translation", "diagonal_scaling", "field_size", "homogenizing_translation", "invariant_frames", "normal_form"]
 
 Vector = list[flint.fmpq]
 Matrix = tuple[tuple[str, ...], ...]
-FRAME_TRIALS = 6            # random choices of the form Q0 the frame is built on; the sparsest chart is kept
+FRAME_TRIALS = 9            # random choices of the form Q0 the frame is built on (three per group of forms);
+                            # the sparsest chart is kept
 SPARSER = 2                 # a frame is taken when it shrinks the field at least this many times (a chart the user
                             # chose, such as the catalogue's, is kept unless another is much sparser)
 
@@ -55,7 +64,7 @@ def normal_form(field: QuadraticField, seed: int = 0) -> tuple[AffineChange, Qua
     when the given chart is as sparse as these moves make it."""
     best = field
     moves: list[AffineChange] = []
-    for shift in (homogenizing_translation(field), centring_translation(field)):
+    for shift in (scaling_centre(field, seed), homogenizing_translation(field), centring_translation(field)):
         if shift is not None and any(c != "0" for c in shift):
             moved = transformed(field, AffineChange.translation(shift), f"{field.name}[translated]")
             if field_size(moved) < field_size(best):
@@ -202,51 +211,96 @@ def _valuation(c: flint.fmpq, p: int) -> int:
 
 
 def invariant_frames(field: QuadraticField, rng: random.Random) -> list[Matrix]:
-    """Matrices T (rows as text) of frames adapted to the flow's integrals of degree <= 2 (found at one random value
-    of the parameters), one per random choice of the form Q0 they are built on; [] when the flow has no
-    non-degenerate quadratic integral form. The linear integrals become coordinates; the frame of the subspace W0
-    where they vanish is built from the forms restricted to it (there the squares of linear integrals vanish and
-    cannot couple the blocks)."""
+    """Matrices T (rows as text) of frames adapted to the flow's integrals of degree <= 2 and to the field's trace form
+    and scaling derivations (all at one random value of the parameters), one per random choice of the form Q0 they
+    are built on; [] when no non-degenerate form exists. The linear integrals become coordinates; the frame of the
+    subspace W0 where they vanish is built from the forms and derivations restricted to it (there the squares of
+    linear integrals vanish and cannot couple the blocks)."""
     values = random_point(rng, list(field.parameters), 1009)
     special = field.specialize(values) if values else field
     homogeneous, forms, linear = _small_integrals(special)
+    jac = _quadratic_jacobian(special)
+    trace = [_trace_form(jac)]
     n = len(field.variables)
     inside = nullspace_q(linear) if linear else [[flint.fmpq(int(i == j)) for i in range(n)] for j in range(n)]
     m = len(inside)
     if not m:
         return []
     b0 = flint.fmpq_mat(n, m, [inside[j][i] for i in range(n) for j in range(m)])
-    restricted = [[b0.transpose() * q * b0 for q in group] for group in (homogeneous, forms)]
+    groups = [[b0.transpose() * q * b0 for q in group] for group in (homogeneous, forms, trace)]
+    ambient = _derivation_operators(field, rng)
+    derivations = [c for c in (_restricted(b0, w) for w in ambient) if c is not None]
+    complements = [_form_complement(linear, forms, rng)]
+    if linear and ambient:
+        complements.append(_invariant_complement(linear, ambient))
     frames = []
     for trial in range(FRAME_TRIALS):
         check("choosing the frame of the normal form")
-        first, second = restricted if trial % 2 == 0 else restricted[::-1]
-        frame = _frame(b0, first, second, forms, linear, rng)
-        if frame is not None and frame not in frames:
-            frames.append(frame)
+        order = groups[trial % 3:] + groups[:trial % 3]
+        for complement in complements:
+            for refined in (False, True):
+                frame = _frame(b0, order, derivations, complement, jac if refined else None, rng)
+                if frame is not None and frame not in frames:
+                    frames.append(frame)
     return frames
 
 
-def _frame(b0: flint.fmpq_mat, first: list[flint.fmpq_mat], second: list[flint.fmpq_mat],
-           forms: list[flint.fmpq_mat], linear: list[Vector], rng: random.Random) -> Matrix | None:
-    """One frame: Q0 a random non-degenerate combination of `first` (else of `second`) on W0 (the columns of b0),
-    the eigenspaces of Q0^-1 Q, their bases, and the linear integrals' coordinates."""
+def _form_complement(linear: list[Vector], forms: list[flint.fmpq_mat], rng: random.Random) -> list[Vector]:
+    """Vectors dual to the linear integrals l: Q^-1 l for a non-degenerate form Q of the integrals (the Q-orthogonal
+    complement of W0), else l itself."""
+    n = len(linear[0]) if linear else 0
+    ambient = _nondegenerate(forms, rng)
+    return ([_column(ambient.inv() * flint.fmpq_mat(n, 1, ell)) for ell in linear] if ambient is not None
+            else [[flint.fmpq(e) for e in ell] for ell in linear])
+
+
+def _invariant_complement(linear: list[Vector], derivations: list[flint.fmpq_mat]) -> list[Vector]:
+    """Vectors completing W0 = {l = 0} taken from the primary components of the scaling derivations on the whole
+    space (the space of linear integrals is carried by every derivation, so W0 has a complement made of their
+    blocks' vectors): each block's vectors in turn, kept while they are independent modulo W0."""
+    n = len(linear[0])
+    chosen: list[Vector] = []
+    values: list[Vector] = []
+    for block in _eigenspaces(n, derivations):
+        for v in block:
+            image = [sum((a * b for a, b in zip(ell, v, strict=True)), flint.fmpq(0)) for ell in linear]
+            if any(image) and _independent(values + [image]):
+                chosen.append(v)
+                values.append(image)
+    return chosen
+
+
+def _frame(b0: flint.fmpq_mat, groups: list[list[flint.fmpq_mat]], derivations: list[flint.fmpq_mat],
+           complement: list[Vector], jac: list[list[list[flint.fmpq]]] | None,
+           rng: random.Random) -> Matrix | None:
+    """One frame: Q0 a random non-degenerate combination of the first group of forms on W0 (the columns of b0) that
+    has one, the primary components of the operators Q0^-1 Q and of the derivations, their bases, and the linear
+    integrals' coordinates."""
     n, m = b0.nrows(), b0.ncols()
-    q0 = _nondegenerate(first, rng) or _nondegenerate(second, rng)
+    q0 = next((q for q in (_nondegenerate(group, rng) for group in groups) if q is not None), None)
     if q0 is None:
         return None
-    operators = [q0.inv() * q for q in [*first, *second]]
+    operators = derivations + [q0.inv() * q for group in groups for q in group]
+    blocks = _eigenspaces(m, operators)
+    if jac is not None:
+        points = [_column(b0 * flint.fmpq_mat(m, 1, _random_in(block, rng))) for block in blocks]
+        operators += [c for c in (_restricted(b0, _jacobian_at(jac, y)) for y in points) if c is not None]
+        blocks = _eigenspaces(m, operators)
+    splitting = flint.fmpq_mat(m, m, [v[i] for i in range(m) for v in (w for block in blocks for w in block)]).inv()
+    starts = [sum(len(b) for b in blocks[:k]) for k in range(len(blocks) + 1)]
     chosen: list[Vector] = []
-    sizes = [1] * len(linear)
-    for block in _eigenspaces(m, operators):
-        candidates = [_project(_column(op * flint.fmpq_mat(m, 1, v)), block, q0) for v in chosen for op in operators]
+    sizes = [1] * len(complement)
+    for k, block in enumerate(blocks):
+        def part(v: Vector) -> Vector:
+            return _component(v, block, splitting, starts[k])
+        candidates = [part(_column(op * flint.fmpq_mat(m, 1, v))) for v in chosen for op in operators]
         free_from = len(candidates)
-        candidates += [_project([flint.fmpq(int(i == j)) for i in range(m)], block, q0) for j in range(m)]
+        candidates += [part([flint.fmpq(int(i == j)) for i in range(m)]) for j in range(m)]
         own: list[Vector] = []
-        for k, v in enumerate(candidates):
+        for index, v in enumerate(candidates):
             w = _orthogonalized(v, own, q0)
-            if any(w):
-                if k >= free_from and own:
+            if any(w) and _independent(own + [w]):
+                if index >= free_from and own:
                     w = _equal_norm(w, own[0], q0)
                 own.append(w)
             if len(own) == len(block):
@@ -256,18 +310,25 @@ def _frame(b0: flint.fmpq_mat, first: list[flint.fmpq_mat], second: list[flint.f
     if len(chosen) != m:
         return None
     frame = [_column(b0 * flint.fmpq_mat(m, 1, v)) for v in chosen]
-    ambient = _nondegenerate(forms, rng)
-    complement = ([_column(ambient.inv() * flint.fmpq_mat(n, 1, ell)) for ell in linear] if ambient is not None
-                  else [[flint.fmpq(e) for e in ell] for ell in linear])
     vectors = complement + frame
     basis = flint.fmpq_mat(n, n, [vectors[j][i] for i in range(n) for j in range(n)])
     if basis.det() == 0:
         return None
     dual = basis.inv()
     rows = [[dual[i, j] for j in range(n)] for i in range(n)]
-    starts = [sum(sizes[:k]) for k in range(len(sizes) + 1)]
-    scaled = [row for a, b in zip(starts, starts[1:]) for row in _primitive_matrix(rows[a:b])]
+    bounds = [sum(sizes[:k]) for k in range(len(sizes) + 1)]
+    scaled = [row for a, b in zip(bounds, bounds[1:]) for row in _primitive_matrix(rows[a:b])]
     return tuple(tuple(str(e) for e in row) for row in scaled)
+
+
+def _random_in(block: list[Vector], rng: random.Random) -> Vector:
+    """A random integer combination of the block's vectors."""
+    weights = [rng.randint(1, 97) for _ in block]
+    return [sum((w * v[i] for w, v in zip(weights, block, strict=True)), flint.fmpq(0)) for i in range(len(block[0]))]
+
+
+def _independent(vectors: list[Vector]) -> bool:
+    return flint.fmpq_mat(vectors).rank() == len(vectors)
 
 
 def _primitive_matrix(rows: list[Vector]) -> list[list[flint.fmpz]]:
@@ -303,6 +364,61 @@ def _small_integrals(field: QuadraticField) -> tuple[list[flint.fmpq_mat], list[
 
     everything = [form(v) for v in kernel(quadratic + linear) if any(v[:len(pairs)])]
     return [form(v) for v in kernel(quadratic)], everything, kernel(linear)
+
+
+def _quadratic_jacobian(field: QuadraticField) -> list[list[list[flint.fmpq]]]:
+    """J[k][i][a]: the coefficient of x_a in d F_k / d x_i for the quadratic part of a field with numbers for
+    parameters (its Jacobian at y is A_y = sum_a J[.][.][a] y_a)."""
+    names = field.variables
+    n = len(names)
+    phase = [field.ring.index(v) for v in names]
+
+    def linear_part(f: Frac, i: int) -> list[flint.fmpq]:
+        out = [flint.fmpq(0)] * n
+        for mono, c in f.num.derivative(phase[i]).to_dict().items():
+            degree = [mono[k] for k in phase]
+            if sum(degree) == 1:
+                out[degree.index(1)] += flint.fmpq(c) / f.den.leading_coefficient()
+        return out
+
+    return [[linear_part(field.rhs[k], i) for i in range(n)] for k in range(n)]
+
+
+def _trace_form(jac: list[list[list[flint.fmpq]]]) -> flint.fmpq_mat:
+    """The trace form K(y) = tr(A_y^2), A_y the Jacobian of the field's quadratic part at y (a quadratic form built
+    from the field alone, so carried by every linear change of chart)."""
+    n = len(jac)
+    q = flint.fmpq_mat(n, n)
+    for k in range(n):
+        for i in range(n):
+            for a in range(n):
+                for b in range(n):
+                    q[a, b] += (jac[k][i][a] * jac[i][k][b] + jac[k][i][b] * jac[i][k][a]) / 2
+    return q
+
+
+def _jacobian_at(jac: list[list[list[flint.fmpq]]], y: Vector) -> flint.fmpq_mat:
+    """A_y, the Jacobian of the quadratic part at y."""
+    n = len(jac)
+    return flint.fmpq_mat(n, n, [sum((jac[k][i][a] * y[a] for a in range(n)), flint.fmpq(0))
+                                 for k in range(n) for i in range(n)])
+
+
+def _derivation_operators(field: QuadraticField, rng: random.Random) -> list[flint.fmpq_mat]:
+    """The matrices W of the field's scaling derivations (hk.scaling_derivations, every parameter symbolic): a basis
+    and one random combination of it (its primary components are the common refinement the basis alone may miss)."""
+    basis = [d.linear for d in scaling_derivations(field) if any(d.linear.entries())]
+    if len(basis) > 1:
+        mixed = basis[0] * 0
+        for w in basis:
+            mixed += w * rng.randint(1, 97)
+        basis.append(mixed)
+    return basis
+
+
+def _restricted(b0: flint.fmpq_mat, w: flint.fmpq_mat) -> flint.fmpq_mat | None:
+    """The operator w on the span of b0's columns in their coordinates, or None when w does not keep that span."""
+    return _solve_in(b0, w * b0)
 
 
 def _nondegenerate(forms: Sequence[flint.fmpq_mat], rng: random.Random) -> flint.fmpq_mat | None:
@@ -374,14 +490,12 @@ def _solve_in(basis: flint.fmpq_mat, image: flint.fmpq_mat) -> flint.fmpq_mat | 
     return c if basis * c == image else None
 
 
-def _project(v: Vector, block: list[Vector], q0: flint.fmpq_mat) -> Vector:
-    """The Q0-orthogonal projection of v onto the span of `block` (eigenspaces of self-adjoint operators are
-    Q0-orthogonal to one another, so this is the component of v in that eigenspace)."""
-    k = len(block)
-    b = flint.fmpq_mat(len(v), k, [block[j][i] for i in range(len(v)) for j in range(k)])
-    gram = b.transpose() * q0 * b
-    coeffs = gram.solve(b.transpose() * q0 * flint.fmpq_mat(len(v), 1, v))
-    return _column(b * coeffs)
+def _component(v: Vector, block: list[Vector], splitting: flint.fmpq_mat, start: int) -> Vector:
+    """The component of v in `block` along the other blocks of the direct sum (`splitting` is the inverse of the
+    matrix whose columns are every block's vectors, `start` the block's first column)."""
+    m = len(v)
+    coords = splitting * flint.fmpq_mat(m, 1, v)
+    return [sum((coords[start + j, 0] * b[i] for j, b in enumerate(block)), flint.fmpq(0)) for i in range(m)]
 
 
 def _orthogonalized(v: Vector, basis: Sequence[Vector], q0: flint.fmpq_mat) -> Vector:
