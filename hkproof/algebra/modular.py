@@ -15,7 +15,7 @@ from typing import Sequence
 
 import flint
 
-from hkproof.algebra.monomials import Exponents, exponents_upto, value_mod_p
+from hkproof.algebra.monomials import Exponents, columns_mod_p, exponents_upto, value_mod_p
 from hkproof.errors import UnluckyPrimeError
 
 __all__ = ["free_kernel_mod_p", "kernel_mod_p", "polynomial_mod_p", "random_prime", "rank_mod_p", "rational_fit_mod_p",
@@ -58,7 +58,7 @@ def free_kernel_mod_p(rows: Sequence[Sequence[int]], p: int, free_value: int = -
     set to `free_value` (recipe (B)'s normalization -1 by default), the other free columns 0; (free column, vector)."""
     if not rows:
         return []
-    r, rank = flint.nmod_mat([[int(v) % p for v in row] for row in rows], p).rref()
+    r, rank = flint.nmod_mat([[int(v) for v in row] for row in rows], p).rref()
     ncols = r.ncols()
     pivots: list[int] = []
     j = 0
@@ -111,8 +111,9 @@ def rational_fit_mod_p(values: Sequence[int], points: Sequence[Sequence[int]], d
     """
     n = len(points[0]) if points else 0
     n_monos, d_monos = exponents_upto(n, degrees[0]), exponents_upto(n, degrees[1])
-    rows = [[value_mod_p(m, x, p) for m in n_monos] + [(p - y) * value_mod_p(m, x, p) % p for m in d_monos]
-            for y, x in zip(values, points, strict=True)]
+    columns = columns_mod_p(n_monos, points, p) + [[(p - y) * v % p for y, v in zip(values, column, strict=True)]
+                                                   for column in columns_mod_p(d_monos, points, p)]
+    rows = [list(row) for row in zip(*columns)]
     solutions = free_kernel_mod_p(rows, p, free_value=1)
     if len(solutions) != 1:
         return None

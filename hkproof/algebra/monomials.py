@@ -12,8 +12,8 @@ from __future__ import annotations
 import math
 from typing import Any, Sequence
 
-__all__ = ["Exponents", "count_upto", "exponents_of_degree", "exponents_upto", "text", "value", "value_mod_p",
-           "values_mod_p"]
+__all__ = ["Exponents", "columns_mod_p", "count_upto", "exponents_of_degree", "exponents_upto", "text", "value",
+           "value_mod_p", "values_mod_p"]
 
 Exponents = tuple[int, ...]
 
@@ -66,7 +66,31 @@ def value_mod_p(e: Exponents, point: Sequence[int], p: int) -> int:
 
 def values_mod_p(monomials: Sequence[Exponents], point: Sequence[int], p: int) -> list[int]:
     """The values mod p of several monomials at one point."""
-    return [value_mod_p(e, point, p) for e in monomials]
+    return [column[0] for column in columns_mod_p(monomials, [point], p)]
+
+
+def columns_mod_p(monomials: Sequence[Exponents], points: Sequence[Sequence[int]], p: int) -> list[list[int]]:
+    """For each monomial, its values mod p at all the points: each column a smaller monomial's column times one
+    coordinate's, elementwise (one product per monomial and point).
+
+    >>> columns_mod_p([(2, 1), (0, 0)], [[3, 5], [2, 2]], 7)
+    [[3, 1], [1, 1]]
+    """
+    coordinates = [[x[i] for x in points] for i in range(len(points[0]) if points else 0)]
+    known: dict[Exponents, list[int]] = {}
+
+    def column(e: Exponents) -> list[int]:
+        out = known.get(e)
+        if out is None:
+            i = next((k for k, d in enumerate(e) if d), None)
+            if i is None:
+                out = [1 % p] * len(points)
+            else:
+                parent = column(e[:i] + (e[i] - 1,) + e[i + 1:])
+                out = [a * b % p for a, b in zip(parent, coordinates[i], strict=True)]
+            known[e] = out
+        return out
+    return [column(tuple(e)) for e in monomials]
 
 
 def text(names: Sequence[str], e: Exponents) -> str:
