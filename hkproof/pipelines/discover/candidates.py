@@ -177,13 +177,15 @@ def line_degrees(kmap: KahanMap, basis: list[Exponents], weights: Weights, free:
 def normalizations(kmap: KahanMap, basis: list[Exponents], weights: Weights, free: list[str], rng: random.Random,
                    nvars: int) -> list[tuple[int, dict[int, int]]]:
     """Recipe (B)'s normalization j = l - 1 and the coordinate j whose ratios c_k / c_j have the smallest dense
-    ansatzes, with the size of each ratio's ansatz, from degrees along one random line (`line_degrees`)."""
+    ansatzes (the simpler half first, then every size in increasing order, so that the order of the variables does
+    not decide), with the size of each ratio's ansatz, from degrees along one random line (`line_degrees`)."""
     degrees = line_degrees(kmap, basis, weights, free, rng)
     l = len(basis)
     options = []
     for j in range(l - 1, -1, -1):
         sizes = {k: 10**12 if d is None else ansatz_size(nvars, d)
                  for k, d in ((k, degrees[(k, j)]) for k in range(l) if k != j)}
-        options.append((sum(sorted(sizes.values())[:max(1, len(sizes) // 2)]), j, sizes))   # the simpler half
-    best = min(options, key=lambda o: o[0])
-    return [(options[0][1], options[0][2])] + ([(best[1], best[2])] if best[1] != l - 1 else [])
+        ordered = sorted(sizes.values())
+        options.append((sum(ordered[:max(1, len(sizes) // 2)]), ordered, j, sizes))   # the simpler half, then all
+    best = min(options, key=lambda o: (o[0], o[1]))       # (ties on the simpler half broken by every size, not by
+    return [(options[0][2], options[0][3])] + ([(best[2], best[3])] if best[2] != l - 1 else [])   # variable order)
