@@ -145,10 +145,12 @@ def test_scaling_derivations_find_the_weights_and_the_centre_in_any_chart():
 
 
 @pytest.mark.parametrize("name, kind", [("lagrange-top", "dense"), ("lagrange-top", "affine"),
-                                        ("kirchhoff", "dense"), ("kirchhoff", "affine")])
+                                        ("kirchhoff", "dense"), ("kirchhoff", "affine"), ("clebsch", "dense"),
+                                        ("so4-euler-top", "affine")])
 def test_dense_charts_of_the_tops_are_undone(name, kind):
-    """The frames from the field's weights (Lagrange: m from p) and its trace form (Kirchhoff: equal weights) bring
-    a dense chart back to the catalogue's size (up to signs and the order of the variables)."""
+    """The frames from the field's weights (Lagrange: m from p), its trace form (Kirchhoff: equal weights), the
+    pencils restricted to a block (Clebsch) and the forms vanishing on one block (so(4): the integrals span every
+    form on each 2-dimensional block) bring a dense chart back to the catalogue's size (up to signs and order)."""
     field = _in_chart(name, kind, 7)
     found = normal_form(field)
     assert found is not None

@@ -281,11 +281,15 @@ def _frame(b0: flint.fmpq_mat, groups: list[list[flint.fmpq_mat]], derivations: 
     if q0 is None:
         return None
     operators = derivations + [q0.inv() * q for group in groups for q in group]
-    blocks = _eigenspaces(m, operators)
+    blocks = _eigenspaces(m, operators, groups, rng)
+    vanishing = _vanishing_forms(blocks, [q for group in groups for q in group])
+    if vanishing:
+        groups = [*groups, vanishing]
+        blocks = _eigenspaces(m, operators, groups, rng)
     if jac is not None:
         points = [_column(b0 * flint.fmpq_mat(m, 1, _random_in(block, rng))) for block in blocks]
         operators += [c for c in (_restricted(b0, _jacobian_at(jac, y)) for y in points) if c is not None]
-        blocks = _eigenspaces(m, operators)
+        blocks = _eigenspaces(m, operators, groups, rng)
     splitting = flint.fmpq_mat(m, m, [v[i] for i in range(m) for v in (w for block in blocks for w in block)]).inv()
     starts = [sum(len(b) for b in blocks[:k]) for k in range(len(blocks) + 1)]
     chosen: list[Vector] = []
@@ -319,6 +323,30 @@ def _frame(b0: flint.fmpq_mat, groups: list[list[flint.fmpq_mat]], derivations: 
     bounds = [sum(sizes[:k]) for k in range(len(sizes) + 1)]
     scaled = [row for a, b in zip(bounds, bounds[1:]) for row in _primitive_matrix(rows[a:b])]
     return tuple(tuple(str(e) for e in row) for row in scaled)
+
+
+def _vanishing_forms(blocks: list[list[Vector]], forms: list[flint.fmpq_mat]) -> list[flint.fmpq_mat]:
+    """For each block, the forms of the span that vanish on it (a chart-free subspace once the blocks are: in the
+    so(4) Euler top, the forms of the integrals span every form on each 2-dimensional block, but those vanishing on
+    one block are diagonal on the others and split them into lines)."""
+    out: list[flint.fmpq_mat] = []
+    for block in blocks:
+        m, k = len(block[0]), len(block)
+        if k == m or not forms:
+            continue
+        basis = flint.fmpq_mat(m, k, [block[j][i] for i in range(m) for j in range(k)])
+        flat = [(basis.transpose() * q * basis).entries() for q in forms]
+        for c in nullspace_q([[f[r] for f in flat] for r in range(k * k)]):
+            q = forms[0] * 0
+            for ci, f in zip(c, forms, strict=True):
+                q += f * ci
+            if any(q.entries()) and _independent_form(out, q):
+                out.append(q)
+    return out
+
+
+def _independent_form(known: list[flint.fmpq_mat], q: flint.fmpq_mat) -> bool:
+    return flint.fmpq_mat([f.entries() for f in [*known, q]]).rank() == len(known) + 1
 
 
 def _random_in(block: list[Vector], rng: random.Random) -> Vector:
@@ -434,33 +462,41 @@ def _nondegenerate(forms: Sequence[flint.fmpq_mat], rng: random.Random) -> flint
     return None
 
 
-def _eigenspaces(m: int, operators: Sequence[flint.fmpq_mat]) -> list[list[Vector]]:
+def _eigenspaces(m: int, operators: Sequence[flint.fmpq_mat], groups: Sequence[Sequence[flint.fmpq_mat]] = (),
+                 rng: random.Random | None = None) -> list[list[Vector]]:
     """Split Q^m into the primary components over Q (kernels of g(M)^k for the irreducible factors g^k of the
-    characteristic polynomial) of the operators, each applied to each block it leaves invariant, until nothing
-    splits."""
+    characteristic polynomial) of the operators, each applied to each block it leaves invariant, and of the pencils
+    of the forms restricted to a block (Q0|^-1 Q| with Q0 a combination of one group, where no operator splits it),
+    until nothing splits."""
     spaces = [_columns(_identity(m))]
     changed = True
     while changed:
         changed = False
         out: list[list[Vector]] = []
         for space in spaces:
-            split = _split(space, operators)
+            split = _split(space, operators, groups, rng or random.Random(m))
             changed |= len(split) > 1
             out += split
         spaces = out
     return spaces
 
 
-def _split(space: list[Vector], operators: Sequence[flint.fmpq_mat]) -> list[list[Vector]]:
-    """The primary components of the first operator that leaves `space` invariant and splits it."""
-    n = len(space[0])
-    basis = flint.fmpq_mat(n, len(space), [space[j][i] for i in range(n) for j in range(len(space))])
-    for m in operators:
-        image = m * basis
-        coords = _solve_in(basis, image)
-        if coords is None:
-            continue
-        k = len(space)
+def _split(space: list[Vector], operators: Sequence[flint.fmpq_mat], groups: Sequence[Sequence[flint.fmpq_mat]],
+           rng: random.Random) -> list[list[Vector]]:
+    """The primary components of the first operator that leaves `space` invariant and splits it; else of the first
+    operator of the restricted pencils that splits it."""
+    n, k = len(space[0]), len(space)
+    basis = flint.fmpq_mat(n, k, [space[j][i] for i in range(n) for j in range(k)])
+    inside = [c for c in (_solve_in(basis, m * basis) for m in operators) if c is not None]
+    pencils: list[flint.fmpq_mat] = []
+    if k < n:
+        restricted = [[basis.transpose() * q * basis for q in group] for group in groups]
+        every = [q for group in restricted for q in group]
+        for group in restricted:
+            q0 = _nondegenerate(group, rng)
+            if q0 is not None:
+                pencils += [q0.inv() * q for q in every]
+    for coords in inside + pencils:
         pieces = []
         for factor, multiplicity in coords.charpoly().factor()[1]:
             kernel = nullspace_q((_at_matrix(factor, coords) ** multiplicity).tolist())
