@@ -102,7 +102,9 @@ def discover(system: str | QuadraticField, degree: int = 2, *, params: Mapping[s
 def _run(ctx: SearchContext, report: DiscoveryReport, conserved: list[str], target: KahanMap, given: KahanMap) -> None:
     """The stages of discover, stopped cleanly by a limit (the report says what was covered); the integrals are
     lifted from the slice (if the search ran on one) to `target`, the map of the chart searched, and pulled back
-    from that chart (if it is not the user's) to `given`, the map of the system asked for."""
+    from that chart (if it is not the user's) to `given`, the map of the system asked for; their independence is
+    decided in the chart (y = T x + c with det T != 0 multiplies each Jacobian by T), again in the user's chart only
+    if a pull-back lost its proof."""
     try:
         report.integrals += _conserved(ctx.full_map, conserved, ctx.fixed)
         report.conserved += conserved
@@ -116,9 +118,12 @@ def _run(ctx: SearchContext, report: DiscoveryReport, conserved: list[str], targ
     finally:
         if report.on_slice is not None:
             lift_integrals(report, report.on_slice, target, ctx.stages)
-        if report.chart is not None:
+        if report.chart is not None:         # an affine bijection keeps Jacobian ranks: counted in the chart, where
+            _independence(report, target, ctx.stages)          # the integrals are smaller
             pull_back_integrals(report, report.chart, given, ctx.stages)
-        _independence(report, given, ctx.stages)
+        if report.chart is None or any(i.independent and i.status < Status.VERIFIED_SPECIALIZED
+                                       for i in report.integrals):
+            _independence(report, given, ctx.stages)
         ctx.stages.stop()
         report.stages = ctx.stages.seconds
 
