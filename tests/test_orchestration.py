@@ -100,6 +100,40 @@ def test_cited_claim_proven_once_per_run(fresh_run, tmp_path, pool):
     assert registry.cached("t-left").status is Status.VERIFIED
 
 
+def test_claims_sharing_an_intermediate_run_on_one_worker_which_computes_it_once(fresh_run, tmp_path):
+    """Claim.shares: two claims reading one per-process intermediate are proven one after the other by the worker
+    that computed it (with --jobs 2 they would otherwise compute it twice, once in each worker); a third claim runs
+    beside them."""
+    import functools
+    import os
+    log = tmp_path / "shared.log"
+
+    @functools.lru_cache(maxsize=1)
+    def intermediate() -> int:
+        with open(log, "a") as out:
+            out.write(f"computed {os.getpid()}\n")
+        return 1
+
+    def shared_claim(claim_id: str, shares: str) -> None:
+        @claim(claim_id, "test", claim_id, "-", "-", claimed={"x": "1"}, shares=shares)
+        def prove(cert: Certificate, given) -> None:
+            with cert.step("reads the intermediate", "comparison", "-") as s:
+                if shares:
+                    s.require(intermediate() == 1, "wrong intermediate")
+                with open(log, "a") as out:
+                    out.write(f"{claim_id} {os.getpid()}\n")
+    shared_claim("t-shared-a", "t-intermediate")
+    shared_claim("t-shared-b", "t-intermediate")
+    shared_claim("t-alone", "")
+    with ProcessPoolExecutor(2) as executor:
+        certs = run_graph(["t-shared-a", "t-shared-b", "t-alone"], executor)
+    assert all(c.status is Status.VERIFIED for c in certs.values())
+    lines = [line.split() for line in log.read_text().splitlines()]
+    pids = {name: pid for name, pid in lines if name != "computed"}
+    assert [pid for name, pid in lines if name == "computed"] == [pids["t-shared-a"]]
+    assert pids["t-shared-a"] == pids["t-shared-b"]
+
+
 # -- total provers ----------------------------------------------------------------------------------------------------
 def _recursion():
     return _recursion()

@@ -129,6 +129,7 @@ class _Worker:
             self.process.start()
         _own_group(cast(int, self.process.pid))
         child.close()
+        self.shared: set[str] = set()    # the intermediates (Claim.shares) its claims have computed
 
     def stop(self, sig: int = signal.SIGTERM) -> None:
         """Send `sig` to the worker and to the processes it forked (its process group)."""
@@ -150,7 +151,8 @@ class _Task:
 
 class ProcessPoolExecutor(Executor):
     """`--jobs N`: N worker processes on this machine, each proving one claim at a time; a worker that dies costs
-    its claim (an `unknown` certificate) and is replaced. Plain pipes, no helper threads: Ctrl-C stops it at once."""
+    its claim (an `unknown` certificate) and is replaced; a claim that shares an intermediate (Claim.shares) goes to
+    an idle worker that has computed it. Plain pipes, no helper threads: Ctrl-C stops it at once."""
 
     def __init__(self, jobs: int) -> None:
         self.slots = jobs
@@ -160,8 +162,12 @@ class ProcessPoolExecutor(Executor):
     def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
         # every worker is in _busy or _idle whenever an interrupt can take effect, so that `close` stops it: an
         # interrupt raised while one was being started would leave it waiting for a task, holding the output pipe
+        shares = get_claim(claim_id).shares
         with interrupts_deferred():
-            worker = self._idle.pop() if self._idle else _Worker()
+            warm = [w for w in self._idle if shares and shares in w.shared]
+            worker = (warm[0] if warm else self._idle[-1]) if self._idle else _Worker()
+            if worker in self._idle:
+                self._idle.remove(worker)
             self._busy.append(worker)
             try:
                 worker.conn.send((claim_id, dict(cited), self.seconds))
@@ -171,6 +177,8 @@ class ProcessPoolExecutor(Executor):
                 worker = _Worker()
                 self._busy.append(worker)
                 worker.conn.send((claim_id, dict(cited), self.seconds))
+            if shares:
+                worker.shared.add(shares)
         return _Task(claim_id, worker)
 
     def wait(self, handles: Sequence[Hashable]) -> list[tuple[Hashable, Certificate]]:
@@ -323,7 +331,8 @@ def make_executor(kind: str, jobs: int, scheduler: str | None, tasks: int, secon
 def run_graph(claim_ids: Iterable[str], executor: Executor,
               on_done: Callable[[Certificate], None] = lambda cert: None) -> dict[str, Certificate]:
     """Prove `claim_ids` and the claims they cite, each at most once per run (the run's cache), dependencies first,
-    up to `executor.slots` at a time (slow claims first among those ready); `on_done` sees each certificate of
+    up to `executor.slots` at a time (slow claims first among those ready; claims sharing an intermediate one after
+    the other, so that the worker that computed it proves the next); `on_done` sees each certificate of
     `claim_ids` as it completes. Every certificate of an unperturbed claim goes into the run's cache."""
     load_all()
     wanted = list(dict.fromkeys(claim_ids))
@@ -340,10 +349,14 @@ def run_graph(claim_ids: Iterable[str], executor: Executor,
         pending.sort(key=lambda cid: not REGISTRY[cid].slow)  # stable: long proofs start early
     running: dict[Hashable, str] = {}
     while pending or running:
-        ready = [cid for cid in pending if all(u in done for u in REGISTRY[cid].uses)]
-        for cid in ready[:max(0, executor.slots - len(running))]:
+        held = {REGISTRY[cid].shares for cid in running.values()}     # one claim at a time per shared intermediate
+        for cid in [cid for cid in pending if all(u in done for u in REGISTRY[cid].uses)]:
+            shares = REGISTRY[cid].shares
+            if len(running) >= executor.slots or (shares and shares in held):
+                continue
             running[executor.submit(cid, {u: done[u] for u in REGISTRY[cid].uses})] = cid
             pending.remove(cid)
+            held.add(shares)
         for handle, cert in executor.wait(list(running)):
             cid = running.pop(handle)
             done[cid] = cert

@@ -34,6 +34,8 @@ class Claim:
     slow: bool = False
     expected: Status = Status.VERIFIED
     uses: tuple[str, ...] = ()
+    shares: str = ""            # a per-process intermediate (an lru-cached computation) claims of the same key read:
+                                # a run proves them one after the other on one worker, which computes it once
 
     def succeeded(self, cert: Certificate) -> bool:
         """The certificate reaches what the claim promises: `verified`, or the weaker `expected` of an open claim."""
@@ -89,14 +91,15 @@ _PROVING: ContextVar[Certificate | None] = ContextVar("hkproof_proving", default
 
 def claim(id: str, group: str, title: str, paper_ref: str, statement: str,
           claimed: Mapping[str, str] | None = None, slow: bool = False,
-          expected: Status = Status.VERIFIED, uses: Iterable[str] = ()) -> Callable[[Prover], Prover]:
+          expected: Status = Status.VERIFIED, uses: Iterable[str] = (), shares: str = "") -> Callable[[Prover], Prover]:
     """Register a prover as the proof of a claim; `expected` < verified marks an open claim (evidence only);
-    `uses` lists the claims it cites (require_proven refuses any other)."""
+    `uses` lists the claims it cites (require_proven refuses any other); `shares` names the per-process
+    intermediate it computes with other claims (Claim.shares)."""
     def register(prover: Prover) -> Prover:
         if id in REGISTRY:
             raise ValueError(f"claim id {id} registered twice")
         REGISTRY[id] = Claim(id, group, title, paper_ref, statement, prover, dict(claimed or {}), slow, expected,
-                             tuple(uses))
+                             tuple(uses), shares)
         return prover
     return register
 

@@ -104,7 +104,7 @@ def _register(entry: Entry, title: str, statement: str, independent: int, new_di
         claim(f"atlas-{key}-integrals", GROUP, f"{title}: integrals of the Kahan map",
               "docs/atlas.md; paper sec. 7 (conclusions)",
               statement + (f" (parameters fixed: {fixed})" if fixed else ""),
-              claimed={"independent": str(independent)}, slow=slow,
+              claimed={"independent": str(independent)}, slow=slow, shares=f"discover {key}",
               expected=Status.VERIFIED_SPECIALIZED if entry.params else Status.VERIFIED)(
             lambda cert, claimed: prove_integrals(cert, claimed, entry))
     kernels = (f"New kernel dimensions by degree 1..{entry.degree}: {new_dimensions}; the kernel coordinates carry "
@@ -112,7 +112,8 @@ def _register(entry: Entry, title: str, statement: str, independent: int, new_di
     claim(f"atlas-{key}-kernels", GROUP, f"{title}: kernels of all monomials of degree <= {entry.degree}",
           "docs/atlas.md; algorithm (N)", kernels if independent else f"{statement}. {kernels}",
           claimed={"new_dimensions": new_dimensions, "gradient_rank": str(gradient_rank)}, slow=slow,
-          expected=Status.EVIDENCE_EXACT)(lambda cert, claimed: prove_kernels(cert, claimed, entry))
+          shares=f"discover {key}", expected=Status.EVIDENCE_EXACT)(
+        lambda cert, claimed: prove_kernels(cert, claimed, entry))
 
 
 _register(Entry("volterra-3", 3, (), 2), "Periodic Volterra lattice, N = 3",

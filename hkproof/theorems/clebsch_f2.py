@@ -25,6 +25,9 @@ OMEGA_POINTS = ((1, 2, 5), (1, 3, 7), (2, 3, 11), (1, 4, 9), (3, 5, 13), (2, 7, 
                 (3, 8, 2), (7, 3, 23), (4, 9, 5), (1, 11, 4), (6, 13, 29), (2, 15, 31), (9, 4, 37), (8, 17, 3))
 
 
+PLAIN_F2 = "the plain composition f o f of the Clebsch map"     # Claim.shares of the claims reading it
+
+
 @lru_cache(maxsize=1)
 def plain_second_iterate() -> dict[str, Any]:
     """Delta_h(N, Delta), P1_h(N, Delta), M1_h(N, Delta): the plain composition f o f for p1, m1 (eq. "dC map").
@@ -75,7 +78,7 @@ def _compare_table(cert: Certificate, s, found: dict[str, str], claimed: str, pr
        claimed={"table": "26 24 24 24 12 12 12; 27 25 24 24 12 12 12; 27 24 25 24 12 12 12; 27 24 24 25 12 12 12; "
                          "32 28 28 28 15 14 14; 32 28 28 28 14 15 14; 32 28 28 28 14 14 15",
                 "p1_monomials": "64059", "p1_terms": "1647594"},
-       slow=True, uses=["dc-map-symmetries"])
+       slow=True, uses=["dc-map-symmetries"], shares=PLAIN_F2)
 def prove_f2_plain(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
