@@ -11,6 +11,7 @@ kept when the table is rewritten.
 from __future__ import annotations
 
 import argparse
+import os
 import random
 import time
 from pathlib import Path
@@ -53,7 +54,7 @@ def main() -> None:
             rows.append((name, kind, base, got, old, field_size(moved)))
             print(rows[-1], flush=True)
     lines = ["# `discover` in any coordinates (benchmarks/coordinates.py)", "",
-             f"One run, {time.strftime('%Y-%m-%d')}, budget {args.seconds:g} s per search, degree 2, seed 7 for the "
+             f"One run, {time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, budget {args.seconds:g} s per search, degree 2, seed 7 for the "
              "random change. Columns: independent proven integrals and wall seconds in the catalogue's chart, the "
              "same in the transformed chart (normal form on, the default), their time ratio, the size of the "
              "right-hand sides (characters) in the catalogue's chart, in the transformed one and in the chart searched"

@@ -94,8 +94,8 @@ def test_same_count_in_a_random_chart(name, kind, seed):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name", ["euler-top", "zhukovsky-volterra-1", "gaudin-2", "lagrange-top", "kirchhoff",
-                                  "volterra-4", "toda-3"])
+@pytest.mark.parametrize("name", ["euler-top", "clebsch", "zhukovsky-volterra-1", "gaudin-2", "lagrange-top",
+                                  "kirchhoff", "volterra-4", "toda-3", "so4-euler-top-split"])
 @pytest.mark.parametrize("kind", ["dense", "signed-permutation", "translation", "affine"])
 def test_same_count_in_every_kind_of_chart(name, kind):
     field = _in_chart(name, kind, 7)
