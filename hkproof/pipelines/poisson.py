@@ -144,9 +144,16 @@ class _Scene:
     denominator: flint.fmpz_mpoly
     symmetries: list[SignSymmetry]
 
-    def system(self, block: Block, rng: random.Random) -> tuple[np.ndarray, list[list[int]]]:
+    def system(self, block: Block, rng: random.Random, extra: int = 4) -> tuple[np.ndarray, list[list[int]]]:
         mmap = self.kmap.mod(self.prime, self.values)
-        return system_mod_p(mmap, mmap.reduce(self.denominator), block, rng)
+        return system_mod_p(mmap, mmap.reduce(self.denominator), block, rng, extra)
+
+
+def confirming_rows(block: Block) -> int:
+    """Rows beyond the columns with which a kernel is confirmed (and rebuilt): a few surplus rows can fake a kernel,
+    since the rows of one point are not independent (the Lagrange top at degree 4 showed a 4-dimensional kernel with
+    4 surplus rows and none with 200)."""
+    return len(block.columns) // 4 + 16
 
 
 def search_poisson(kmap: KahanMap, degree: int = 3, *, denominators: Sequence[flint.fmpz_mpoly] | None = None,
@@ -192,6 +199,10 @@ def _search_class(scene: _Scene, degree: int, rng: random.Random, report: Poisso
             rows, points = scene.system(block, rng)
             rank = budget.call(f"the rank mod p of {rows.shape[0]} x {rows.shape[1]} invariance rows",
                                _rank, rows, scene.prime)
+            if rank < len(block.columns):        # a kernel: confirmed on more points before it is rebuilt
+                rows, points = scene.system(block, rng, confirming_rows(block))
+                rank = budget.call(f"the rank mod p of {rows.shape[0]} x {rows.shape[1]} invariance rows",
+                                   _rank, rows, scene.prime)
             ranks.append(BlockRank(block.character, len(block.columns), rows.shape[0], rank,
                                    tuple(tuple(x) for x in points)))
             if rank < len(block.columns):
@@ -268,7 +279,7 @@ def _rebuild_block(scene: _Scene, block: Block, rows: np.ndarray, rng: random.Ra
             controls = {**{n: 1 for n in normalized}, **dict(zip(sampled, t))}
             try:
                 mmap = kmap.mod(q, controls)
-                matrix, _ = system_mod_p(mmap, mmap.reduce(scene.denominator), block, local)
+                matrix, _ = system_mod_p(mmap, mmap.reduce(scene.denominator), block, local, confirming_rows(block))
             except (UnluckyPrimeError, ZeroDivisionError):
                 out.append(None)
                 continue
