@@ -62,7 +62,7 @@ def scaling_centre(field: QuadraticField, seed: int = 0) -> list[str] | None:
     """-x0 (text, affine in the parameters) where a scaling derivation with c = 1 vanishes: W x0 + V a + b = 0 for a
     random combination of the derivations with c != 0 (a particular solution when W is singular); None when the
     field has no such derivation, or its centre is the origin already, or W x0 = -(V a + b) has no solution."""
-    basis = [d for d in scaling_derivations(field)]
+    basis = scaling_derivations(field)
     scaled = [d for d in basis if d.time != 0]
     if not scaled:
         return None
