@@ -337,9 +337,7 @@ def _vanishing_forms(blocks: list[list[Vector]], forms: list[flint.fmpq_mat]) ->
         basis = flint.fmpq_mat(m, k, [block[j][i] for i in range(m) for j in range(k)])
         flat = [(basis.transpose() * q * basis).entries() for q in forms]
         for c in nullspace_q([[f[r] for f in flat] for r in range(k * k)]):
-            q = forms[0] * 0
-            for ci, f in zip(c, forms, strict=True):
-                q += f * ci
+            q = _combination(forms, c)
             if any(q.entries()) and _independent_form(out, q):
                 out.append(q)
     return out
@@ -437,10 +435,7 @@ def _derivation_operators(field: QuadraticField, rng: random.Random) -> list[fli
     and one random combination of it (its primary components are the common refinement the basis alone may miss)."""
     basis = [d.linear for d in scaling_derivations(field) if any(d.linear.entries())]
     if len(basis) > 1:
-        mixed = basis[0] * 0
-        for w in basis:
-            mixed += w * rng.randint(1, 97)
-        basis.append(mixed)
+        basis.append(_combination(basis, [rng.randint(1, 97) for _ in basis]))
     return basis
 
 
@@ -454,12 +449,18 @@ def _nondegenerate(forms: Sequence[flint.fmpq_mat], rng: random.Random) -> flint
     if not forms:
         return None
     for _ in range(8):
-        q = forms[0] * 0
-        for f in forms:
-            q += f * rng.randint(1, 97)
+        q = _combination(forms, [rng.randint(1, 97) for _ in forms])
         if q.det() != 0:
             return q
     return None
+
+
+def _combination(matrices: Sequence[flint.fmpq_mat], coefficients: Sequence) -> flint.fmpq_mat:
+    """sum_k c_k M_k."""
+    out = matrices[0] * 0
+    for c, m in zip(coefficients, matrices, strict=True):
+        out += m * c
+    return out
 
 
 def _eigenspaces(m: int, operators: Sequence[flint.fmpq_mat], groups: Sequence[Sequence[flint.fmpq_mat]] = (),
