@@ -100,12 +100,13 @@ def measure(source: System, degree: int = 4, *, params: Mapping[str, Rational] |
 
 
 def poisson(source: System, degree: int = 3, *, params: Mapping[str, Rational] | None = None,
-            denominators: Sequence[str] = (), integrals_degree: int = 2, seconds: float | None = None,
-            seed: int = 0) -> PoissonReport:
+            denominators: Sequence[str] = (), integrals_degree: int = 2, darboux_degree: int = 4,
+            seconds: float | None = None, seed: int = 0) -> PoissonReport:
     """Invariant Poisson bivectors Q/D with deg Q <= `degree`, proven, or their classes excluded (docs/poisson.md)."""
     f, fixed = _specialized(source, params)
+    _show_reports_in_ipython()
     dens = [f.field.parse(d) for d in denominators]
-    return with_integrals(f, degree, dens, integrals_degree, seed=seed, fixed=fixed,
+    return with_integrals(f, degree, dens, integrals_degree, darboux_degree=darboux_degree, seed=seed, fixed=fixed,
                           budget=Budget(seconds, raise_with="a larger `seconds`"))
 
 
@@ -171,7 +172,7 @@ def to_sympy(result: Any) -> Any:
 
 
 def _show_reports_in_ipython() -> None:
-    """In a running IPython (Jupyter), show discover and measure reports as Markdown (idempotent)."""
+    """In a running IPython (Jupyter), show discover, measure and poisson reports as Markdown (idempotent)."""
     ipython = sys.modules.get("IPython")
     shell = ipython.get_ipython() if ipython is not None else None
     if shell is not None:

@@ -50,6 +50,8 @@ def test_results_render_as_markdown_with_latex(shell):
     assert "deg f^n | 3 | 9 | 19 |" in markdown(shell, hk.degrees(top, 3))
     assert "| verified |" in markdown(shell, hk.discover(top, 2, seconds=60))
     assert "cofactor K" in markdown(shell, hk.measure("lotka-volterra", 2))
+    shown = markdown(shell, hk.poisson("lotka-volterra", 2, integrals_degree=0))
+    assert r"Pi1 (verified, Poisson, rank 2" in shown and r"\{x, y\}" in shown and "| F1*F2 | $x y$ | 2 | verified |" in shown
 
 
 def test_results_convert_to_sympy():

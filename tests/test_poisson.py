@@ -66,7 +66,8 @@ def test_lotka_volterra_bracket_xy_from_the_field_alone() -> None:
     assert s.status is Status.VERIFIED and s.poisson and s.rank == 2
     ring = kahan_map("lotka-volterra").ring
     assert s.bivector.upper[0] == ring.gen("x") * ring.gen("y") or s.bivector.upper[0] == -ring.gen("x") * ring.gen("y")
-    assert [c["kernel"] for c in report.costs] == [0, 0, 1]        # none of degree 0 or 1: the lowest is xy
+    # the top degree first (a kernel), then upwards from 0: none of degree 0 or 1, the lowest is xy
+    assert [(c["degree"], c["kernel"]) for c in report.costs] == [(3, 1), (0, 0), (1, 0), (2, 1)]
     assert sympy_check("lotka-volterra", s.bivector) == (True, True)
 
 

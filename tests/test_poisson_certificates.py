@@ -43,7 +43,8 @@ def test_lotka_volterra_round_trip_through_the_command(tmp_path, capsys):
     assert "bivector Pi1 of field lotka-volterra: [[0, x*y], [-x*y, 0]]" in capsys.readouterr().out
     d = json.loads(out.read_text())
     assert d["version"] == 8 and d["claim"]["bivectors"] == [{"name": "Pi1", "field": "lotka-volterra"}]
-    assert [s["kind"] for s in d["steps"]] == ["bivector-invariance", "jacobi"]
+    assert [s["kind"] for s in d["steps"]] == ["bivector-invariance", "jacobi"] + ["exclusion"] * 3    # x^2, xy, y^2
+    assert {s["denominator"] for s in d["steps"][2:]} == {"x**2", "x*y", "y**2"}
 
 
 def test_a_changed_coefficient_is_refuted():
@@ -149,6 +150,9 @@ def test_the_euler_top_liouville_arnold_claim_and_its_perturbation():
     from hkproof.proof.status import Status
     c = get_claim("atlas-euler-top-liouville-arnold")
     cert = c.prove()
-    assert cert.status is Status.VERIFIED and len(cert.checks) == 18
+    # 2 integrals, 3 structures (invariance, Jacobi, Casimir), 3 compatible pairs, 2 involutions, and the 9 classes
+    # D != 1 of the factors of den(I1), den(I2) and of measure's Darboux polynomials excluded at degree 3
+    assert cert.status is Status.VERIFIED and len(cert.checks) == 25
+    assert sum(s["kind"] == "exclusion" for s in cert.checks) == 9
     assert c.prove({"rank": "4"}).status is Status.REFUTED
     assert c.prove({"structures": "2"}).status is Status.REFUTED

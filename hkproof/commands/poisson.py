@@ -10,7 +10,8 @@ from hkproof.commands._certificates import add_certificate_option, certificate_t
 from hkproof.commands._geometry import EPS_CONVENTION
 from hkproof.exit_codes import ExitCode
 from hkproof.experiments.progress import message_bar
-from hkproof.pipelines.poisson import MAX_POISSON_DEGREE, search_poisson, with_integrals
+from hkproof.pipelines.darboux import MAX_DARBOUX_DEGREE
+from hkproof.pipelines.poisson import MAX_POISSON_DEGREE, with_integrals
 from hkproof.pipelines.poisson_certificate import poisson_document
 
 __all__ = ["register", "run_poisson"]
@@ -27,10 +28,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--degree", type=at_least(0, MAX_POISSON_DEGREE), default=3,
                    help=f"largest degree of Q (default 3, at most {MAX_POISSON_DEGREE})")
     p.add_argument("--denominator", action="append", default=[], metavar="FORMULA",
-                   help="a candidate denominator D (a polynomial; repeatable); default 1 and the denominators of "
-                   "the integrals `discover` proves, and their squares")
+                   help="a candidate denominator D (a polynomial; repeatable); always searched: 1, the irreducible "
+                   "factors of the given D, of the denominators of the integrals `discover` proves and of the Darboux "
+                   "polynomials of `measure`, and the products of two factors")
     p.add_argument("--integrals-degree", type=at_least(0, 4), default=2,
                    help="degree of discover's search for the integrals (Casimirs, involution, denominators); 0: none")
+    p.add_argument("--darboux-degree", type=at_least(0, MAX_DARBOUX_DEGREE), default=4,
+                   help="degree of measure's search for Darboux polynomials (their factors are candidate "
+                   "denominators; default 4); 0: none")
     add_param_option(p)
     p.add_argument("--seed", type=integer, default=0, help="seed of the values, prime and points (default 0)")
     add_progress_option(p)
@@ -42,7 +47,8 @@ def run_poisson(args: argparse.Namespace) -> Result:
     _, f, fixed = specialized_map(args)
     denominators = [f.field.parse(text) for text in args.denominator]
     with progress_bar(args, "poisson", "events") as shown:
-        report = with_integrals(f, args.degree, denominators, args.integrals_degree, seed=args.seed, fixed=fixed,
+        report = with_integrals(f, args.degree, denominators, args.integrals_degree,
+                                darboux_degree=args.darboux_degree, seed=args.seed, fixed=fixed,
                                 progress=message_bar(shown), budget=current())
     code = ExitCode.VERIFIED if report.complete else ExitCode.LIMIT
     payload = report.to_dict()

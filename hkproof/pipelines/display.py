@@ -1,4 +1,4 @@
-"""How the reports of discover and measure show in Jupyter (Markdown with LaTeX) and convert to sympy.
+"""How the reports of discover, measure and poisson show in Jupyter (Markdown with LaTeX) and convert to sympy.
 
 The report classes live with their pipelines; IPython learns these renderers through its formatters (`register`),
 the way it learns the display of any class it does not own.
@@ -9,11 +9,15 @@ from typing import Any
 
 import sympy
 
+from hkproof.algebra.fraction import poly_str
 from hkproof.algebra.printing import latex, markdown_table, poly_to_sympy
 from hkproof.pipelines.darboux import DarbouxSearch
 from hkproof.pipelines.discover.report import DiscoveryReport
+from hkproof.pipelines.poisson import PoissonReport
+from hkproof.pipelines.poisson_candidates import Denominator
+from hkproof.hk.poisson import pairs
 
-__all__ = ["darboux_markdown", "discovery_markdown", "register", "report_to_sympy"]
+__all__ = ["darboux_markdown", "discovery_markdown", "poisson_markdown", "register", "report_to_sympy"]
 
 
 def discovery_markdown(report: DiscoveryReport) -> str:
@@ -46,6 +50,35 @@ def darboux_markdown(search: DarbouxSearch) -> str:
     return "\n".join(lines)
 
 
+def poisson_markdown(report: PoissonReport) -> str:
+    """Each invariant bivector (its brackets in LaTeX, status, Jacobi, rank, Casimirs) and each excluded class."""
+    payload = report.to_dict()
+    lines = [f"**poisson {report.system}**: invariant bivectors Q/D with deg Q <= {report.degree}", ""]
+    for s, p in zip(report.structures, payload["structures"], strict=True):
+        fracs = s.bivector.fracs()
+        brackets = [f"$\\{{{a}, {b}\\}} = {latex(sympy.factor(fracs[i][j].to_sympy()))}$"
+                    for i, j in pairs(len(report.variables)) if not fracs[i][j].is_zero()
+                    for a, b in [(latex(sympy.Symbol(report.variables[i])), latex(sympy.Symbol(report.variables[j])))]]
+        jacobi = {True: "Poisson", False: "not Poisson", None: "Jacobi not decided"}[s.poisson]
+        lines += [f"- {p['name']} ({p['status']}, {jacobi}, rank {s.rank}, Casimirs "
+                  f"{', '.join(p['casimir_names']) or 'none among the integrals'}): " + ", ".join(brackets)]
+    rows = [[e.name, _short_latex(Denominator(e.name, e.denominator)), e.degree, p["status"]]
+            for e, p in zip(report.excluded, payload["excluded"], strict=True)]
+    if rows:
+        lines += ["", "Excluded classes (no invariant Q/D: full column rank mod p)", "",
+                  markdown_table(["D", "formula", "deg Q <=", "status"], rows)]
+    lines += [f"- {n}" for n in report.notes]
+    if report.stopped:
+        lines.append(f"- budget ran out: {report.stopped}")
+    return "\n".join(lines)
+
+
+def _short_latex(d: Denominator) -> str:
+    """D factored in LaTeX, or its degree and size when it is long."""
+    text = d.formula()
+    return f"${latex(sympy.factor(poly_to_sympy(d.poly)))}$" if text == poly_str(d.poly) else text
+
+
 def report_to_sympy(report: DiscoveryReport | DarbouxSearch) -> dict[str, Any]:
     """The reconstructed integrals of discover ({name: expression}), or measure's Darboux polynomials."""
     if isinstance(report, DiscoveryReport):
@@ -54,7 +87,8 @@ def report_to_sympy(report: DiscoveryReport | DarbouxSearch) -> dict[str, Any]:
 
 
 def register(shell: Any) -> None:
-    """Teach an IPython shell to show discover and measure reports as Markdown."""
+    """Teach an IPython shell to show discover, measure and poisson reports as Markdown."""
     markdown = shell.display_formatter.formatters["text/markdown"]
     markdown.for_type(DiscoveryReport, discovery_markdown)
     markdown.for_type(DarbouxSearch, darboux_markdown)
+    markdown.for_type(PoissonReport, poisson_markdown)

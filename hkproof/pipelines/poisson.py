@@ -37,6 +37,7 @@ from hkproof.hk.poisson_proofs import (BlockRank, StructureProof, compatibility_
                                        involution_certificate, prove_structure)
 from hkproof.hk.poisson_system import (Block, SignSymmetry, blocks, denominator_character, sign_symmetries,
                                        system_mod_p)
+from hkproof.pipelines.poisson_candidates import Denominator, candidate_denominators
 from hkproof.pipelines.stages import Progress, Stages
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status, specialized_label
@@ -50,6 +51,7 @@ Integrals = Callable[[KahanMap], list[tuple[str, Frac]]]
 @dataclass
 class ExcludedClass:
     """A class Q/D, deg Q <= degree, with no invariant bivector: full column rank mod p in every block."""
+    name: str
     denominator: flint.fmpz_mpoly
     degree: int
     prime: int
@@ -91,7 +93,7 @@ class PoissonReport:
                             "casimir_names": [n for n, _ in s.casimirs], "denominator": poly_str(s.bivector.denominator),
                             "certificate": s.certificate.to_dict()} for k, s in enumerate(self.structures)],
             "compatible": [{"pair": [f"Pi{a + 1}", f"Pi{b + 1}"], "compatible": ok} for a, b, ok in self.compatibility],
-            "excluded": [{"denominator": poly_str(e.denominator), "degree": e.degree, "status": label(e.certificate.status),
+            "excluded": [{"denominator": poly_str(e.denominator), "denominator_name": e.name, "degree": e.degree, "status": label(e.certificate.status),
                           "prime": e.prime, "values": {k: str(v) for k, v in e.values.items()},
                           "symmetries": [list(s.signs) for s in e.symmetries],
                           "blocks": [{"character": list(b.character), "columns": b.columns, "rows": b.rows,
@@ -122,9 +124,11 @@ class PoissonReport:
         for inv in d["involution"]:
             lines.append(f"  [{inv['status']}] involution for {inv['structure']}: {inv['statement']}")
         for e in d["excluded"]:
-            lines.append(f"  [{e['status']}] excluded: no invariant Q/({e['denominator']}) with deg Q <= {e['degree']} "
-                         f"(full column rank mod {e['prime']} in {len(e['blocks'])} block(s), columns "
-                         f"{[b['columns'] for b in e['blocks']]})")
+            lines.append(f"  [{e['status']}] excluded: no invariant Q/D, D = {e['denominator_name']}, with deg Q <= "
+                         f"{e['degree']} (full column rank mod {e['prime']} in {len(e['blocks'])} block(s), "
+                         f"{sum(b['columns'] for b in e['blocks'])} unknowns)")
+        names = {e.name: e for e in self.excluded}
+        lines += [f"  D = {n}: {Denominator(n, e.denominator).formula()}" for n, e in names.items() if n != "1"]
         for c in self.costs:
             lines.append(f"  cost: D = {c['denominator']}, degree {c['degree']}: {c['columns']} unknowns in "
                          f"{c['blocks']} block(s), {c['rows']} rows, kernel {c['kernel']}, {c['seconds']:.2f} s")
@@ -141,6 +145,7 @@ class _Scene:
     kmap: KahanMap
     prime: int
     values: dict[str, flint.fmpq]
+    name: str
     denominator: flint.fmpz_mpoly
     symmetries: list[SignSymmetry]
 
@@ -156,7 +161,7 @@ def confirming_rows(block: Block) -> int:
     return len(block.columns) // 4 + 16
 
 
-def search_poisson(kmap: KahanMap, degree: int = 3, *, denominators: Sequence[flint.fmpz_mpoly] | None = None,
+def search_poisson(kmap: KahanMap, degree: int = 3, *, denominators: Sequence[Denominator] | None = None,
                    seed: int = 0, integrals: Integrals | None = None, progress: Progress | None = None,
                    fixed: Mapping[str, flint.fmpq] | None = None, budget: Budget | None = None) -> PoissonReport:
     """Invariant bivectors Q/D with deg Q <= `degree` for each D in `denominators` (default: 1), proven or excluded.
@@ -174,9 +179,9 @@ def search_poisson(kmap: KahanMap, degree: int = 3, *, denominators: Sequence[fl
     symmetries = sign_symmetries(kmap)
     lemma = matrix_identity_holds(kmap)
     try:
-        for den in denominators or [kmap.ring.constant(1)]:
-            keep = [s for s in symmetries if denominator_character(kmap, den, s) is not None]
-            scene = _Scene(kmap, prime, values, den, keep)
+        for den in denominators or [Denominator("1", kmap.ring.constant(1))]:
+            keep = [s for s in symmetries if denominator_character(kmap, den.poly, s) is not None]
+            scene = _Scene(kmap, prime, values, den.name, den.poly, keep)
             _search_class(scene, degree, rng, report, stages, budget, lemma, integrals)
     except BudgetExhausted as exc:
         report.stopped = str(exc)
@@ -187,56 +192,107 @@ def search_poisson(kmap: KahanMap, degree: int = 3, *, denominators: Sequence[fl
 
 def _search_class(scene: _Scene, degree: int, rng: random.Random, report: PoissonReport, stages: Stages,
                   budget: Budget, lemma: bool, integrals: Integrals | None) -> None:
-    """Degrees 0..degree for one D: the first with a kernel is rebuilt and proven; none: the class is excluded."""
-    kmap, den = scene.kmap, scene.denominator
-    for d in range(degree + 1):
-        stages.start("rank mod p", f"D = {_short(poly_str(den))}, degree {d}: rank mod p")
-        start = time.perf_counter()
-        ranks: list[BlockRank] = []
-        with_kernel: list[tuple[Block, np.ndarray]] = []
-        for block in blocks(kmap, d, scene.symmetries):
-            budget.check(f"the invariance rows of degree {d}")
-            rows, points = scene.system(block, rng)
+    """One D: the top degree first (full column rank there excludes every lower degree too, the columns of a lower
+    degree being a subset); with a kernel there, the lowest degree with a kernel is rebuilt and proven."""
+    ranks, with_kernel = _ranks(scene, degree, rng, report, stages, budget)
+    if all(b.rank == b.columns for b in ranks):
+        cert = exclusion_certificate(scene.kmap, scene.denominator, degree, scene.prime, scene.values,
+                                     [s.how for s in scene.symmetries], ranks, report.fixed)
+        report.excluded.append(ExcludedClass(scene.name, scene.denominator, degree, scene.prime, dict(scene.values),
+                                             ranks, list(scene.symmetries), cert))
+        return
+    if not with_kernel:
+        report.notes.append(f"D = {scene.name}, deg Q <= {degree}: every invariant Q/D is a combination of the "
+                            "structures found with a smaller D (times D over their denominators): the kernels mod p "
+                            "have no larger dimension")
+        return
+    for d in range(degree):
+        lower = _ranks(scene, d, rng, report, stages, budget)[1]
+        if lower:
+            _found(scene, d, lower, rng, report, stages, budget, lemma, integrals)
+            return
+    _found(scene, degree, with_kernel, rng, report, stages, budget, lemma, integrals)
+
+
+Kernel = tuple[Block, np.ndarray, list[list[int]]]     # a block with new invariant bivectors: rows, known vectors
+
+
+def _ranks(scene: _Scene, d: int, rng: random.Random, report: PoissonReport, stages: Stages, budget: Budget
+           ) -> tuple[list[BlockRank], list[Kernel]]:
+    """The rank mod p of each block at degree d (a kernel confirmed on more points), its cost in the report, and the
+    blocks whose kernel is larger than the span of the structures already found (`_known_vectors`), with their rows
+    and those vectors."""
+    stages.start("rank mod p", f"D = {scene.name}, degree {d}: rank mod p")
+    start = time.perf_counter()
+    ranks: list[BlockRank] = []
+    with_kernel: list[Kernel] = []
+    for block in blocks(scene.kmap, d, scene.symmetries):
+        budget.check(f"the invariance rows of degree {d}")
+        rows, points = scene.system(block, rng)
+        rank = budget.call(f"the rank mod p of {rows.shape[0]} x {rows.shape[1]} invariance rows",
+                           _rank, rows, scene.prime)
+        if rank < len(block.columns):        # a kernel: confirmed on more points before it is rebuilt
+            rows, points = scene.system(block, rng, confirming_rows(block))
             rank = budget.call(f"the rank mod p of {rows.shape[0]} x {rows.shape[1]} invariance rows",
                                _rank, rows, scene.prime)
-            if rank < len(block.columns):        # a kernel: confirmed on more points before it is rebuilt
-                rows, points = scene.system(block, rng, confirming_rows(block))
-                rank = budget.call(f"the rank mod p of {rows.shape[0]} x {rows.shape[1]} invariance rows",
-                                   _rank, rows, scene.prime)
-            ranks.append(BlockRank(block.character, len(block.columns), rows.shape[0], rank,
-                                   tuple(tuple(x) for x in points)))
-            if rank < len(block.columns):
-                with_kernel.append((block, rows))
-        report.costs.append({"denominator": poly_str(den), "degree": d, "columns": sum(b.columns for b in ranks),
-                             "blocks": len(ranks), "rows": sum(b.rows for b in ranks),
-                             "kernel": sum(b.columns - b.rank for b in ranks),
-                             "seconds": round(time.perf_counter() - start, 4)})
-        if with_kernel:
-            _found(scene, d, with_kernel, rng, report, stages, budget, lemma, integrals)
-            return
-        if d == degree:
-            cert = exclusion_certificate(kmap, den, d, scene.prime, scene.values,
-                                         [s.how for s in scene.symmetries], ranks, report.fixed)
-            report.excluded.append(ExcludedClass(den, d, scene.prime, dict(scene.values), ranks,
-                                                 list(scene.symmetries), cert))
+        ranks.append(BlockRank(block.character, len(block.columns), rows.shape[0], rank,
+                               tuple(tuple(x) for x in points)))
+        if rank < len(block.columns):
+            known = _known_vectors(scene, block, [s.bivector for s in report.structures])
+            spanned = _rank(np.array(known, dtype=np.int64), scene.prime) if known else 0
+            if len(block.columns) - rank > spanned:
+                with_kernel.append((block, rows, known))
+    report.costs.append({"denominator": scene.name, "degree": d, "columns": sum(b.columns for b in ranks),
+                         "blocks": len(ranks), "rows": sum(b.rows for b in ranks),
+                         "kernel": sum(b.columns - b.rank for b in ranks),
+                         "seconds": round(time.perf_counter() - start, 4)})
+    return ranks, with_kernel
 
 
-def _short(text: str, limit: int = 60) -> str:
-    return text if len(text) <= limit else text[:limit] + "..."
+def _known_vectors(scene: _Scene, block: Block, known: Sequence[Bivector]) -> list[list[int]]:
+    """The coefficient vectors mod p, on the block's columns, of Q_k D/D_k for each structure Q_k/D_k already found
+    whose denominator divides D and whose numerator then lies in the block's degrees (its part of the block's
+    character: invariant, since the invariant bivectors split by characters)."""
+    mmap = scene.kmap.mod(scene.prime, scene.values)
+    where = {c: k for k, c in enumerate(block.columns)}
+    top = max(sum(m) for _, m in block.columns)
+    out = []
+    for pi in known:
+        quotient, remainder = divmod(scene.denominator, pi.denominator)
+        if not remainder.is_zero():
+            continue
+        entries = [mmap.reduce(q * quotient).to_dict() for q in pi.upper]
+        if any(sum(m) > top for e in entries for m in e):
+            continue
+        vector = [0] * len(block.columns)
+        for k, e in enumerate(entries):
+            for m, c in e.items():
+                if (k, tuple(m)) in where:
+                    vector[where[(k, tuple(m))]] = int(c)
+        if any(vector):
+            out.append(vector)
+    return out
 
 
 def _rank(rows: np.ndarray, p: int) -> int:
-    return int(flint.nmod_mat(rows.tolist(), p).rank())
+    """The rank mod p, the matrix filled one row at a time: a list of lists of all entries (Python ints) took 11 GB
+    for the Gaudin magnet's 12 900 x 12 900 blocks, eight times the matrix itself."""
+    matrix = flint.nmod_mat(rows.shape[0], rows.shape[1], p)
+    for i, row in enumerate(rows):
+        for j, v in enumerate(row.tolist()):
+            if v:
+                matrix[i, j] = v
+    return int(matrix.rank())
 
 
-def _found(scene: _Scene, degree: int, with_kernel: Sequence[tuple[Block, np.ndarray]], rng: random.Random,
+def _found(scene: _Scene, degree: int, with_kernel: Sequence[Kernel], rng: random.Random,
            report: PoissonReport, stages: Stages, budget: Budget, lemma: bool, integrals: Integrals | None) -> None:
     """Rebuild each block's kernel with eps and the parameters symbolic, prove each basis bivector, pairs, integrals."""
     kmap = scene.kmap
     stages.start("reconstruction", f"degree {degree}: rebuilding {len(with_kernel)} kernel block(s)")
     built: list[Bivector] = []
-    for block, rows in with_kernel:
-        built += _rebuild_block(scene, block, rows, rng, budget)
+    for block, rows, known in with_kernel:
+        built += _rebuild_block(scene, block, rows, known, rng, budget)
     stages.start("proofs", f"proving {len(built)} invariant bivector(s)")
     if integrals is not None and not report.integrals:
         report.integrals = integrals(kmap)
@@ -259,14 +315,16 @@ def _found(scene: _Scene, degree: int, with_kernel: Sequence[tuple[Block, np.nda
 
 
 # ---- reconstruction of a kernel block ------------------------------------------------------------------------------------
-def _rebuild_block(scene: _Scene, block: Block, rows: np.ndarray, rng: random.Random, budget: Budget
-                   ) -> list[Bivector]:
-    """The rref kernel basis of the block (canonical, so each coordinate is a rational function of eps and the
-    parameters), rebuilt by sparse reconstruction with the weights of the scaling symmetries normalized."""
+def _rebuild_block(scene: _Scene, block: Block, rows: np.ndarray, known: Sequence[Sequence[int]], rng: random.Random,
+                   budget: Budget) -> list[Bivector]:
+    """The members of the rref kernel basis of the block (canonical, so each coordinate is a rational function of eps
+    and the parameters) that are new modulo the `known` vectors, rebuilt by sparse reconstruction with the weights of
+    the scaling symmetries normalized."""
     kmap, p = scene.kmap, scene.prime
     reference = free_kernel_mod_p(rows.tolist(), p, free_value=1)
     frees = [f for f, _ in reference]
-    targets = [(k, c) for k, (f, v) in enumerate(reference) for c, x in enumerate(v) if x and c != f]
+    chosen = _new_members([v for _, v in reference], known, p)
+    targets = [(k, c) for k, (f, v) in enumerate(reference) if k in chosen for c, x in enumerate(v) if x and c != f]
     weights = scaling_weights(kmap, [Frac(kmap.ring, scene.denominator)])
     normalized = list(weights.normalized)
     sampled = [n for n in kmap.field.control_names if n not in normalized]
@@ -293,7 +351,7 @@ def _rebuild_block(scene: _Scene, block: Block, rows: np.ndarray, rng: random.Ra
     names = tuple(sampled) if sampled else ("_unused",)
     small = get_ring(names)
     ring = kmap.ring
-    coefficients: list[dict[int, Frac]] = [{f: Frac(ring, 1)} for f in frees]
+    coefficients: dict[int, dict[int, Frac]] = {k: {frees[k]: Frac(ring, 1)} for k in chosen}
     for (k, c), (num, den) in zip(targets, values, strict=True):
         h = Frac(ring, small.project(small.ctx.from_dict(num), ring) if sampled else ring.constant(_const(num)),
                  small.project(small.ctx.from_dict(den), ring) if sampled else ring.constant(_const(den)))
@@ -301,7 +359,19 @@ def _rebuild_block(scene: _Scene, block: Block, rows: np.ndarray, rng: random.Ra
         if restored is None:
             raise SingularSystemError(f"a rebuilt coefficient {h} is not weighted homogeneous")
         coefficients[k][c] = restored
-    return [_bivector(kmap, block, coeffs, scene.denominator) for coeffs in coefficients]
+    return [_bivector(kmap, block, coeffs, scene.denominator) for coeffs in coefficients.values()]
+
+
+def _new_members(basis: Sequence[Sequence[int]], known: Sequence[Sequence[int]], p: int) -> list[int]:
+    """The indices of the basis vectors that raise the rank mod p of the known vectors and those chosen before."""
+    chosen: list[int] = []
+    span = [list(v) for v in known]
+    rank = flint.nmod_mat(span, p).rank() if span else 0
+    for k, v in enumerate(basis):
+        trial = span + [list(v)]
+        if flint.nmod_mat(trial, p).rank() > rank:
+            span, chosen, rank = trial, chosen + [k], rank + 1
+    return chosen
 
 
 def _const(poly: Mapping[Exponents, int]) -> int:
@@ -365,28 +435,30 @@ def _reconstruct(box: Callable[[int, Sequence[Sequence[int]]], list[list[int] | 
 
 
 def with_integrals(kmap: KahanMap, degree: int, denominators: Sequence[Frac] = (), integrals_degree: int = 2, *,
-                   seed: int = 0, fixed: Mapping[str, flint.fmpq] | None = None, progress: Progress | None = None,
-                   budget: Budget | None = None) -> PoissonReport:
+                   darboux_degree: int = 4, seed: int = 0, fixed: Mapping[str, flint.fmpq] | None = None,
+                   progress: Progress | None = None, budget: Budget | None = None) -> PoissonReport:
     """search_poisson with the integrals `discover` proves (degree `integrals_degree`, 0: none) for Casimirs and
-    involution, and as denominators: 1, the given ones, and each integral's denominator and its square."""
+    involution, and the candidate denominators of hkproof.pipelines.poisson_candidates: 1, the given ones, each
+    integral's denominator and the Darboux polynomials `measure` finds (degree `darboux_degree`, 0: none), factored,
+    and the products of two factors."""
+    from hkproof.pipelines.darboux import search_darboux
     from hkproof.pipelines.discover import discover
     budget = budget or current()
     found: list[tuple[str, Frac]] = []
     if integrals_degree > 0:
         rep = discover(kmap.field, integrals_degree, seed=seed, budget=budget, progress=progress)
         found = [(i.name, i.frac) for i in rep.integrals if i.frac is not None and i.status.is_verified]
-    candidates = [kmap.ring.constant(1)]
-    for given in denominators:
-        if not given.is_polynomial():
-            raise HKProofError(f"a denominator must be a polynomial, got {given}")
-        candidates.append(given.num)
-    for _, h in found:
-        candidates += [h.den, h.den ** 2]
-    unique: list[flint.fmpz_mpoly] = []
-    for d in candidates:
-        if d.is_constant() and d != kmap.ring.constant(1):
-            continue
-        if d not in unique and -d not in unique:
-            unique.append(d)
-    return search_poisson(kmap, degree, denominators=unique, seed=seed, integrals=lambda _: found, progress=progress,
-                          fixed=fixed, budget=budget)
+    sources = []
+    for k, d in enumerate(denominators):
+        if not d.is_polynomial() or d.num.is_zero():
+            raise HKProofError(f"a denominator must be a non-zero polynomial, got {d}")
+        sources.append((f"the given D{k + 1}", d.num))
+    sources += [(f"den({name})", h.den) for name, h in found]
+    if darboux_degree > 0:
+        with budget.active():
+            search = search_darboux(kmap, darboux_degree, seed=seed, fixed=fixed)
+        if search.symbolic:         # at fixed values otherwise: not a candidate for every parameter value
+            sources += [(f"P{k + 1} of measure", p.poly) for k, p in enumerate(search.darboux)]
+    candidates = candidate_denominators(kmap.ring.constant(1), kmap.variables, sources)
+    return search_poisson(kmap, degree, denominators=candidates, seed=seed, integrals=lambda _: found,
+                          progress=progress, fixed=fixed, budget=budget)

@@ -1,0 +1,67 @@
+"""The candidate denominators D of `poisson` (issue 38): 1, the irreducible factors (in the phase variables) of the
+given polynomials, of the proven integrals' denominators and of the Darboux polynomials of `measure`, and the products
+of two of them (squares included).
+
+An exclusion "no invariant Q/D with deg Q <= d" is a theorem for any polynomial D (the invariance rows hold for every
+D). Darboux polynomials (D o f = K D) are the natural candidates, and every integral's denominator is one. Their
+factors are taken rather than the polynomials `measure` lists (which include powers and products: m3, m3^2, ..., or
+the denominators of densities), so that the list stays small; a factor free of the phase variables is a unit of
+Q(eps, params) and is dropped.
+"""
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+from typing import Sequence
+
+import flint
+
+from hkproof.algebra.fraction import poly_str
+
+__all__ = ["Denominator", "candidate_denominators"]
+
+
+@dataclass(frozen=True)
+class Denominator:
+    """A candidate D with the name the reports use (`1`, `F1`, `F1*F2`, `F1^2`) and where its factors come from."""
+    name: str
+    poly: flint.fmpz_mpoly
+    origin: str = ""
+
+    def formula(self, limit: int = 80) -> str:
+        """D as text, or its degree and size when it is longer than `limit` characters."""
+        text = poly_str(self.poly)
+        return text if len(text) <= limit else f"degree {self.poly.total_degree()}, {len(self.poly)} terms"
+
+
+def candidate_denominators(one: flint.fmpz_mpoly, phase: Sequence[str],
+                           sources: Sequence[tuple[str, flint.fmpz_mpoly]]) -> list[Denominator]:
+    """1, the distinct irreducible factors F1, F2, ... of the `sources` (name, polynomial) that involve the `phase`
+    variables, then their products of two; equal up to a rational factor counts once."""
+    ring_names = list(one.context().names())
+    indices = [ring_names.index(v) for v in phase]
+    factors: list[flint.fmpz_mpoly] = []
+    origins: list[list[str]] = []
+    for name, poly in sources:
+        if poly.is_zero():
+            continue
+        for factor, _ in poly.factor()[1]:
+            if not any(factor.degrees()[i] for i in indices):
+                continue
+            key = _normal(factor)
+            if key not in factors:
+                factors.append(key)
+                origins.append([])
+            if name not in origins[factors.index(key)]:
+                origins[factors.index(key)].append(name)
+    singles = [Denominator(f"F{k + 1}", f, "a factor of " + ", ".join(o)) for k, (f, o) in
+               enumerate(zip(factors, origins, strict=True))]
+    pairs = [Denominator(f"{a.name}^2" if a is b else f"{a.name}*{b.name}", a.poly * b.poly)
+             for a, b in itertools.combinations_with_replacement(singles, 2)]
+    return [Denominator("1", one)] + singles + pairs
+
+
+def _normal(poly: flint.fmpz_mpoly) -> flint.fmpz_mpoly:
+    """The primitive part with a positive leading coefficient: D and c*D define the same class Q/D."""
+    part = poly.primitive()[1]
+    return -part if part.leading_coefficient() < 0 else part
