@@ -25,7 +25,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("file", help="a certificate file (JSON, docs/certificates.md)")
     p.add_argument("--export", nargs=2, metavar=("SYSTEM", "OUT"),
                    help="also write a script for a second computer algebra system that re-checks the substitution, "
-                        "darboux and recipe-g steps (SYSTEM: singular)")
+                        "darboux, recipe-g and bivector steps, exclusions aside (SYSTEM: singular)")
     add_budget_option(p, SECONDS)
     p.add_argument("--memory-mb", type=at_least(64), default=MEMORY_MB, metavar="MB",
                    help=f"memory the check may add to this process, in MB (default {MEMORY_MB}); past it the check "
