@@ -118,8 +118,9 @@ def invariance_holds(kmap: KahanMap, pi: Bivector) -> bool:
     full = lambda entries: [[_entry(entries, i, j, ring) for j in range(n)] for i in range(n)]  # noqa: E731
     left = _congruence(m, full(qt), ring)
     right = _congruence(mt, full(list(pi.upper)), ring)
-    scale_l = pi.denominator * delta ** (dd + 2)
-    scale_r = dt * delta ** dq
+    common = min(dd + 2, dq)                       # Delta^common cancels from both sides: smaller products
+    scale_l = pi.denominator * delta ** (dd + 2 - common)
+    scale_r = dt * delta ** (dq - common)
     return all(left[i][j] * scale_l == right[i][j] * scale_r for i, j in pairs(n))
 
 
