@@ -156,3 +156,26 @@ def test_the_euler_top_liouville_arnold_claim_and_its_perturbation():
     assert sum(s["kind"] == "exclusion" for s in cert.checks) == 9
     assert c.prove({"rank": "4"}).status is Status.REFUTED
     assert c.prove({"structures": "2"}).status is Status.REFUTED
+
+
+@pytest.mark.slow           # about 40 s per proof
+def test_the_zhukovsky_volterra_liouville_arnold_claim_checked_by_sympy_and_perturbed():
+    """Four rank-2 Poisson structures Q/den(I_k) of degree 5 (none with D = 1): each structure of the certificate is
+    invariant and Poisson by an independent sympy computation at a random rational point; one coefficient changed is
+    refuted there; a claim of rank 4 is refuted by the proof."""
+    from types import SimpleNamespace
+
+    from hkproof.orchestration.registry import get_claim
+    from hkproof.proof.status import Status
+    from tests.test_poisson import sympy_check
+    c = get_claim("atlas-zhukovsky-volterra-1-liouville-arnold")
+    cert = c.prove()
+    assert cert.status is Status.VERIFIED
+    matrices = [s["matrix"] for s in cert.checks if s["kind"] == "bivector-invariance"]
+    assert len(matrices) == 4
+    for m in matrices:
+        assert sympy_check("zhukovsky-volterra-1", SimpleNamespace(texts=lambda m=m: m)) == (True, True)
+    changed = [row[:] for row in matrices[0]]
+    changed[0][1], changed[1][0] = f"2*({changed[0][1]})", f"2*({changed[1][0]})"
+    assert sympy_check("zhukovsky-volterra-1", SimpleNamespace(texts=lambda: changed))[0] is False
+    assert c.prove({"rank": "4"}).status is Status.REFUTED

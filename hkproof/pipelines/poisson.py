@@ -309,7 +309,8 @@ def _found(scene: _Scene, degree: int, with_kernel: Sequence[Kernel], rng: rando
         others = [(n, h) for n, h in report.integrals if n not in {c for c, _ in s.casimirs}]
         report.involution.append((k, involution_certificate(kmap, s.bivector, others, report.fixed)))
     if len(built) > 1:
-        report.notes.append(f"the invariant bivectors of degree {degree} form a space of dimension {len(built)} over "
+        report.notes.append(f"D = {scene.name}: the invariant bivectors of degree {degree} form a space of dimension "
+                            f"{len(built)} over "
                             "Q(eps, params); a member sum c_k Pi_k is Poisson iff sum c_a c_b [Pi_a, Pi_b] = 0 "
                             "(the basis members and compatible pairs are listed)")
 
