@@ -12,6 +12,7 @@ from hkproof.algebra.formula import check_name, parse_rational
 from hkproof.algebra.fraction import Frac
 from hkproof.checker.kahan import EPS, KahanData, read
 from hkproof.checker.reading import entries, get, integers, strings
+from hkproof.checker.torus import CheckedTorus, read_torus
 from hkproof.errors import CertificateError, Refutation, ResourceLimitError
 
 __all__ = ["BIVECTOR_STEPS", "Matrix", "MAX_COLUMNS", "MAX_ROWS"]
@@ -166,7 +167,10 @@ def _exclusion(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mapping
             raise CertificateError(f"{where}: the value of {name} has a denominator divisible by {p}")
         fixed.append(int(v.p) * pow(int(v.q), -1, p) % p)
     symmetries = [_symmetry(f, s, denominator, where) for s in _sign_lists(step, len(f.variables), where)]
-    columns = _columns(len(f.variables), degree, symmetries)
+    torus = read_torus(f, step["torus"], denominator, p, where) if step.get("torus") is not None else None
+    if torus is not None and any(v > 0 for s in symmetries for v in s):
+        raise CertificateError(f"{where}: with a torus the only sign symmetry allowed is -I (diagonal in every chart)")
+    columns = _columns(len(f.variables), degree, symmetries, torus)
     stated = {}
     for block in entries(step, "blocks", where):
         character = tuple(integers(block, "character", where))
@@ -175,7 +179,7 @@ def _exclusion(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mapping
         stated[character] = block
     if set(stated) != set(columns):
         raise CertificateError(f"{where}: the blocks must be exactly the characters {sorted(columns)} of the columns")
-    rows_of = _Rows(f, denominator.num, fixed, p)
+    rows_of = _Rows(f, denominator.num, fixed, p, torus)
     for character, cols in columns.items():
         points = [integers({"x": x}, "x", where) for x in get(stated[character], "points", list, where)]
         if len(cols) > MAX_COLUMNS or len(points) * len(_pairs(len(f.variables))) > MAX_ROWS:
@@ -217,22 +221,28 @@ def _symmetry(f: KahanData, signs: list[int], denominator: Frac, where: str) -> 
     raise Refutation(f"{where}: S = {signs} conjugates the Kahan map neither to itself nor to its inverse")
 
 
-def _columns(n: int, degree: int, symmetries: list[list[int]]) -> dict[tuple[int, ...], list[tuple[int, tuple]]]:
-    """The columns (pair, exponents) of deg Q <= degree, grouped by their character s_i s_j S^m per symmetry."""
+def _columns(n: int, degree: int, symmetries: list[list[int]], torus: CheckedTorus | None = None
+             ) -> dict[tuple[int, ...], list[tuple[int, tuple]]]:
+    """The columns (pair, exponents) of deg Q <= degree, grouped by their character s_i s_j S^m per symmetry, and
+    by the torus weight (the character's last entry) when there is a torus."""
     monos = [m for d in range(degree + 1) for m in itertools.product(range(d + 1), repeat=n) if sum(m) == d]
     out: dict[tuple[int, ...], list[tuple[int, tuple]]] = {}
     for k, (i, j) in enumerate(_pairs(n)):
         for m in monos:
             ch = tuple(s[i] * s[j] * (-1) ** sum(e for e, sk in zip(m, s, strict=True) if sk < 0) for s in symmetries)
+            if torus is not None:
+                ch += (torus.weight((i, j), m),)
             out.setdefault(ch, []).append((k, m))
     return out
 
 
 class _Rows:
-    """The invariance rows mod p at integer points, from the checker's map (N, Delta and their derivatives)."""
+    """The invariance rows mod p at integer points, from the checker's map (N, Delta and their derivatives); in the
+    torus' coordinates y = T x (y~ = T f(x), Dg = T Df T^-1) when there is one."""
 
-    def __init__(self, f: KahanData, denominator: flint.fmpz_mpoly, fixed: list[int], p: int):
-        self.f, self.d, self.fixed, self.p = f, denominator, fixed, p
+    def __init__(self, f: KahanData, denominator: flint.fmpz_mpoly, fixed: list[int], p: int,
+                 torus: CheckedTorus | None = None):
+        self.f, self.d, self.fixed, self.p, self.torus = f, denominator, fixed, p, torus
         self.idx = [f.ring.index(v) for v in f.variables]
         self.polys = [[q, *(q.derivative(k) for k in self.idx)] for q in (*f.nums, f.delta)]
 
@@ -251,6 +261,11 @@ class _Rows:
         fx = [v[0] * inv % p for v in values[:-1]]
         df = [[(delta * v[1 + c] - v[0] * grad[c]) * inv * inv % p for c in range(n)] for v in values[:-1]]
         dx, dfx = self._value(self.d, x), self._value(self.d, fx)
+        if self.torus is not None:
+            t = self.torus
+            x, fx = t.apply(t.rows, x), t.apply(t.rows, fx)
+            left = [t.apply(t.rows, [df[r][c] for r in range(n)]) for c in range(n)]     # columns of T Df
+            df = [[sum(left[k][r] * t.inverse[k][c] for k in range(n)) % p for c in range(n)] for r in range(n)]
         pairs = _pairs(n)
         out = []
         for r, (a, b) in enumerate(pairs):

@@ -63,6 +63,11 @@ class KahanData:
         digest = hashlib.sha256(text.encode()).hexdigest()[:16]
         return f"{text[:width]}{' ...' if len(text) > width else ''} [sha256 {digest}]"
 
+    @property
+    def rhs(self) -> list[Frac]:
+        """The right-hand sides F_i as read."""
+        return list(self._rhs)
+
     def parse(self, text: str, where: str) -> Frac:
         """A formula over the field's names, read exactly."""
         return read(self.ring, text, where)

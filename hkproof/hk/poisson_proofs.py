@@ -12,6 +12,7 @@ import flint
 from hkproof.algebra.fraction import Frac, poly_str
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.poisson import Bivector, bracket, casimir_combination, compatible, generic_rank, invariance_holds, is_casimir, is_poisson
+from hkproof.hk.torus import Torus, is_semi_invariant, torus_data
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 
@@ -129,7 +130,7 @@ class BlockRank:
 
 def exclusion_certificate(kmap: KahanMap, denominator: flint.fmpz_mpoly, degree: int, prime: int,
                           values: Mapping[str, flint.fmpq], symmetries: Sequence[str], ranks: Sequence[BlockRank],
-                          fixed: Mapping[str, Any] | None = None) -> Certificate:
+                          fixed: Mapping[str, Any] | None = None, torus: Torus | None = None) -> Certificate:
     """No invariant Q/D with deg Q <= degree over Q(eps, params): each block has full column rank mod p."""
     cert = Certificate(f"poisson-exclusion:{kmap.field.name}",
                        f"no invariant bivector Q/D, deg Q <= {degree}, of the Kahan map of {kmap.field.name}",
@@ -142,6 +143,11 @@ def exclusion_certificate(kmap: KahanMap, denominator: flint.fmpz_mpoly, degree:
             with cert.step("sign symmetries split the columns", "exact identities of the Kahan equations",
                            kmap.ring) as s:
                 s.note("; ".join(symmetries))
+        if torus is not None:
+            with cert.step("a linear symmetry splits the columns by weight", "[A x, F] = 0 by an exact nullspace; "
+                           "grad D . A x = c D exactly; T A = diag(l) T mod p (hkproof.hk.torus)", kmap.ring) as s:
+                s.require(is_semi_invariant(kmap, torus.generator, denominator), "D is not semi-invariant under A")
+                s.note(f"A = {torus_data(torus)['generator']}, eigenvalues mod {prime}: {list(torus.weights)}")
         at = ", ".join(f"{k} = {v}" for k, v in values.items())
         with cert.step("full column rank mod p", f"nmod_mat.rank at {at} mod {prime}", kmap.ring) as s:
             for b in ranks:

@@ -14,6 +14,10 @@ invariant ones, the composition of Pi(x; eps) -> Pi(x; -eps) and Pi -> (-I)_* Pi
 invariant bivectors when D(Sx) = +-D(x): the column (ij, x^m) has the character s_i s_j S^m, so the space of invariant
 bivectors is the direct sum of its parts on the columns of each character, and each part is searched (or excluded)
 on its own columns: 2^k blocks of about 1/2^k of the columns.
+
+Torus: with eigen-coordinates y = T x mod p of a linear symmetry A of the field (hkproof.hk.torus), the columns are
+(ij, y^m) and their weight sum_c m_c l_c - l_i - l_j mod p is one more entry of the character; the rows are the same
+invariance equations written in y (g = T f T^-1, Dg = T Df T^-1), built from points x.
 """
 from __future__ import annotations
 
@@ -31,8 +35,9 @@ from hkproof.dynamics.modular_map import ModularKahanMap
 from hkproof.errors import UnluckyPrimeError
 from hkproof.hk.poisson import pairs
 from hkproof.hk.symmetries import field_symmetries
+from hkproof.hk.torus import Torus
 
-__all__ = ["Block", "SignSymmetry", "blocks", "invariance_rows", "sign_symmetries", "system_mod_p"]
+__all__ = ["Block", "SignSymmetry", "blocks", "invariance_rows", "sign_symmetries", "system_mod_p", "weight"]
 
 Signs = tuple[int, ...]
 
@@ -94,16 +99,26 @@ def denominator_character(kmap: KahanMap, denominator: flint.fmpz_mpoly, s: Sign
     return 1 if moved == denominator else -1 if moved == -denominator else None
 
 
-def blocks(kmap: KahanMap, degree: int, symmetries: Sequence[SignSymmetry]) -> list[Block]:
-    """The columns of deg Q <= degree grouped by character (one block without symmetries); the monomials of each
-    entry highest degree first."""
+def blocks(kmap: KahanMap, degree: int, symmetries: Sequence[SignSymmetry], torus: Torus | None = None
+           ) -> list[Block]:
+    """The columns of deg Q <= degree grouped by character (one block without symmetries), with the torus weight as
+    its last entry when a torus is given; the monomials of each entry highest degree first."""
     n = len(kmap.variables)
     monos = exponents_upto(n, degree)
     groups: dict[Signs, list[tuple[int, Exponents]]] = {}
     for k, pair in enumerate(pairs(n)):
         for m in monos:
-            groups.setdefault(_character(symmetries, pair, m), []).append((k, m))
+            character = _character(symmetries, pair, m)
+            if torus is not None:
+                character += (weight(torus, pair, m),)
+            groups.setdefault(character, []).append((k, m))
     return [Block(ch, tuple(cols)) for ch, cols in sorted(groups.items(), reverse=True)]
+
+
+def weight(torus: Torus, pair: tuple[int, int], m: Exponents) -> int:
+    """The eigenvalue mod p of L_A on y^m e_i ^ e_j: sum_c m_c l_c - l_i - l_j."""
+    w = torus.weights
+    return (sum(e * l for e, l in zip(m, w, strict=True)) - w[pair[0]] - w[pair[1]]) % torus.prime
 
 
 def _dtype(p: int) -> type:
@@ -124,17 +139,22 @@ def _values(monos: Sequence[Exponents], x: Sequence[int], p: int) -> np.ndarray:
     return np.array(out, dtype=_dtype(p))
 
 
-def invariance_rows(mmap: ModularKahanMap, denominator: flint.nmod_mpoly, block: Block, x: Sequence[int]
-                    ) -> np.ndarray:
+def invariance_rows(mmap: ModularKahanMap, denominator: flint.nmod_mpoly, block: Block, x: Sequence[int],
+                    torus: Torus | None = None) -> np.ndarray:
     """The rows Q(f(x)) D(x) - D(f(x)) Df Q(x) Df^T (entries i < j) at x on the block's columns, mod p (p < 2^31);
-    UnluckyPrimeError where det M(x, eps) = 0 mod p."""
+    in the torus' coordinates y = T x when one is given; UnluckyPrimeError where det M(x, eps) = 0 mod p."""
     p, n = mmap.p, mmap.n
     points, jacobians = mmap.tangent_orbit(x, 1)
     fx, jac = points[1], jacobians[1]
+    dx, df = int(denominator(*x)) % p, int(denominator(*fx)) % p
+    if torus is not None:          # y = T x, y~ = T f(x), Dg = T Df T^-1
+        t, t_inv = flint.nmod_mat([list(r) for r in torus.rows], p), flint.nmod_mat([list(r) for r in torus.inverse], p)
+        jac = t * jac * t_inv
+        x = [int(v) for v in (t * flint.nmod_mat([[v] for v in x], p)).entries()]
+        fx = [int(v) for v in (t * flint.nmod_mat([[v] for v in fx], p)).entries()]
     j = [[int(jac[r, c]) for c in range(n)] for r in range(n)]
     idx = pairs(n)
     wedge: np.ndarray = np.array([[(j[a][c] * j[b][d] - j[a][d] * j[b][c]) % p for c, d in idx] for a, b in idx], dtype=_dtype(p))
-    dx, df = int(denominator(*x)) % p, int(denominator(*fx)) % p
     monos = sorted({m for _, m in block.columns})
     where = {m: k for k, m in enumerate(monos)}
     mx, mf = _values(monos, x, p), _values(monos, fx, p)
@@ -148,7 +168,7 @@ def invariance_rows(mmap: ModularKahanMap, denominator: flint.nmod_mpoly, block:
 
 
 def system_mod_p(mmap: ModularKahanMap, denominator: flint.nmod_mpoly, block: Block, rng: random.Random,
-                 extra: int = 4) -> tuple[np.ndarray, list[list[int]]]:
+                 extra: int = 4, torus: Torus | None = None) -> tuple[np.ndarray, list[list[int]]]:
     """The invariance rows at random points until there are len(columns) + extra of them: (rows mod p, points)."""
     p, n = mmap.p, mmap.n
     need = len(block.columns) + extra
@@ -162,7 +182,7 @@ def system_mod_p(mmap: ModularKahanMap, denominator: flint.nmod_mpoly, block: Bl
             raise UnluckyPrimeError(f"det M(x, eps) = 0 mod {p} at too many random points")
         x = [rng.randrange(p) for _ in range(n)]
         try:
-            chunks.append(invariance_rows(mmap, denominator, block, x))
+            chunks.append(invariance_rows(mmap, denominator, block, x, torus))
         except UnluckyPrimeError:
             continue
         points.append(x)

@@ -10,6 +10,7 @@ integrals `discover` proves for involution (hkproof.hk.poisson_proofs).
 """
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import random
 import time
@@ -35,6 +36,7 @@ from hkproof.hk.jacobian import matrix_identity_holds
 from hkproof.hk.poisson import Bivector, pairs
 from hkproof.hk.poisson_proofs import (BlockRank, StructureProof, compatibility_step, exclusion_certificate,
                                        involution_certificate, prove_structure)
+from hkproof.hk.torus import Torus, commuting_linear_fields, torus_data, eigen_coordinates, generic_generator, is_semi_invariant
 from hkproof.hk.poisson_system import (Block, SignSymmetry, blocks, denominator_character, sign_symmetries,
                                        system_mod_p)
 from hkproof.pipelines.poisson_candidates import Denominator, candidate_denominators
@@ -59,6 +61,7 @@ class ExcludedClass:
     blocks: list[BlockRank]
     symmetries: list[SignSymmetry]
     certificate: Certificate
+    torus: Torus | None = None
 
 
 @dataclass
@@ -96,6 +99,7 @@ class PoissonReport:
             "excluded": [{"denominator": poly_str(e.denominator), "denominator_name": e.name, "degree": e.degree, "status": label(e.certificate.status),
                           "prime": e.prime, "values": {k: str(v) for k, v in e.values.items()},
                           "symmetries": [list(s.signs) for s in e.symmetries],
+                          "torus": None if e.torus is None else torus_data(e.torus),
                           "blocks": [{"character": list(b.character), "columns": b.columns, "rows": b.rows,
                                       "rank": b.rank, "points": [list(x) for x in b.points]} for b in e.blocks]}
                          for e in self.excluded],
@@ -141,24 +145,46 @@ class PoissonReport:
 # ---- the modular search ---------------------------------------------------------------------------------------------
 @dataclass
 class _Scene:
-    """The map mod p at the search's values, the denominator there, and the symmetries that keep D."""
+    """The map mod p at the search's values, the denominator there, the symmetries that keep D and split the columns,
+    and the torus of a linear symmetry (eigen-coordinates mod p) when it splits them finer."""
     kmap: KahanMap
     prime: int
     values: dict[str, flint.fmpq]
     name: str
     denominator: flint.fmpz_mpoly
     symmetries: list[SignSymmetry]
+    torus: Torus | None = None
 
     def system(self, block: Block, rng: random.Random, extra: int = 4) -> tuple[np.ndarray, list[list[int]]]:
         mmap = self.kmap.mod(self.prime, self.values)
-        return system_mod_p(mmap, mmap.reduce(self.denominator), block, rng, extra)
+        return system_mod_p(mmap, mmap.reduce(self.denominator), block, rng, extra, self.torus)
+
+    def blocks(self, degree: int) -> list[Block]:
+        return blocks(self.kmap, degree, self.symmetries, self.torus)
+
+    def cost(self, degree: int) -> int:
+        """sum of (columns of a block)^3: what the dense ranks cost."""
+        return sum(len(b.columns) ** 3 for b in self.blocks(degree))
+
+    def split(self, torus: Torus | None, degree: int) -> _Scene:
+        """The scene with the torus (and -I, the only sign symmetry diagonal in every chart) when its blocks cost less
+        and D is semi-invariant under the torus' generator; this scene otherwise."""
+        if torus is None or not is_semi_invariant(self.kmap, torus.generator, self.denominator):
+            return self
+        central = [s for s in self.symmetries if all(v < 0 for v in s.signs)]
+        finer = dataclasses.replace(self, symmetries=central, torus=torus)
+        return finer if finer.cost(degree) < self.cost(degree) else self
 
 
-def confirming_rows(block: Block) -> int:
-    """Rows beyond the columns with which a kernel is confirmed (and rebuilt): a few surplus rows can fake a kernel,
-    since the rows of one point are not independent (the Lagrange top at degree 4 showed a 4-dimensional kernel with
-    4 surplus rows and none with 200)."""
-    return len(block.columns) // 4 + 16
+def confirming_rows(block: Block, torus: bool = False) -> list[int]:
+    """The surplus rows (beyond the columns) with which a kernel is confirmed, tried in turn: a few surplus rows can
+    fake a kernel, since the rows of one point are not independent (the Lagrange top at degree 4 showed a
+    4-dimensional kernel with 4 surplus rows and none with 200); on the weight blocks of a torus a point gives fewer
+    independent rows still (the Gaudin magnet's weight blocks at degree 4: 99 columns need 20 points, 32 need 16, 5
+    need 3, not 7, 3 and 1), so about twice and then five times the columns are drawn there. The first entry is the
+    surplus of a rebuild."""
+    cols = len(block.columns)
+    return [cols + 60, 4 * cols + 200] if torus else [cols // 4 + 16]
 
 
 def search_poisson(kmap: KahanMap, degree: int = 3, *, denominators: Sequence[Denominator] | None = None,
@@ -174,7 +200,8 @@ def search_poisson(kmap: KahanMap, degree: int = 3, *, denominators: Sequence[De
     report = PoissonReport(kmap.field.name, list(kmap.variables), degree, fixed=dict(fixed or {}))
     stages = Stages("poisson", progress)
     rng = random.Random(seed)
-    prime = random_prime(rng, 31)
+    generator = generic_generator(commuting_linear_fields(kmap.field), rng)
+    prime, torus = _prime_and_torus(rng, generator)
     values = random_point(rng, (EPS,) + kmap.field.parameters, 10**6)
     symmetries = sign_symmetries(kmap)
     lemma = matrix_identity_holds(kmap)
@@ -182,7 +209,7 @@ def search_poisson(kmap: KahanMap, degree: int = 3, *, denominators: Sequence[De
         for den in denominators or [Denominator("1", kmap.ring.constant(1))]:
             keep = [s for s in symmetries if denominator_character(kmap, den.poly, s) is not None]
             scene = _Scene(kmap, prime, values, den.name, den.poly, keep)
-            _search_class(scene, degree, rng, report, stages, budget, lemma, integrals)
+            _search_class(scene.split(torus, degree), scene, degree, rng, report, stages, budget, lemma, integrals)
     except BudgetExhausted as exc:
         report.stopped = str(exc)
     stages.stop()
@@ -190,16 +217,31 @@ def search_poisson(kmap: KahanMap, degree: int = 3, *, denominators: Sequence[De
     return report
 
 
-def _search_class(scene: _Scene, degree: int, rng: random.Random, report: PoissonReport, stages: Stages,
-                  budget: Budget, lemma: bool, integrals: Integrals | None) -> None:
+def _prime_and_torus(rng: random.Random, generator: flint.fmpq_mat | None) -> tuple[int, Torus | None]:
+    """A random 31-bit prime, one modulo which the linear symmetry diagonalizes when the field has one (p = 1 mod 4 for
+    a rotation), with its eigen-coordinates."""
+    for _ in range(64 if generator is not None else 0):
+        p = random_prime(rng, 31)
+        torus = eigen_coordinates(generator, p) if generator is not None else None
+        if torus is not None:
+            return p, torus
+    return random_prime(rng, 31), None
+
+
+def _search_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random, report: PoissonReport,
+                  stages: Stages, budget: Budget, lemma: bool, integrals: Integrals | None) -> None:
     """One D: the top degree first (full column rank there excludes every lower degree too, the columns of a lower
-    degree being a subset); with a kernel there, the lowest degree with a kernel is rebuilt and proven."""
+    degree being a subset); with a kernel there, the lowest degree with a kernel is rebuilt and proven, in the `plain`
+    scene (sign symmetries of x only: the kernel is rebuilt in the field's own coordinates)."""
     ranks, with_kernel = _ranks(scene, degree, rng, report, stages, budget)
     if all(b.rank == b.columns for b in ranks):
         cert = exclusion_certificate(scene.kmap, scene.denominator, degree, scene.prime, scene.values,
-                                     [s.how for s in scene.symmetries], ranks, report.fixed)
+                                     [s.how for s in scene.symmetries], ranks, report.fixed, scene.torus)
         report.excluded.append(ExcludedClass(scene.name, scene.denominator, degree, scene.prime, dict(scene.values),
-                                             ranks, list(scene.symmetries), cert))
+                                             ranks, list(scene.symmetries), cert, scene.torus))
+        return
+    if scene.torus is not None:
+        _search_class(plain, plain, degree, rng, report, stages, budget, lemma, integrals)
         return
     if not with_kernel:
         report.notes.append(f"D = {scene.name}, deg Q <= {degree}: every invariant Q/D is a combination of the "
@@ -226,25 +268,27 @@ def _ranks(scene: _Scene, d: int, rng: random.Random, report: PoissonReport, sta
     start = time.perf_counter()
     ranks: list[BlockRank] = []
     with_kernel: list[Kernel] = []
-    for block in blocks(scene.kmap, d, scene.symmetries):
+    for block in scene.blocks(d):
         budget.check(f"the invariance rows of degree {d}")
         rows, points = scene.system(block, rng)
         rank = budget.call(f"the rank mod p of {rows.shape[0]} x {rows.shape[1]} invariance rows",
                            _rank, rows, scene.prime)
-        if rank < len(block.columns):        # a kernel: confirmed on more points before it is rebuilt
-            rows, points = scene.system(block, rng, confirming_rows(block))
+        for extra in confirming_rows(block, scene.torus is not None):   # a kernel: confirmed on more points
+            if rank == len(block.columns):
+                break
+            rows, points = scene.system(block, rng, extra)
             rank = budget.call(f"the rank mod p of {rows.shape[0]} x {rows.shape[1]} invariance rows",
                                _rank, rows, scene.prime)
         ranks.append(BlockRank(block.character, len(block.columns), rows.shape[0], rank,
                                tuple(tuple(x) for x in points)))
         if rank < len(block.columns):
-            known = _known_vectors(scene, block, [s.bivector for s in report.structures])
+            known = [] if scene.torus else _known_vectors(scene, block, [s.bivector for s in report.structures])
             spanned = _rank(np.array(known, dtype=np.int64), scene.prime) if known else 0
             if len(block.columns) - rank > spanned:
                 with_kernel.append((block, rows, known))
     report.costs.append({"denominator": scene.name, "degree": d, "columns": sum(b.columns for b in ranks),
                          "blocks": len(ranks), "rows": sum(b.rows for b in ranks),
-                         "kernel": sum(b.columns - b.rank for b in ranks),
+                         "kernel": sum(b.columns - b.rank for b in ranks), "torus": scene.torus is not None,
                          "seconds": round(time.perf_counter() - start, 4)})
     return ranks, with_kernel
 
@@ -338,7 +382,7 @@ def _rebuild_block(scene: _Scene, block: Block, rows: np.ndarray, known: Sequenc
             controls = {**{n: 1 for n in normalized}, **dict(zip(sampled, t))}
             try:
                 mmap = kmap.mod(q, controls)
-                matrix, _ = system_mod_p(mmap, mmap.reduce(scene.denominator), block, local, confirming_rows(block))
+                matrix, _ = system_mod_p(mmap, mmap.reduce(scene.denominator), block, local, confirming_rows(block)[0])
             except (UnluckyPrimeError, ZeroDivisionError):
                 out.append(None)
                 continue

@@ -5,6 +5,7 @@ from __future__ import annotations
 from hkproof.algebra.formula import tokens
 from hkproof.algebra.fraction import poly_str
 from hkproof.dynamics.kahan import KahanMap
+from hkproof.hk.torus import torus_data
 from hkproof.pipelines.poisson import PoissonReport
 from hkproof.proof.export import (bivector_invariance_step, casimir_step, document, exclusion_step, involution_step,
                                   jacobi_step, substitution_step)
@@ -46,7 +47,8 @@ def poisson_steps(kmap: KahanMap, report: PoissonReport) -> list[dict]:
     for e in report.excluded:
         if e.certificate.status.is_verified:
             steps.append(exclusion_step(field, poly_str(e.denominator), e.degree, e.prime, e.values,
-                                        [s.signs for s in e.symmetries], [(b.character, b.points) for b in e.blocks]))
+                                        [s.signs for s in e.symmetries], [(b.character, b.points) for b in e.blocks],
+                                        None if e.torus is None else torus_data(e.torus)))
     return steps
 
 

@@ -146,12 +146,14 @@ def involution_step(field: QuadraticField, bivector: str, functions: Sequence[ob
 
 def exclusion_step(field: QuadraticField, denominator: object, degree: int, prime: int,
                    values: Mapping[str, Rational], symmetries: Sequence[Sequence[int]],
-                   blocks: Sequence[tuple[Sequence[int], Sequence[Sequence[int]]]]) -> dict:
+                   blocks: Sequence[tuple[Sequence[int], Sequence[Sequence[int]]]],
+                   torus: Mapping[str, list] | None = None) -> dict:
     """The step "no invariant Q/D with deg Q <= degree" (version 7): the checker computes the invariance rows at each
-    block's points (residues mod `prime`, eps and the parameters at `values`) and requires full column rank."""
+    block's points (residues mod `prime`, eps and the parameters at `values`) and requires full column rank; with a
+    torus (hkproof.hk.torus.torus_data) the columns are split by weight and the rows written in its coordinates."""
     return {"kind": "exclusion", "field": field_data(field), "denominator": str(denominator), "degree": int(degree),
             "prime": int(prime), "values": {k: str(to_fmpq(v)) for k, v in values.items()},
-            "symmetries": [[int(s) for s in signs] for signs in symmetries],
+            "symmetries": [[int(s) for s in signs] for signs in symmetries], "torus": torus,
             "blocks": [{"character": [int(c) for c in ch], "points": [[int(v) for v in x] for x in points]}
                        for ch, points in blocks],
             "identity": "rank mod p of Q(f(x)) D(x) - D(f(x)) Df Q(x) Df^T at the points = the number of columns",
