@@ -267,18 +267,17 @@ class _Rows:
             left = [t.apply(t.rows, [df[r][c] for r in range(n)]) for c in range(n)]     # columns of T Df
             df = [[sum(left[k][r] * t.inverse[k][c] for k in range(n)) % p for c in range(n)] for r in range(n)]
         pairs = _pairs(n)
-        out = []
-        for r, (a, b) in enumerate(pairs):
-            row = []
-            for k, m in cols:
-                c, d = pairs[k]
-                mono_x, mono_f = 1, 1
-                for e, u, w in zip(m, x, fx, strict=True):
-                    mono_x, mono_f = mono_x * pow(u, e, p) % p, mono_f * pow(w, e, p) % p
-                wedge = (df[a][c] * df[b][d] - df[a][d] * df[b][c]) % p
-                row.append(((dx * mono_f if r == k else 0) - dfx * wedge * mono_x) % p)
-            out.append(row)
-        return out
+        wedge = [[(df[a][c] * df[b][d] - df[a][d] * df[b][c]) * dfx % p for c, d in pairs] for a, b in pairs]
+        values = {m: (_monomial(m, x, p), _monomial(m, fx, p)) for m in {m for _, m in cols}}   # once per point
+        return [[((dx * values[m][1] if r == k else 0) - wedge[r][k] * values[m][0]) % p for k, m in cols]
+                for r in range(len(pairs))]
+
+
+def _monomial(m: tuple, x: list[int], p: int) -> int:
+    out = 1
+    for e, u in zip(m, x, strict=True):
+        out = out * pow(u, e, p) % p
+    return out
 
 
 BIVECTOR_STEPS: dict[str, Callable[[KahanData, Any, Mapping[str, Frac], Mapping[str, Matrix], str], Outcome]] = {
