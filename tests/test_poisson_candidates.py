@@ -57,3 +57,22 @@ def test_a_structure_found_with_a_smaller_denominator_is_not_found_again() -> No
     assert len(report.structures) == 1
     assert {e.name for e in report.excluded} == {"F1^2", "F1*F2", "F2^2"}
     assert sum("a combination of the structures found with a smaller D" in n for n in report.notes) == 2
+
+
+def test_a_product_is_evaluated_factor_by_factor_as_its_expansion() -> None:
+    """D = F^2 G mod p at points, factor by factor, equals the expanded product; its text reads back to D."""
+    import random as _random
+
+    from hkproof.hk.poisson_system import factored_mod
+    f = kahan_map("euler-top")
+    ring = f.ring
+    a = ring.gen("x1") ** 2 * ring.gen("a2") - ring.gen("x2") ** 2 * ring.gen("a1")
+    b = ring.gen("x3") * ring.gen("eps") + 1
+    d = candidate_denominators(ring.constant(1), f.variables, [("P", a), ("Q", b)])[-2]   # F1*F2
+    mmap = f.mod(1000003, {"eps": 3, "a1": 5, "a2": 7, "a3": 11})
+    factored, expanded = factored_mod(mmap, d.parts()), mmap.reduce(d.poly)
+    rng = _random.Random(1)
+    for _ in range(5):
+        x = [rng.randrange(1000003) for _ in range(3)]
+        assert factored(*x) == int(expanded(*x))
+    assert f.field.parse(d.text()).num in (d.poly, -d.poly)

@@ -268,8 +268,8 @@ class _Rows:
             df = [[sum(left[k][r] * t.inverse[k][c] for k in range(n)) % p for c in range(n)] for r in range(n)]
         pairs = _pairs(n)
         wedge = [[(df[a][c] * df[b][d] - df[a][d] * df[b][c]) * dfx % p for c, d in pairs] for a, b in pairs]
-        values = {m: (_monomial(m, x, p), _monomial(m, fx, p)) for m in {m for _, m in cols}}   # once per point
-        return [[((dx * values[m][1] if r == k else 0) - wedge[r][k] * values[m][0]) % p for k, m in cols]
+        monos = {m: (_monomial(m, x, p), _monomial(m, fx, p)) for m in {m for _, m in cols}}   # once per point
+        return [[((dx * monos[m][1] if r == k else 0) - wedge[r][k] * monos[m][0]) % p for k, m in cols]
                 for r in range(len(pairs))]
 
 

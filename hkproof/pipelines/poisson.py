@@ -37,8 +37,8 @@ from hkproof.hk.poisson import Bivector, pairs
 from hkproof.hk.poisson_proofs import (BlockRank, StructureProof, compatibility_step, exclusion_certificate,
                                        involution_certificate, prove_structure)
 from hkproof.hk.torus import Torus, commuting_linear_fields, torus_data, eigen_coordinates, generic_generator, is_semi_invariant
-from hkproof.hk.poisson_system import (Block, SignSymmetry, blocks, denominator_character, sign_symmetries,
-                                       system_mod_p)
+from hkproof.hk.poisson_system import (Block, SignSymmetry, blocks, denominator_character, factored_mod,
+                                       sign_symmetries, system_mod_p)
 from hkproof.pipelines.poisson_candidates import Denominator, candidate_denominators
 from hkproof.pipelines.stages import Progress, Stages
 from hkproof.proof.certificate import Certificate
@@ -55,6 +55,7 @@ class ExcludedClass:
     """A class Q/D, deg Q <= degree, with no invariant bivector: full column rank mod p in every block."""
     name: str
     denominator: flint.fmpz_mpoly
+    text: str                       # D as the product of its factors (hkproof's parser reads it)
     degree: int
     prime: int
     values: dict[str, flint.fmpq]
@@ -96,7 +97,7 @@ class PoissonReport:
                             "casimir_names": [n for n, _ in s.casimirs], "denominator": poly_str(s.bivector.denominator),
                             "certificate": s.certificate.to_dict()} for k, s in enumerate(self.structures)],
             "compatible": [{"pair": [f"Pi{a + 1}", f"Pi{b + 1}"], "compatible": ok} for a, b, ok in self.compatibility],
-            "excluded": [{"denominator": poly_str(e.denominator), "denominator_name": e.name, "degree": e.degree, "status": label(e.certificate.status),
+            "excluded": [{"denominator": e.text, "denominator_name": e.name, "degree": e.degree, "status": label(e.certificate.status),
                           "prime": e.prime, "values": {k: str(v) for k, v in e.values.items()},
                           "symmetries": [list(s.signs) for s in e.symmetries],
                           "torus": None if e.torus is None else torus_data(e.torus),
@@ -150,14 +151,21 @@ class _Scene:
     kmap: KahanMap
     prime: int
     values: dict[str, flint.fmpq]
-    name: str
-    denominator: flint.fmpz_mpoly
+    den: Denominator
     symmetries: list[SignSymmetry]
     torus: Torus | None = None
 
+    @property
+    def name(self) -> str:
+        return self.den.name
+
+    @property
+    def denominator(self) -> flint.fmpz_mpoly:
+        return self.den.poly
+
     def system(self, block: Block, rng: random.Random, extra: int = 4) -> tuple[np.ndarray, list[list[int]]]:
         mmap = self.kmap.mod(self.prime, self.values)
-        return system_mod_p(mmap, mmap.reduce(self.denominator), block, rng, extra, self.torus)
+        return system_mod_p(mmap, factored_mod(mmap, self.den.parts()), block, rng, extra, self.torus)
 
     def blocks(self, degree: int) -> list[Block]:
         return blocks(self.kmap, degree, self.symmetries, self.torus)
@@ -208,7 +216,7 @@ def search_poisson(kmap: KahanMap, degree: int = 3, *, denominators: Sequence[De
     try:
         for den in denominators or [Denominator("1", kmap.ring.constant(1))]:
             keep = [s for s in symmetries if denominator_character(kmap, den.poly, s) is not None]
-            scene = _Scene(kmap, prime, values, den.name, den.poly, keep)
+            scene = _Scene(kmap, prime, values, den, keep)
             _search_class(scene.split(torus, degree), scene, degree, rng, report, stages, budget, lemma, integrals)
     except BudgetExhausted as exc:
         report.stopped = str(exc)
@@ -237,7 +245,8 @@ def _search_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random,
     if all(b.rank == b.columns for b in ranks):
         cert = exclusion_certificate(scene.kmap, scene.denominator, degree, scene.prime, scene.values,
                                      [s.how for s in scene.symmetries], ranks, report.fixed, scene.torus)
-        report.excluded.append(ExcludedClass(scene.name, scene.denominator, degree, scene.prime, dict(scene.values),
+        report.excluded.append(ExcludedClass(scene.name, scene.denominator, scene.den.text(), degree, scene.prime,
+                                             dict(scene.values),
                                              ranks, list(scene.symmetries), cert, scene.torus))
         return
     if scene.torus is not None:
@@ -382,7 +391,8 @@ def _rebuild_block(scene: _Scene, block: Block, rows: np.ndarray, known: Sequenc
             controls = {**{n: 1 for n in normalized}, **dict(zip(sampled, t))}
             try:
                 mmap = kmap.mod(q, controls)
-                matrix, _ = system_mod_p(mmap, mmap.reduce(scene.denominator), block, local, confirming_rows(block)[0])
+                matrix, _ = system_mod_p(mmap, factored_mod(mmap, scene.den.parts()), block, local,
+                                         confirming_rows(block)[0])
             except (UnluckyPrimeError, ZeroDivisionError):
                 out.append(None)
                 continue

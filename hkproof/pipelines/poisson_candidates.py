@@ -23,15 +23,28 @@ __all__ = ["Denominator", "candidate_denominators"]
 
 @dataclass(frozen=True)
 class Denominator:
-    """A candidate D with the name the reports use (`1`, `F1`, `F1*F2`, `F1^2`) and where its factors come from."""
+    """A candidate D with the name the reports use (`1`, `F1`, `F1*F2`, `F1^2`), where its factors come from, and
+    its factors with their exponents (D is evaluated and written as their product, never expanded there)."""
     name: str
     poly: flint.fmpz_mpoly
     origin: str = ""
+    factors: tuple[tuple[flint.fmpz_mpoly, int], ...] = ()
 
     def formula(self, limit: int = 80) -> str:
         """D as text, or its degree and size when it is longer than `limit` characters."""
-        text = poly_str(self.poly)
-        return text if len(text) <= limit else f"degree {self.poly.total_degree()}, {len(self.poly)} terms"
+        text = poly_str(self.poly) if len(self.poly) <= limit // 2 else ""
+        return text if text and len(text) <= limit else f"degree {self.poly.total_degree()}, {len(self.poly)} terms"
+
+    def parts(self) -> tuple[tuple[flint.fmpz_mpoly, int], ...]:
+        """The factors with exponents; D itself when none were given (a constant D has none)."""
+        return self.factors or (() if self.poly.is_constant() else ((self.poly, 1),))
+
+    def text(self) -> str:
+        """D as a product of its factors, (F1)**2*(F2), which hkproof's parser reads exactly."""
+        parts = self.parts()
+        if len(parts) != 1 or parts[0][1] != 1:
+            return "*".join(f"({poly_str(f)})" + (f"**{e}" if e > 1 else "") for f, e in parts) or "1"
+        return poly_str(self.poly)
 
 
 def candidate_denominators(one: flint.fmpz_mpoly, phase: Sequence[str],
@@ -54,9 +67,10 @@ def candidate_denominators(one: flint.fmpz_mpoly, phase: Sequence[str],
                 origins.append([])
             if name not in origins[factors.index(key)]:
                 origins[factors.index(key)].append(name)
-    singles = [Denominator(f"F{k + 1}", f, "a factor of " + ", ".join(o)) for k, (f, o) in
+    singles = [Denominator(f"F{k + 1}", f, "a factor of " + ", ".join(o), ((f, 1),)) for k, (f, o) in
                enumerate(zip(factors, origins, strict=True))]
-    pairs = [Denominator(f"{a.name}^2" if a is b else f"{a.name}*{b.name}", a.poly * b.poly)
+    pairs = [Denominator(f"{a.name}^2", a.poly ** 2, factors=((a.poly, 2),)) if a is b else
+             Denominator(f"{a.name}*{b.name}", a.poly * b.poly, factors=((a.poly, 1), (b.poly, 1)))
              for a, b in itertools.combinations_with_replacement(singles, 2)]
     return [Denominator("1", one)] + singles + pairs
 

@@ -46,7 +46,7 @@ def poisson_steps(kmap: KahanMap, report: PoissonReport) -> list[dict]:
             steps.append(involution_step(field, f"Pi{k + 1}", used))
     for e in report.excluded:
         if e.certificate.status.is_verified:
-            steps.append(exclusion_step(field, poly_str(e.denominator), e.degree, e.prime, e.values,
+            steps.append(exclusion_step(field, e.text, e.degree, e.prime, e.values,
                                         [s.signs for s in e.symmetries], [(b.character, b.points) for b in e.blocks],
                                         None if e.torus is None else torus_data(e.torus)))
     return steps
