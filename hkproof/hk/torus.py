@@ -18,7 +18,7 @@ from typing import Sequence
 import flint
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.linalg import lcm
+from hkproof.algebra.linalg import lcm, nullspace_q
 from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 
@@ -43,28 +43,7 @@ def commuting_linear_fields(field: QuadraticField) -> list[flint.fmpq_mat]:
     keys = sorted({key for col in columns for key in col})
     if not keys:
         return []
-    matrix = flint.fmpq_mat([[col.get(key, 0) for col in columns] for key in keys])
-    return [flint.fmpq_mat(n, n, list(v)) for v in _nullspace(matrix)]
-
-
-def _nullspace(matrix: flint.fmpq_mat) -> list[list[flint.fmpq]]:
-    """A basis of the right kernel over Q from the reduced row echelon form."""
-    r, rank = matrix.rref()
-    ncols = matrix.ncols()
-    pivots: list[int] = []
-    j = 0
-    for i in range(rank):
-        while r[i, j] == 0:
-            j += 1
-        pivots.append(j)
-    out = []
-    for free in (c for c in range(ncols) if c not in pivots):
-        v = [flint.fmpq(0)] * ncols
-        v[free] = flint.fmpq(1)
-        for i, pc in enumerate(pivots):
-            v[pc] = -r[i, free]
-        out.append(v)
-    return out
+    return [flint.fmpq_mat(n, n, v) for v in nullspace_q([[col.get(key, 0) for col in columns] for key in keys])]
 
 
 def squarefree_charpoly(a: flint.fmpq_mat) -> flint.fmpq_poly:
