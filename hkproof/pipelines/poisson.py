@@ -36,9 +36,10 @@ from hkproof.hk.jacobian import matrix_identity_holds
 from hkproof.hk.poisson import Bivector, pairs
 from hkproof.hk.poisson_proofs import (BlockRank, StructureProof, compatibility_step, exclusion_certificate,
                                        involution_certificate, prove_structure)
-from hkproof.hk.torus import Torus, commuting_linear_fields, torus_data, eigen_coordinates, generic_generator, is_semi_invariant
 from hkproof.hk.poisson_system import (Block, SignSymmetry, blocks, denominator_character, factored_mod,
                                        sign_symmetries, system_mod_p)
+from hkproof.hk.torus import (Torus, commuting_linear_fields, eigen_coordinates, generic_generator, is_semi_invariant,
+                              torus_data)
 from hkproof.pipelines.poisson_candidates import Denominator, candidate_denominators
 from hkproof.pipelines.stages import Progress, Stages
 from hkproof.proof.certificate import Certificate
@@ -97,7 +98,8 @@ class PoissonReport:
                             "casimir_names": [n for n, _ in s.casimirs], "denominator": poly_str(s.bivector.denominator),
                             "certificate": s.certificate.to_dict()} for k, s in enumerate(self.structures)],
             "compatible": [{"pair": [f"Pi{a + 1}", f"Pi{b + 1}"], "compatible": ok} for a, b, ok in self.compatibility],
-            "excluded": [{"denominator": e.text, "denominator_name": e.name, "degree": e.degree, "status": label(e.certificate.status),
+            "excluded": [{"denominator": e.text, "denominator_name": e.name, "degree": e.degree,
+                          "status": label(e.certificate.status),
                           "prime": e.prime, "values": {k: str(v) for k, v in e.values.items()},
                           "symmetries": [list(s.signs) for s in e.symmetries],
                           "torus": None if e.torus is None else torus_data(e.torus),
@@ -247,8 +249,7 @@ def _search_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random,
         cert = exclusion_certificate(scene.kmap, scene.denominator, degree, scene.prime, scene.values,
                                      [s.how for s in scene.symmetries], ranks, report.fixed, scene.torus)
         report.excluded.append(ExcludedClass(scene.name, scene.denominator, scene.den.text(), degree, scene.prime,
-                                             dict(scene.values),
-                                             ranks, list(scene.symmetries), cert, scene.torus))
+                                             dict(scene.values), ranks, list(scene.symmetries), cert, scene.torus))
         return
     if scene.torus is not None:
         _search_class(plain, plain, degree, rng, report, stages, budget, lemma, integrals)
