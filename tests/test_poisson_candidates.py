@@ -76,3 +76,14 @@ def test_a_product_is_evaluated_factor_by_factor_as_its_expansion() -> None:
         x = [rng.randrange(1000003) for _ in range(3)]
         assert factored(*x) == int(expanded(*x))
     assert f.field.parse(d.text()).num in (d.poly, -d.poly)
+
+
+def test_screening_excludes_and_reports_kernels_without_rebuilding() -> None:
+    """--screen: the Euler top's class D = 1 is reported with its kernel (dimension 3 at degree 3, the pencil) and
+    nothing is rebuilt; the other nine classes are excluded as in a full search."""
+    out = subprocess.run([sys.executable, "-m", "hkproof.cli", "poisson", "euler-top", "--degree", "3", "--screen",
+                          "--json", "--integrals-degree", "0"], capture_output=True, text=True, check=True)
+    data = json.loads(out.stdout)
+    assert data["structures"] == [] and len(data["excluded"]) == 9
+    assert data["kernels"] == [{"denominator_name": "1", "denominator": "1", "degree": 3, "dimension": 3,
+                                "status": "evidence"}]

@@ -36,6 +36,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--darboux-degree", type=at_least(0, MAX_DARBOUX_DEGREE), default=4,
                    help="degree of measure's search for Darboux polynomials (their factors are candidate "
                    "denominators; default 4); 0: none")
+    p.add_argument("--screen", action="store_true",
+                   help="ranks only: classes are excluded (a theorem) or reported with the lowest degree and dimension "
+                   "of their kernel mod p (evidence), not rebuilt: a quick survey of large classes")
     add_param_option(p)
     p.add_argument("--seed", type=integer, default=0, help="seed of the values, prime and points (default 0)")
     add_progress_option(p)
@@ -48,7 +51,7 @@ def run_poisson(args: argparse.Namespace) -> Result:
     denominators = [f.field.parse(text) for text in args.denominator]
     with progress_bar(args, "poisson", "events") as shown:
         report = with_integrals(f, args.degree, denominators, args.integrals_degree,
-                                darboux_degree=args.darboux_degree, seed=args.seed, fixed=fixed,
+                                darboux_degree=args.darboux_degree, seed=args.seed, fixed=fixed, screen=args.screen,
                                 progress=message_bar(shown), budget=current())
     code = ExitCode.VERIFIED if report.complete else ExitCode.LIMIT
     payload = report.to_dict()

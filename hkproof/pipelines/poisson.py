@@ -82,6 +82,7 @@ class PoissonReport:
     fixed: dict[str, flint.fmpq] = field(default_factory=dict)
     seconds: dict[str, float] = field(default_factory=dict)
     stopped: str = ""
+    kernels: list[dict[str, Any]] = field(default_factory=list)     # screening: classes with a kernel, not rebuilt
 
     @property
     def complete(self) -> bool:
@@ -109,7 +110,8 @@ class PoissonReport:
             "integrals": [{"name": n, "expr": str(h)} for n, h in self.integrals],
             "involution": [{"structure": f"Pi{k + 1}", "status": label(c.status), "statement": c.statement}
                            for k, c in self.involution],
-            "costs": self.costs, "seconds": {k: round(v, 3) for k, v in self.seconds.items()},
+            "kernels": self.kernels, "costs": self.costs,
+            "seconds": {k: round(v, 3) for k, v in self.seconds.items()},
             "notes": self.notes, "complete": self.complete, "stopped": self.stopped or None}
 
     def text(self) -> str:
@@ -136,6 +138,9 @@ class PoissonReport:
                          f"{sum(b['columns'] for b in e['blocks'])} unknowns)")
         names = {e.name: e for e in self.excluded}
         lines += [f"  D = {n}: {Denominator(n, e.denominator).formula()}" for n, e in names.items() if n != "1"]
+        for k in self.kernels:
+            lines.append(f"  [evidence] D = {k['denominator_name']}: a kernel of dimension {k['dimension']} mod p at "
+                         f"degree {k['degree']} (invariant bivectors Q/D likely; not rebuilt: --screen)")
         for c in self.costs:
             lines.append(f"  cost: D = {c['denominator']}, degree {c['degree']}: {c['columns']} unknowns in "
                          f"{c['blocks']} block(s), {c['rows']} rows, kernel {c['kernel']}, {c['seconds']:.2f} s")
@@ -200,9 +205,12 @@ def confirming_rows(block: Block, torus: bool = False) -> list[int]:
 
 def search_poisson(kmap: KahanMap, degree: int = 3, *, denominators: Sequence[Denominator] | None = None,
                    seed: int = 0, integrals: Integrals | None = None, progress: Progress | None = None,
-                   fixed: Mapping[str, flint.fmpq] | None = None, budget: Budget | None = None) -> PoissonReport:
+                   fixed: Mapping[str, flint.fmpq] | None = None, budget: Budget | None = None,
+                   screen: bool = False) -> PoissonReport:
     """Invariant bivectors Q/D with deg Q <= `degree` for each D in `denominators` (default: 1), proven or excluded.
-    `integrals(kmap)` gives the proven integrals for Casimirs and involution (asked only when a structure is found)."""
+    `integrals(kmap)` gives the proven integrals for Casimirs and involution (asked only when a structure is found).
+    `screen`: ranks only; a class with a kernel is reported with its lowest degree and the kernel's dimension mod p
+    (evidence), not rebuilt."""
     if not 0 <= degree <= MAX_POISSON_DEGREE:
         raise HKProofError(f"the degree of Q must be between 0 and {MAX_POISSON_DEGREE}, got {degree}")
     if len(kmap.variables) < 2:
@@ -220,7 +228,11 @@ def search_poisson(kmap: KahanMap, degree: int = 3, *, denominators: Sequence[De
         for den in denominators or [Denominator("1", kmap.ring.constant(1))]:
             keep = [s for s in symmetries if denominator_character(kmap, den.poly, s) is not None]
             scene = _Scene(kmap, prime, values, den, keep)
-            _search_class(scene.split(torus, degree), scene, degree, rng, report, stages, budget, lemma, integrals)
+            if screen:
+                _screen_class(scene.split(torus, degree), degree, rng, report, stages, budget)
+            else:
+                _search_class(scene.split(torus, degree), scene, degree, rng, report, stages, budget, lemma,
+                              integrals)
     except BudgetExhausted as exc:
         report.stopped = str(exc)
     stages.stop()
@@ -246,10 +258,7 @@ def _search_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random,
     scene (sign symmetries of x only: the kernel is rebuilt in the field's own coordinates)."""
     ranks, with_kernel = _ranks(scene, degree, rng, report, stages, budget)
     if all(b.rank == b.columns for b in ranks):
-        cert = exclusion_certificate(scene.kmap, scene.denominator, degree, scene.prime, scene.values,
-                                     [s.how for s in scene.symmetries], ranks, report.fixed, scene.torus)
-        report.excluded.append(ExcludedClass(scene.name, scene.denominator, scene.den.text(), degree, scene.prime,
-                                             dict(scene.values), ranks, list(scene.symmetries), cert, scene.torus))
+        _exclude(scene, degree, ranks, report)
         return
     if scene.torus is not None:
         _search_class(plain, plain, degree, rng, report, stages, budget, lemma, integrals)
@@ -265,6 +274,30 @@ def _search_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random,
             _found(scene, d, lower, rng, report, stages, budget, lemma, integrals)
             return
     _found(scene, degree, with_kernel, rng, report, stages, budget, lemma, integrals)
+
+
+def _screen_class(scene: _Scene, degree: int, rng: random.Random, report: PoissonReport, stages: Stages,
+                  budget: Budget) -> None:
+    """One D, ranks only: excluded (a theorem, as in _search_class), or its lowest degree with a kernel mod p and
+    the kernel's dimension reported (evidence: not rebuilt)."""
+    top = _ranks(scene, degree, rng, report, stages, budget)[0]
+    if all(b.rank == b.columns for b in top):
+        _exclude(scene, degree, top, report)
+        return
+    for d in range(degree + 1):
+        ranks = top if d == degree else _ranks(scene, d, rng, report, stages, budget)[0]
+        if any(b.rank < b.columns for b in ranks):
+            report.kernels.append({"denominator_name": scene.name, "denominator": scene.den.text(), "degree": d,
+                                   "dimension": sum(b.columns - b.rank for b in ranks), "status": "evidence"})
+            return
+
+
+def _exclude(scene: _Scene, degree: int, ranks: list[BlockRank], report: PoissonReport) -> None:
+    """The class is excluded: full column rank mod p in every block at the top degree (its certificate)."""
+    cert = exclusion_certificate(scene.kmap, scene.denominator, degree, scene.prime, scene.values,
+                                 [s.how for s in scene.symmetries], ranks, report.fixed, scene.torus)
+    report.excluded.append(ExcludedClass(scene.name, scene.denominator, scene.den.text(), degree, scene.prime,
+                                         dict(scene.values), ranks, list(scene.symmetries), cert, scene.torus))
 
 
 Kernel = tuple[Block, np.ndarray, list[list[int]]]     # a block with new invariant bivectors: rows, known vectors
@@ -493,7 +526,8 @@ def _reconstruct(box: Callable[[int, Sequence[Sequence[int]]], list[list[int] | 
 
 def with_integrals(kmap: KahanMap, degree: int, denominators: Sequence[Frac] = (), integrals_degree: int = 2, *,
                    darboux_degree: int = 4, seed: int = 0, fixed: Mapping[str, flint.fmpq] | None = None,
-                   progress: Progress | None = None, budget: Budget | None = None) -> PoissonReport:
+                   progress: Progress | None = None, budget: Budget | None = None,
+                   screen: bool = False) -> PoissonReport:
     """search_poisson with the integrals `discover` proves (degree `integrals_degree`, 0: none) for Casimirs and
     involution, and the candidate denominators of hkproof.pipelines.poisson_candidates: 1, the given ones, each
     integral's denominator and the Darboux polynomials `measure` finds (degree `darboux_degree`, 0: none), factored,
@@ -518,4 +552,4 @@ def with_integrals(kmap: KahanMap, degree: int, denominators: Sequence[Frac] = (
             sources += [(f"P{k + 1} of measure", p.poly) for k, p in enumerate(search.darboux)]
     candidates = candidate_denominators(kmap.ring.constant(1), kmap.variables, sources)
     return search_poisson(kmap, degree, denominators=candidates, seed=seed, integrals=lambda _: found,
-                          progress=progress, fixed=fixed, budget=budget)
+                          progress=progress, fixed=fixed, budget=budget, screen=screen)
