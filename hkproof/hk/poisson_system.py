@@ -146,23 +146,34 @@ def _dtype(p: int) -> type:
     return np.int64 if p < 2**31 else object
 
 
-def _values(monos: Sequence[Exponents], x: Sequence[int], p: int) -> np.ndarray:
-    """x^m mod p for each monomial."""
-    powers = [[pow(v, e, p) for e in range(max((m[k] for m in monos), default=0) + 1)] for k, v in enumerate(x)]
-    out = []
-    for m in monos:
-        acc = 1
-        for k, e in enumerate(m):
-            if e:
-                acc = acc * powers[k][e] % p
-        out.append(acc)
-    return np.array(out, dtype=_dtype(p))
+Layout = tuple[np.ndarray, np.ndarray, np.ndarray]
+
+
+def layout(block: Block) -> Layout:
+    """The block's distinct monomials as an exponent array, and per column its pair and its monomial's row in it."""
+    monos = sorted({m for _, m in block.columns})
+    where = {m: k for k, m in enumerate(monos)}
+    return (np.array(monos, dtype=np.int64).reshape(len(monos), -1),
+            np.array([k for k, _ in block.columns], dtype=np.int64),
+            np.array([where[m] for _, m in block.columns], dtype=np.int64))
+
+
+def _values(exponents: np.ndarray, x: Sequence[int], p: int) -> np.ndarray:
+    """x^m mod p for each monomial (a row of exponents), one vectorized product per variable (int64 below 2^31,
+    Python integers above)."""
+    out = np.ones(exponents.shape[0], dtype=_dtype(p))
+    for k, v in enumerate(x):
+        column = exponents[:, k]
+        table = np.array([pow(int(v), e, p) for e in range(int(column.max(initial=0)) + 1)], dtype=_dtype(p))
+        out = out * table[column] % p
+    return out
 
 
 def invariance_rows(mmap: ModularKahanMap, denominator: FactoredMod, block: Block, x: Sequence[int],
-                    torus: Torus | None = None) -> np.ndarray:
+                    torus: Torus | None = None, columns: Layout | None = None) -> np.ndarray:
     """The rows Q(f(x)) D(x) - D(f(x)) Df Q(x) Df^T (entries i < j) at x on the block's columns, mod p (p < 2^31);
-    in the torus' coordinates y = T x when one is given; UnluckyPrimeError where det M(x, eps) = 0 mod p."""
+    in the torus' coordinates y = T x when one is given; UnluckyPrimeError where det M(x, eps) = 0 mod p.
+    `columns`: the block's layout, computed once for many points."""
     p, n = mmap.p, mmap.n
     points, jacobians = mmap.tangent_orbit(x, 1)
     fx, jac = points[1], jacobians[1]
@@ -175,11 +186,8 @@ def invariance_rows(mmap: ModularKahanMap, denominator: FactoredMod, block: Bloc
     j = [[int(jac[r, c]) for c in range(n)] for r in range(n)]
     idx = pairs(n)
     wedge: np.ndarray = np.array([[(j[a][c] * j[b][d] - j[a][d] * j[b][c]) % p for c, d in idx] for a, b in idx], dtype=_dtype(p))
-    monos = sorted({m for _, m in block.columns})
-    where = {m: k for k, m in enumerate(monos)}
-    mx, mf = _values(monos, x, p), _values(monos, fx, p)
-    pair_at = np.array([k for k, _ in block.columns], dtype=np.int64)
-    mono_at = np.array([where[m] for _, m in block.columns], dtype=np.int64)
+    exponents, pair_at, mono_at = columns if columns is not None else layout(block)
+    mx, mf = _values(exponents, x, p), _values(exponents, fx, p)
     left = (dx * mf[mono_at]) % p                                  # D(x) x^m o f, on the column's own entry
     right = (((df * wedge) % p)[:, pair_at] * mx[mono_at]) % p     # D(f(x)) (Df ^ Df) x^m
     rows = (p - right) % p
@@ -193,6 +201,7 @@ def system_mod_p(mmap: ModularKahanMap, denominator: FactoredMod, block: Block, 
     p, n = mmap.p, mmap.n
     need = len(block.columns) + extra
     per_point = len(pairs(n))
+    columns = layout(block)
     chunks: list[np.ndarray] = []
     points: list[list[int]] = []
     tries = 0
@@ -202,7 +211,7 @@ def system_mod_p(mmap: ModularKahanMap, denominator: FactoredMod, block: Block, 
             raise UnluckyPrimeError(f"det M(x, eps) = 0 mod {p} at too many random points")
         x = [rng.randrange(p) for _ in range(n)]
         try:
-            chunks.append(invariance_rows(mmap, denominator, block, x, torus))
+            chunks.append(invariance_rows(mmap, denominator, block, x, torus, columns))
         except UnluckyPrimeError:
             continue
         points.append(x)
