@@ -14,12 +14,15 @@ import random
 from typing import Sequence
 
 import flint
+import numpy as np
 
 from hkproof.algebra.monomials import Exponents, columns_mod_p, exponents_upto, value_mod_p
 from hkproof.errors import UnluckyPrimeError
 
-__all__ = ["free_kernel_mod_p", "kernel_mod_p", "polynomial_mod_p", "random_prime", "rank_mod_p", "rational_fit_mod_p",
-           "residue", "residue_or_none", "solve_mod_p"]
+__all__ = ["free_kernel_mod_p", "kernel_mod_p", "nmod_matrix", "polynomial_mod_p", "random_prime", "rank_mod_p",
+           "rational_fit_mod_p", "residue", "residue_or_none", "solve_mod_p"]
+
+Rows = Sequence[Sequence[int]] | np.ndarray      # integer rows, or a numpy array of them
 
 
 def random_prime(rng: random.Random, bits: int = 62) -> int:
@@ -53,12 +56,25 @@ def rank_mod_p(rows: Sequence[Sequence[int]], p: int) -> int:
     return flint.nmod_mat([[int(v) % p for v in r] for r in rows], p).rank()
 
 
-def free_kernel_mod_p(rows: Sequence[Sequence[int]], p: int, free_value: int = -1) -> list[tuple[int, list[int]]]:
+def nmod_matrix(rows: Rows, p: int) -> flint.nmod_mat:
+    """The rows (lists or a numpy array of residues) as an nmod_mat, filled one row at a time: a list of lists of all
+    entries as Python ints costs eight times the matrix (11 GB for a 12 900 x 12 900 block)."""
+    ncols = len(rows[0]) if len(rows) else 0
+    matrix = flint.nmod_mat(len(rows), ncols, p)
+    for i, row in enumerate(rows):
+        for j, v in enumerate(row.tolist() if hasattr(row, "tolist") else row):
+            if v:
+                matrix[i, j] = int(v) % p
+    return matrix
+
+
+def free_kernel_mod_p(rows: Rows, p: int, free_value: int = -1) -> list[tuple[int, list[int]]]:
     """A basis of the right kernel mod p from the reduced row echelon form, one vector per free column: that column
-    set to `free_value` (recipe (B)'s normalization -1 by default), the other free columns 0; (free column, vector)."""
-    if not rows:
+    set to `free_value` (recipe (B)'s normalization -1 by default), the other free columns 0; (free column, vector).
+    The rows may be a numpy array."""
+    if not len(rows):
         return []
-    r, rank = flint.nmod_mat([[int(v) for v in row] for row in rows], p).rref()
+    r, rank = nmod_matrix(rows, p).rref()
     ncols = r.ncols()
     pivots: list[int] = []
     j = 0

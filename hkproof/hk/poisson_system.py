@@ -161,10 +161,11 @@ def layout(block: Block) -> Layout:
 def _values(exponents: np.ndarray, x: Sequence[int], p: int) -> np.ndarray:
     """x^m mod p for each monomial (a row of exponents), one vectorized product per variable (int64 below 2^31,
     Python integers above)."""
-    out = np.ones(exponents.shape[0], dtype=_dtype(p))
+    out: np.ndarray = np.ones(exponents.shape[0], dtype=_dtype(p))
     for k, v in enumerate(x):
         column = exponents[:, k]
-        table = np.array([pow(int(v), e, p) for e in range(int(column.max(initial=0)) + 1)], dtype=_dtype(p))
+        table: np.ndarray = np.array([pow(int(v), e, p) for e in range(int(column.max(initial=0)) + 1)],
+                                     dtype=_dtype(p))
         out = out * table[column] % p
     return out
 

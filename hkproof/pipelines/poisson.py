@@ -22,7 +22,7 @@ import numpy as np
 
 from hkproof.algebra.fraction import Frac, poly_str
 from hkproof.algebra.linalg import lcm
-from hkproof.algebra.modular import free_kernel_mod_p, random_prime
+from hkproof.algebra.modular import free_kernel_mod_p, nmod_matrix, random_prime
 from hkproof.algebra.monomials import Exponents
 from hkproof.algebra.reconstruction import reconstruct
 from hkproof.algebra.ring import get_ring
@@ -363,14 +363,7 @@ def _known_vectors(scene: _Scene, block: Block, known: Sequence[Bivector]) -> li
 
 
 def _rank(rows: np.ndarray, p: int) -> int:
-    """The rank mod p, the matrix filled one row at a time: a list of lists of all entries (Python ints) took 11 GB
-    for the Gaudin magnet's 12 900 x 12 900 blocks, eight times the matrix itself."""
-    matrix = flint.nmod_mat(rows.shape[0], rows.shape[1], p)
-    for i, row in enumerate(rows):
-        for j, v in enumerate(row.tolist()):
-            if v:
-                matrix[i, j] = v
-    return int(matrix.rank())
+    return int(nmod_matrix(rows, p).rank())
 
 
 def _found(scene: _Scene, degree: int, with_kernel: Sequence[Kernel], rng: random.Random,
@@ -410,7 +403,7 @@ def _rebuild_block(scene: _Scene, block: Block, rows: np.ndarray, known: Sequenc
     and the parameters) that are new modulo the `known` vectors, rebuilt by sparse reconstruction with the weights of
     the scaling symmetries normalized."""
     kmap, p = scene.kmap, scene.prime
-    reference = free_kernel_mod_p(rows.tolist(), p, free_value=1)
+    reference = free_kernel_mod_p(rows, p, free_value=1)
     frees = [f for f, _ in reference]
     chosen = _new_members([v for _, v in reference], known, p)
     targets = [(k, c) for k, (f, v) in enumerate(reference) if k in chosen for c, x in enumerate(v) if x and c != f]
@@ -431,7 +424,7 @@ def _rebuild_block(scene: _Scene, block: Block, rows: np.ndarray, known: Sequenc
             except (UnluckyPrimeError, ZeroDivisionError):
                 out.append(None)
                 continue
-            kernel = free_kernel_mod_p(matrix.tolist(), q, free_value=1)
+            kernel = free_kernel_mod_p(matrix, q, free_value=1)
             if [f for f, _ in kernel] != frees:
                 out.append(None)
                 continue
