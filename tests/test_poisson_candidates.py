@@ -85,5 +85,7 @@ def test_screening_excludes_and_reports_kernels_without_rebuilding() -> None:
                           "--json", "--integrals-degree", "0"], capture_output=True, text=True, check=True)
     data = json.loads(out.stdout)
     assert data["structures"] == [] and len(data["excluded"]) == 9
-    assert data["kernels"] == [{"denominator_name": "1", "denominator": "1", "degree": 3, "dimension": 3,
-                                "status": "evidence"}]
+    [kernel] = data["kernels"]
+    assert {k: kernel[k] for k in ("denominator_name", "denominator", "degree", "dimension", "status")} == {
+        "denominator_name": "1", "denominator": "1", "degree": 3, "dimension": 3, "status": "evidence(exact)"}
+    assert kernel["certificate"]["status"] == "evidence(exact)"

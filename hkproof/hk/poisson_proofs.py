@@ -154,3 +154,23 @@ def exclusion_certificate(kmap: KahanMap, denominator: flint.fmpz_mpoly, degree:
                 s.require(b.rank == b.columns, f"block {b.character}: rank {b.rank} < {b.columns} columns")
             s.note(f"{len(ranks)} block(s), columns {[b.columns for b in ranks]}, rows {[b.rows for b in ranks]}")
     return cert
+
+
+def kernel_certificate(kmap: KahanMap, denominator: str, degree: int, prime: int, dimension: int,
+                       fixed: Mapping[str, Any] | None = None) -> Certificate:
+    """Evidence (exact, mod p at one specialization) that invariant Q/D of degree `degree` likely exist: the rows
+    have a kernel of `dimension` there, confirmed on more points, not rebuilt (`poisson --screen`)."""
+    cert = Certificate(f"poisson-kernel:{kmap.field.name}",
+                       f"invariant bivectors Q/D, deg Q <= {degree}, of the Kahan map of {kmap.field.name}: a kernel",
+                       "issue 38; docs/poisson.md (--screen)",
+                       f"the invariance rows of Q/({denominator}), deg Q <= {degree}, have a kernel of dimension "
+                       f"{dimension} mod {prime} at one specialization (the lowest such degree)",
+                       fixed={k: str(v) for k, v in (fixed or {}).items()})
+    with suppress(ProofStopped):
+        with cert.step("kernel of the invariance rows mod p", f"nmod_mat.rank mod {prime}, confirmed on more points",
+                       kmap.ring) as s:
+            s.evidence(Status.EVIDENCE_EXACT)
+            s.note(f"kernel dimension {dimension} at degree {degree}; not rebuilt, so neither invariance over "
+                   "Q(eps, params) nor Jacobi is proven")
+    return cert
+

@@ -35,7 +35,7 @@ from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.hk.jacobian import matrix_identity_holds
 from hkproof.hk.poisson import Bivector, pairs
 from hkproof.hk.poisson_proofs import (BlockRank, StructureProof, compatibility_step, exclusion_certificate,
-                                       involution_certificate, prove_structure)
+                                       involution_certificate, kernel_certificate, prove_structure)
 from hkproof.hk.poisson_system import (Block, SignSymmetry, blocks, denominator_character, factored_mod,
                                        sign_symmetries, system_mod_p)
 from hkproof.hk.torus import (Torus, commuting_linear_fields, eigen_coordinates, generic_generator, is_semi_invariant,
@@ -67,6 +67,16 @@ class ExcludedClass:
 
 
 @dataclass
+class ScreenedKernel:
+    """`--screen`: a class whose invariance rows have a kernel mod p at `degree` (the lowest), not rebuilt."""
+    name: str
+    text: str
+    degree: int
+    dimension: int
+    certificate: Certificate
+
+
+@dataclass
 class PoissonReport:
     """Everything `hkproof poisson` reports (JSON: docs/poisson.md)."""
     system: str
@@ -82,7 +92,7 @@ class PoissonReport:
     fixed: dict[str, flint.fmpq] = field(default_factory=dict)
     seconds: dict[str, float] = field(default_factory=dict)
     stopped: str = ""
-    kernels: list[dict[str, Any]] = field(default_factory=list)     # screening: classes with a kernel, not rebuilt
+    kernels: list[ScreenedKernel] = field(default_factory=list)     # screening: classes with a kernel, not rebuilt
 
     @property
     def complete(self) -> bool:
@@ -110,7 +120,10 @@ class PoissonReport:
             "integrals": [{"name": n, "expr": str(h)} for n, h in self.integrals],
             "involution": [{"structure": f"Pi{k + 1}", "status": label(c.status), "statement": c.statement}
                            for k, c in self.involution],
-            "kernels": self.kernels, "costs": self.costs,
+            "kernels": [{"denominator_name": k.name, "denominator": k.text, "degree": k.degree,
+                         "dimension": k.dimension, "status": label(k.certificate.status),
+                         "certificate": k.certificate.to_dict()} for k in self.kernels],
+            "costs": self.costs,
             "seconds": {k: round(v, 3) for k, v in self.seconds.items()},
             "notes": self.notes, "complete": self.complete, "stopped": self.stopped or None}
 
@@ -138,9 +151,9 @@ class PoissonReport:
                          f"{sum(b['columns'] for b in e['blocks'])} unknowns)")
         names = {e.name: e for e in self.excluded}
         lines += [f"  D = {n}: {Denominator(n, e.denominator).formula()}" for n, e in names.items() if n != "1"]
-        for k in self.kernels:
-            lines.append(f"  [evidence] D = {k['denominator_name']}: a kernel of dimension {k['dimension']} mod p at "
-                         f"degree {k['degree']} (invariant bivectors Q/D likely; not rebuilt: --screen)")
+        for k in d["kernels"]:
+            lines.append(f"  [{k['status']}] D = {k['denominator_name']}: a kernel of dimension {k['dimension']} mod p "
+                         f"at degree {k['degree']} (invariant bivectors Q/D likely; not rebuilt: --screen)")
         for c in self.costs:
             lines.append(f"  cost: D = {c['denominator']}, degree {c['degree']}: {c['columns']} unknowns in "
                          f"{c['blocks']} block(s), {c['rows']} rows, kernel {c['kernel']}, {c['seconds']:.2f} s")
@@ -287,8 +300,9 @@ def _screen_class(scene: _Scene, degree: int, rng: random.Random, report: Poisso
     for d in range(degree + 1):
         ranks = top if d == degree else _ranks(scene, d, rng, report, stages, budget)[0]
         if any(b.rank < b.columns for b in ranks):
-            report.kernels.append({"denominator_name": scene.name, "denominator": scene.den.text(), "degree": d,
-                                   "dimension": sum(b.columns - b.rank for b in ranks), "status": "evidence"})
+            dimension = sum(b.columns - b.rank for b in ranks)
+            cert = kernel_certificate(scene.kmap, scene.den.text(), d, scene.prime, dimension, report.fixed)
+            report.kernels.append(ScreenedKernel(scene.name, scene.den.text(), d, dimension, cert))
             return
 
 
