@@ -132,12 +132,11 @@ def exclusion_certificate(kmap: KahanMap, denominator: flint.fmpz_mpoly, degree:
                           values: Mapping[str, flint.fmpq], symmetries: Sequence[str], ranks: Sequence[BlockRank],
                           fixed: Mapping[str, Any] | None = None, torus: Torus | None = None) -> Certificate:
     """No invariant Q/D with deg Q <= degree over Q(eps, params): each block has full column rank mod p."""
-    cert = Certificate(f"poisson-exclusion:{kmap.field.name}",
-                       f"no invariant bivector Q/D, deg Q <= {degree}, of the Kahan map of {kmap.field.name}",
-                       "issue 38, item 4; docs/poisson.md",
-                       f"no Q != 0 (antisymmetric, polynomial of degree <= {degree} in the phase variables, "
-                       f"coefficients in Q(eps, parameters)) with Pi = Q/({poly_str(denominator)}) invariant",
-                       fixed={k: str(v) for k, v in (fixed or {}).items()})
+    cert = _class_certificate(kmap, "exclusion", f"no invariant bivector Q/D, deg Q <= {degree}",
+                              "issue 38, item 4; docs/poisson.md",
+                              f"no Q != 0 (antisymmetric, polynomial of degree <= {degree} in the phase variables, "
+                              f"coefficients in Q(eps, parameters)) with Pi = Q/({poly_str(denominator)}) invariant",
+                              fixed)
     with suppress(ProofStopped):
         if symmetries:
             with cert.step("sign symmetries split the columns", "exact identities of the Kahan equations",
@@ -160,12 +159,10 @@ def kernel_certificate(kmap: KahanMap, denominator: str, degree: int, prime: int
                        fixed: Mapping[str, Any] | None = None) -> Certificate:
     """Evidence (exact, mod p at one specialization) that invariant Q/D of degree `degree` likely exist: the rows
     have a kernel of `dimension` there, confirmed on more points, not rebuilt (`poisson --screen`)."""
-    cert = Certificate(f"poisson-kernel:{kmap.field.name}",
-                       f"invariant bivectors Q/D, deg Q <= {degree}, of the Kahan map of {kmap.field.name}: a kernel",
-                       "issue 38; docs/poisson.md (--screen)",
-                       f"the invariance rows of Q/({denominator}), deg Q <= {degree}, have a kernel of dimension "
-                       f"{dimension} mod {prime} at one specialization (the lowest such degree)",
-                       fixed={k: str(v) for k, v in (fixed or {}).items()})
+    cert = _class_certificate(kmap, "kernel", f"invariant bivectors Q/D, deg Q <= {degree}: a kernel",
+                              "issue 38; docs/poisson.md (--screen)",
+                              f"the invariance rows of Q/({denominator}), deg Q <= {degree}, have a kernel of "
+                              f"dimension {dimension} mod {prime} at one specialization (the lowest such degree)", fixed)
     with suppress(ProofStopped):
         with cert.step("kernel of the invariance rows mod p", f"nmod_mat.rank mod {prime}, confirmed on more points",
                        kmap.ring) as s:
@@ -173,4 +170,11 @@ def kernel_certificate(kmap: KahanMap, denominator: str, degree: int, prime: int
             s.note(f"kernel dimension {dimension} at degree {degree}; not rebuilt, so neither invariance over "
                    "Q(eps, params) nor Jacobi is proven")
     return cert
+
+
+def _class_certificate(kmap: KahanMap, kind: str, title: str, ref: str, statement: str,
+                       fixed: Mapping[str, Any] | None) -> Certificate:
+    """The certificate of one class Q/D of the Kahan map (an exclusion or a screened kernel)."""
+    return Certificate(f"poisson-{kind}:{kmap.field.name}", f"{title}, of the Kahan map of {kmap.field.name}", ref,
+                       statement, fixed={k: str(v) for k, v in (fixed or {}).items()})
 
