@@ -11,13 +11,13 @@ eigenvalues stay distinct mod p, so the eigenvectors mod p are reductions of eig
 """
 from __future__ import annotations
 
+import math
 import random
 from dataclasses import dataclass
 from typing import Sequence
 
 import flint
 
-from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import lcm, nullspace_q
 from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
@@ -69,10 +69,10 @@ def eigen_coordinates(a: flint.fmpq_mat, p: int) -> Torus | None:
     s = squarefree_charpoly(a)
     if s.degree() < 2 or any(c.q % p == 0 for c in a.entries()):
         return None                                 # one eigenvalue (A scalar): no splitting
-    powers, value = flint.fmpq_mat(n, n), flint.fmpq_mat(n, n, [int(i == j) for i in range(n) for j in range(n)])
-    for c in s.coeffs():
-        powers, value = powers + value * c, value * a
-    if any(e != 0 for e in powers.entries()):
+    value, power = flint.fmpq_mat(n, n), flint.fmpq_mat(n, n, [int(i == j) for i in range(n) for j in range(n)])
+    for c in s.coeffs():                            # s(A) = sum c_k A^k
+        value, power = value + power * c, power * a
+    if any(e != 0 for e in value.entries()):
         return None                                 # not diagonalizable over Q-bar
     numer, denom = s.numer(), s.denom()
     if denom % p == 0:
@@ -125,9 +125,7 @@ def generic_generator(basis: Sequence[flint.fmpq_mat], rng: random.Random) -> fl
 def is_semi_invariant(kmap: KahanMap, a: flint.fmpq_mat, d: flint.fmpz_mpoly) -> bool:
     """grad D . (A x) = c D with c a rational constant: then L_A keeps the class Q/D."""
     ring, xs = kmap.ring, list(kmap.variables)
-    scale = 1
-    for e in a.entries():
-        scale = scale * int(e.q) // int(flint.fmpz(scale).gcd(int(e.q)))
+    scale = math.lcm(*(int(e.q) for e in a.entries()))
     moved = ring.constant(0)
     for i, v in enumerate(xs):
         ax = sum((ring.gen(xs[j]) * int(a[i, j] * scale) for j in range(len(xs))), ring.constant(0))

@@ -256,11 +256,12 @@ def search_poisson(kmap: KahanMap, degree: int = 3, *, denominators: Sequence[De
 def _prime_and_torus(rng: random.Random, generator: flint.fmpq_mat | None) -> tuple[int, Torus | None]:
     """A random 31-bit prime, one modulo which the linear symmetry diagonalizes when the field has one (p = 1 mod 4 for
     a rotation), with its eigen-coordinates."""
-    for _ in range(64 if generator is not None else 0):
-        p = random_prime(rng, 31)
-        torus = eigen_coordinates(generator, p) if generator is not None else None
-        if torus is not None:
-            return p, torus
+    if generator is not None:
+        for _ in range(64):
+            p = random_prime(rng, 31)
+            torus = eigen_coordinates(generator, p)
+            if torus is not None:
+                return p, torus
     return random_prime(rng, 31), None
 
 
