@@ -9,13 +9,12 @@ from typing import Any
 
 import sympy
 
-from hkproof.algebra.fraction import poly_str
 from hkproof.algebra.printing import latex, markdown_table, poly_to_sympy
+from hkproof.hk.poisson import pairs
 from hkproof.pipelines.darboux import DarbouxSearch
 from hkproof.pipelines.discover.report import DiscoveryReport
 from hkproof.pipelines.poisson import PoissonReport
 from hkproof.pipelines.poisson_candidates import Denominator
-from hkproof.hk.poisson import pairs
 
 __all__ = ["darboux_markdown", "discovery_markdown", "poisson_markdown", "register", "report_to_sympy"]
 
@@ -67,16 +66,17 @@ def poisson_markdown(report: PoissonReport) -> str:
     if rows:
         lines += ["", "Excluded classes (no invariant Q/D: full column rank mod p)", "",
                   markdown_table(["D", "formula", "deg Q <=", "status"], rows)]
+    lines += [f"- D = {k['denominator_name']}: a kernel of dimension {k['dimension']} mod p at degree {k['degree']} "
+              f"({k['status']}, not rebuilt)" for k in payload["kernels"]]
     lines += [f"- {n}" for n in report.notes]
     if report.stopped:
         lines.append(f"- budget ran out: {report.stopped}")
     return "\n".join(lines)
 
 
-def _short_latex(d: Denominator) -> str:
-    """D factored in LaTeX, or its degree and size when it is long."""
-    text = d.formula()
-    return f"${latex(sympy.factor(poly_to_sympy(d.poly)))}$" if text == poly_str(d.poly) else text
+def _short_latex(d: Denominator, limit: int = 40) -> str:
+    """D factored in LaTeX, or its degree and size when it has more than `limit` terms (never printed to measure)."""
+    return f"${latex(sympy.factor(poly_to_sympy(d.poly)))}$" if len(d.poly) <= limit else d.formula()
 
 
 def report_to_sympy(report: DiscoveryReport | DarbouxSearch) -> dict[str, Any]:
