@@ -36,6 +36,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--darboux-degree", type=at_least(0, MAX_DARBOUX_DEGREE), default=4,
                    help="degree of measure's search for Darboux polynomials (their factors are candidate "
                    "denominators; default 4); 0: none")
+    p.add_argument("--class", dest="classes", action="append", default=[], metavar="NAME",
+                   help="search only the candidate class NAME as the reports name it (1, F4, F2*F4, F4^2; "
+                   "repeatable); an unknown name is an error that lists the candidates")
     p.add_argument("--screen", action="store_true",
                    help="ranks only: classes are excluded (a theorem) or reported with the lowest degree and dimension "
                    "of their kernel mod p (evidence), not rebuilt: a quick survey of large classes")
@@ -52,7 +55,7 @@ def run_poisson(args: argparse.Namespace) -> Result:
     with progress_bar(args, "poisson", "events") as shown:
         report = with_integrals(f, args.degree, denominators, args.integrals_degree,
                                 darboux_degree=args.darboux_degree, seed=args.seed, fixed=fixed, screen=args.screen,
-                                progress=message_bar(shown), budget=current())
+                                progress=message_bar(shown), budget=current(), only=args.classes)
     code = ExitCode.VERIFIED if report.complete else ExitCode.LIMIT
     payload = report.to_dict()
     text = report.text() + (write_certificate(target, poisson_document(f, report), payload) if target else "")

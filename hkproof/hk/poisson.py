@@ -24,8 +24,8 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ShapeError
 from hkproof.hk.jacobian import pulled_matrix
 
-__all__ = ["Bivector", "bracket", "casimir_combination", "compatible", "generic_rank", "invariance_holds", "is_casimir", "is_poisson",
-           "pairs", "schouten"]
+__all__ = ["Bivector", "bracket", "casimir_combination", "compatible", "generic_rank", "invariance_holds", "is_casimir",
+           "is_poisson", "is_poisson_mod", "pairs", "schouten"]
 
 
 def pairs(n: int) -> list[tuple[int, int]]:
@@ -170,6 +170,12 @@ def schouten(a: Bivector, b: Bivector) -> list[flint.fmpz_mpoly]:
 def is_poisson(pi: Bivector) -> bool:
     """The Jacobi identity [Pi, Pi] = 0, exactly."""
     return all(c.is_zero() for c in schouten(pi, pi))
+
+
+def is_poisson_mod(pi: Bivector, p: int) -> bool:
+    """[Pi, Pi] = 0 mod p: Jacobi for a bivector whose integer coefficients are residues (a kernel vector mod p at one
+    specialization; evidence about the bivector it reduces)."""
+    return all(all(int(c) % p == 0 for c in q.coeffs()) for q in schouten(pi, pi))
 
 
 def compatible(a: Bivector, b: Bivector) -> bool:

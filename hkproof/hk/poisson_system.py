@@ -197,10 +197,12 @@ def invariance_rows(mmap: ModularKahanMap, denominator: FactoredMod, block: Bloc
 
 
 def system_mod_p(mmap: ModularKahanMap, denominator: FactoredMod, block: Block, rng: random.Random,
-                 extra: int = 4, torus: Torus | None = None) -> tuple[np.ndarray, list[list[int]]]:
-    """The invariance rows at random points until there are len(columns) + extra of them: (rows mod p, points)."""
+                 extra: int = 4, torus: Torus | None = None, need: int | None = None
+                 ) -> tuple[np.ndarray, list[list[int]]]:
+    """The invariance rows at random points until there are `need` (default len(columns) + extra) of them: (rows mod
+    p, points)."""
     p, n = mmap.p, mmap.n
-    need = len(block.columns) + extra
+    need = len(block.columns) + extra if need is None else need
     per_point = len(pairs(n))
     columns = layout(block)
     chunks: list[np.ndarray] = []

@@ -7,6 +7,10 @@ theorem (the class is excluded, hkproof.hk.poisson_proofs.exclusion_certificate)
 rebuilt with eps and the parameters symbolic by sparse functional reconstruction (its rref basis is canonical), and
 each basis bivector is proven invariant, tested for Jacobi, its rank and Casimirs, pairs for compatibility, and the
 integrals `discover` proves for involution (hkproof.hk.poisson_proofs).
+
+With a torus (a linear symmetry diagonalized mod p) the ranks are taken on its weight blocks; a kernel seen in weight 0
+only is rebuilt on the bivectors fixed by the symmetry's flow, a basis over Z in the field's coordinates
+(hkproof.hk.fixed_columns), any other kernel on the sign blocks.
 """
 from __future__ import annotations
 
@@ -30,10 +34,12 @@ from hkproof.algebra.sampling import random_point
 from hkproof.budget import Budget, current
 from hkproof.dynamics.field import EPS, STEP_CONVENTION
 from hkproof.dynamics.kahan import KahanMap
+from hkproof.dynamics.modular_map import ModularKahanMap
 from hkproof.errors import BudgetExhausted, HKProofError, SingularSystemError, UnluckyPrimeError
 from hkproof.experiments.weights import Weights, scaling_weights
+from hkproof.hk.fixed_columns import FixedColumns, commutes_with_signs, fixed_columns, semi_invariance_character
 from hkproof.hk.jacobian import matrix_identity_holds
-from hkproof.hk.poisson import Bivector, pairs
+from hkproof.hk.poisson import Bivector, is_poisson_mod, pairs
 from hkproof.hk.poisson_proofs import (BlockRank, StructureProof, compatibility_step, exclusion_certificate,
                                        involution_certificate, kernel_certificate, prove_structure)
 from hkproof.hk.poisson_system import (Block, SignSymmetry, blocks, denominator_character, factored_mod,
@@ -48,6 +54,8 @@ from hkproof.proof.status import Status, specialized_label
 __all__ = ["ExcludedClass", "MAX_POISSON_DEGREE", "PoissonReport", "search_poisson", "with_integrals"]
 
 MAX_POISSON_DEGREE = 12
+DENSE_MAX_DEGREE = 64
+"""The largest degree of a coordinate in its one sampled control that the dense reconstruction takes."""
 Integrals = Callable[[KahanMap], list[tuple[str, Frac]]]
 
 
@@ -68,12 +76,14 @@ class ExcludedClass:
 
 @dataclass
 class ScreenedKernel:
-    """`--screen`: a class whose invariance rows have a kernel mod p at `degree` (the lowest), not rebuilt."""
+    """`--screen`: a class whose invariance rows have a kernel mod p at `degree` (the lowest), not rebuilt; for a kernel
+    of dimension 1 found in the field's coordinates, whether its member satisfies Jacobi mod p (None: not tested)."""
     name: str
     text: str
     degree: int
     dimension: int
     certificate: Certificate
+    jacobi_mod_p: bool | None = None
 
 
 @dataclass
@@ -121,7 +131,8 @@ class PoissonReport:
             "involution": [{"structure": f"Pi{k + 1}", "status": label(c.status), "statement": c.statement}
                            for k, c in self.involution],
             "kernels": [{"denominator_name": k.name, "denominator": k.text, "degree": k.degree,
-                         "dimension": k.dimension, "status": label(k.certificate.status),
+                         "dimension": k.dimension, "jacobi_mod_p": k.jacobi_mod_p,
+                         "status": label(k.certificate.status),
                          "certificate": k.certificate.to_dict()} for k in self.kernels],
             "costs": self.costs,
             "seconds": {k: round(v, 3) for k, v in self.seconds.items()},
@@ -152,8 +163,10 @@ class PoissonReport:
         names = {e.name: e for e in self.excluded}
         lines += [f"  D = {n}: {Denominator(n, e.denominator).formula()}" for n, e in names.items() if n != "1"]
         for k in d["kernels"]:
+            jac = {None: "", True: "; its member satisfies Jacobi mod p",
+                   False: "; its member fails Jacobi mod p: no Poisson structure likely"}[k["jacobi_mod_p"]]
             lines.append(f"  [{k['status']}] D = {k['denominator_name']}: a kernel of dimension {k['dimension']} mod p "
-                         f"at degree {k['degree']} (invariant bivectors Q/D likely; not rebuilt: --screen)")
+                         f"at degree {k['degree']} (invariant bivectors Q/D likely; not rebuilt: --screen{jac})")
         for c in self.costs:
             lines.append(f"  cost: D = {c['denominator']}, degree {c['degree']}: {c['columns']} unknowns in "
                          f"{c['blocks']} block(s), {c['rows']} rows, kernel {c['kernel']}, {c['seconds']:.2f} s")
@@ -167,13 +180,16 @@ class PoissonReport:
 @dataclass
 class _Scene:
     """The map mod p at the search's values, the denominator there, the symmetries that keep D and split the columns,
-    and the torus of a linear symmetry (eigen-coordinates mod p) when it splits them finer."""
+    and the torus of a linear symmetry (eigen-coordinates mod p) when it splits them finer; or, with `fixed` (the
+    symmetry's generator A), the unknowns are the coordinates on the bivectors fixed by its flow."""
     kmap: KahanMap
     prime: int
     values: dict[str, flint.fmpq]
     den: Denominator
     symmetries: list[SignSymmetry]
     torus: Torus | None = None
+    fixed: flint.fmpq_mat | None = None
+    _bases: dict[Block, FixedColumns] = field(default_factory=dict, repr=False)
 
     @property
     def name(self) -> str:
@@ -184,15 +200,45 @@ class _Scene:
         return self.den.poly
 
     def system(self, block: Block, rng: random.Random, extra: int = 4) -> tuple[np.ndarray, list[list[int]]]:
-        mmap = self.kmap.mod(self.prime, self.values)
-        return system_mod_p(mmap, factored_mod(mmap, self.den.parts()), block, rng, extra, self.torus)
+        return self.rows(self.kmap.mod(self.prime, self.values), block, rng, extra)
+
+    def rows(self, mmap: ModularKahanMap, block: Block, rng: random.Random, extra: int
+             ) -> tuple[np.ndarray, list[list[int]]]:
+        """The invariance rows of the block at random points of `mmap`, `extra` more than its unknowns, on its
+        unknowns (the fixed coordinates when the scene has a generator): (rows mod p, points)."""
+        basis = self.basis(block)
+        rows, points = system_mod_p(mmap, factored_mod(mmap, self.den.parts()), block, rng, extra, self.torus,
+                                    need=self.width(block) + extra)
+        return (basis.project(rows, mmap.p) if basis is not None else rows), points
+
+    def basis(self, block: Block) -> FixedColumns | None:
+        """The bivectors fixed by the generator's flow on the block (None without a generator)."""
+        if self.fixed is None:
+            return None
+        if block not in self._bases:
+            chi = semi_invariance_character(self.kmap, self.fixed, self.denominator)
+            if chi is None:
+                raise HKProofError(f"D = {self.name} is not semi-invariant under the symmetry")
+            self._bases[block] = fixed_columns(self.kmap, block, self.fixed, chi)
+        return self._bases[block]
+
+    def width(self, block: Block) -> int:
+        """The block's unknowns: its columns, or its fixed coordinates."""
+        basis = self.basis(block)
+        return len(block.columns) if basis is None else len(basis)
+
+    def terms(self, block: Block, unknown: int) -> Sequence[tuple[int, int]]:
+        """The columns of an unknown with their integer coefficients."""
+        basis = self.basis(block)
+        return ((unknown, 1),) if basis is None else basis.vectors[unknown]
 
     def blocks(self, degree: int) -> list[Block]:
-        return blocks(self.kmap, degree, self.symmetries, self.torus)
+        every = blocks(self.kmap, degree, self.symmetries, self.torus)
+        return [b for b in every if self.width(b)] if self.fixed is not None else every
 
     def cost(self, degree: int) -> int:
-        """sum of (columns of a block)^3: what the dense ranks cost."""
-        return sum(len(b.columns) ** 3 for b in self.blocks(degree))
+        """sum of (unknowns of a block)^3: what the dense ranks cost."""
+        return sum(self.width(b) ** 3 for b in self.blocks(degree))
 
     def split(self, torus: Torus | None, degree: int) -> _Scene:
         """The scene with the torus (and -I, the only sign symmetry diagonal in every chart) when its blocks cost less
@@ -204,15 +250,16 @@ class _Scene:
         return finer if finer.cost(degree) < self.cost(degree) else self
 
 
-def confirming_rows(block: Block, torus: bool = False) -> list[int]:
+def confirming_rows(cols: int, torus: bool = False) -> list[int]:
     """The surplus rows (beyond the columns) with which a kernel is confirmed, tried in turn: a few surplus rows can
     fake a kernel, since the rows of one point are not independent (the Lagrange top at degree 4 showed a
     4-dimensional kernel with 4 surplus rows and none with 200); on the weight blocks of a torus a point gives fewer
     independent rows still (the Gaudin magnet's weight blocks at degree 4: 99 columns need 20 points, 32 need 16, 5
     need 3, not 7, 3 and 1; the large blocks need no more than the sign blocks: 1 172 columns at degree 5 have full
     rank with 1 185 rows), so about twice and then five times the columns are drawn there to confirm a kernel (cheap:
-    only small blocks need it). The first entry is the surplus of a rebuild."""
-    cols = len(block.columns)
+    only small blocks need it; the fixed coordinates of a flow are screened likewise, although there the Gaudin
+    magnet's 2 110 coordinates at degree 6 show their one-dimensional kernel with 16 surplus rows). The first entry is
+    the surplus of a rebuild (whose probes are checked against the reference kernel's free columns)."""
     return [cols + 60, 4 * cols + 200] if torus else [cols // 4 + 16]
 
 
@@ -242,7 +289,7 @@ def search_poisson(kmap: KahanMap, degree: int = 3, *, denominators: Sequence[De
             keep = [s for s in symmetries if denominator_character(kmap, den.poly, s) is not None]
             scene = _Scene(kmap, prime, values, den, keep)
             if screen:
-                _screen_class(scene.split(torus, degree), degree, rng, report, stages, budget)
+                _screen_class(scene.split(torus, degree), scene, degree, rng, report, stages, budget)
             else:
                 _search_class(scene.split(torus, degree), scene, degree, rng, report, stages, budget, lemma,
                               integrals)
@@ -269,12 +316,18 @@ def _search_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random,
                   stages: Stages, budget: Budget, lemma: bool, integrals: Integrals | None) -> None:
     """One D: the top degree first (full column rank there excludes every lower degree too, the columns of a lower
     degree being a subset); with a kernel there, the lowest degree with a kernel is rebuilt and proven, in the `plain`
-    scene (sign symmetries of x only: the kernel is rebuilt in the field's own coordinates)."""
+    scene (sign symmetries of x only: the kernel is rebuilt in the field's own coordinates), on the coordinates fixed
+    by the torus' flow when the kernel has weight 0 only."""
     ranks, with_kernel = _ranks(scene, degree, rng, report, stages, budget)
     if all(b.rank == b.columns for b in ranks):
+        if scene.fixed is not None:     # the torus saw a kernel here: a rank mod p that differs is not an exclusion
+            raise SingularSystemError(f"D = {scene.name}: the fixed coordinates have full rank mod p where the "
+                                      "torus' weight 0 had a kernel")
         _exclude(scene, degree, ranks, report)
         return
     if scene.torus is not None:
+        if all(b.character[-1] == 0 for b in ranks if b.rank < b.columns) and _fixed_route(scene, plain):
+            plain = dataclasses.replace(plain, fixed=scene.torus.generator, _bases={})
         _search_class(plain, plain, degree, rng, report, stages, budget, lemma, integrals)
         return
     if not with_kernel:
@@ -290,10 +343,10 @@ def _search_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random,
     _found(scene, degree, with_kernel, rng, report, stages, budget, lemma, integrals)
 
 
-def _screen_class(scene: _Scene, degree: int, rng: random.Random, report: PoissonReport, stages: Stages,
-                  budget: Budget) -> None:
+def _screen_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random, report: PoissonReport,
+                  stages: Stages, budget: Budget) -> None:
     """One D, ranks only: excluded (a theorem, as in _search_class), or its lowest degree with a kernel mod p and
-    the kernel's dimension reported (evidence: not rebuilt)."""
+    the kernel's dimension reported (evidence: not rebuilt), with Jacobi mod p of a kernel of dimension 1."""
     top = _ranks(scene, degree, rng, report, stages, budget)[0]
     if all(b.rank == b.columns for b in top):
         _exclude(scene, degree, top, report)
@@ -303,8 +356,50 @@ def _screen_class(scene: _Scene, degree: int, rng: random.Random, report: Poisso
         if any(b.rank < b.columns for b in ranks):
             dimension = sum(b.columns - b.rank for b in ranks)
             cert = kernel_certificate(scene.kmap, scene.den.text(), d, scene.prime, dimension, report.fixed)
-            report.kernels.append(ScreenedKernel(scene.name, scene.den.text(), d, dimension, cert))
+            jacobi = _jacobi_mod_p(scene, plain, d, ranks, rng) if dimension == 1 else None
+            report.kernels.append(ScreenedKernel(scene.name, scene.den.text(), d, dimension, cert, jacobi))
             return
+
+
+def _jacobi_mod_p(scene: _Scene, plain: _Scene, degree: int, ranks: list[BlockRank], rng: random.Random
+                  ) -> bool | None:
+    """[Pi, Pi] = 0 mod p for the one member of a kernel of dimension 1, in the field's coordinates: on the sign blocks,
+    or on the coordinates fixed by the torus' flow when the kernel has weight 0 (None where neither applies)."""
+    if scene.torus is not None:
+        [kernel] = [b for b in ranks if b.rank < b.columns]
+        if kernel.character[-1] != 0 or not _fixed_route(scene, plain):
+            return None
+        scene = dataclasses.replace(plain, fixed=scene.torus.generator, _bases={})
+    for block in scene.blocks(degree):
+        rows, _ = scene.system(block, rng, confirming_rows(scene.width(block))[0])
+        found = free_kernel_mod_p(rows, scene.prime, free_value=1)
+        if len(found) == 1:
+            on_columns: dict[int, int] = {}
+            for b, x in enumerate(found[0][1]):
+                for col, k in scene.terms(block, b) if x else ():
+                    on_columns[col] = on_columns.get(col, 0) + x * k
+            return is_poisson_mod(_residue_bivector(scene, block, on_columns), scene.prime)
+    return None
+
+
+def _residue_bivector(scene: _Scene, block: Block, coefficients: Mapping[int, int]) -> Bivector:
+    """Q/D at the scene's specialization, coefficients lifted from their residues, in a ring of the phase variables."""
+    kmap, p = scene.kmap, scene.prime
+    ring = get_ring(tuple(kmap.variables))
+    entries: list[dict[tuple[int, ...], int]] = [{} for _ in pairs(len(kmap.variables))]
+    for col, c in coefficients.items():
+        k, m = block.columns[col]
+        entries[k][tuple(m)] = (entries[k].get(tuple(m), 0) + c) % p
+    den = scene.kmap.mod(p, scene.values).reduce(scene.denominator)
+    return Bivector(ring, tuple(kmap.variables), tuple(ring.ctx.from_dict(e) for e in entries),
+                    ring.ctx.from_dict({tuple(int(x) for x in m): int(c) for m, c in den.to_dict().items()}))
+
+
+def _fixed_route(scene: _Scene, plain: _Scene) -> bool:
+    """The torus' generator commutes with the sign symmetries and keeps the class: the fixed coordinates apply."""
+    generator = scene.torus.generator if scene.torus is not None else None
+    return (generator is not None and commutes_with_signs(generator, plain.symmetries)
+            and semi_invariance_character(scene.kmap, generator, scene.denominator) is not None)
 
 
 def _exclude(scene: _Scene, degree: int, ranks: list[BlockRank], report: PoissonReport) -> None:
@@ -332,18 +427,18 @@ def _ranks(scene: _Scene, d: int, rng: random.Random, report: PoissonReport, sta
         rows, points = scene.system(block, rng)
         rank = budget.call(f"the rank mod p of {rows.shape[0]} x {rows.shape[1]} invariance rows",
                            _rank, rows, scene.prime)
-        for extra in confirming_rows(block, scene.torus is not None):   # a kernel: confirmed on more points
-            if rank == len(block.columns):
+        width = scene.width(block)
+        for extra in confirming_rows(width, scene.torus is not None or scene.fixed is not None):
+            if rank == width:                                         # a kernel: confirmed on more points
                 break
             rows, points = scene.system(block, rng, extra)
             rank = budget.call(f"the rank mod p of {rows.shape[0]} x {rows.shape[1]} invariance rows",
                                _rank, rows, scene.prime)
-        ranks.append(BlockRank(block.character, len(block.columns), rows.shape[0], rank,
-                               tuple(tuple(x) for x in points)))
-        if rank < len(block.columns):
+        ranks.append(BlockRank(block.character, width, rows.shape[0], rank, tuple(tuple(x) for x in points)))
+        if rank < width:
             known = [] if scene.torus else _known_vectors(scene, block, [s.bivector for s in report.structures])
             spanned = _rank(np.array(known, dtype=np.int64), scene.prime) if known else 0
-            if len(block.columns) - rank > spanned:
+            if width - rank > spanned:
                 with_kernel.append((block, rows, known))
     report.costs.append({"denominator": scene.name, "degree": d, "columns": sum(b.columns for b in ranks),
                          "blocks": len(ranks), "rows": sum(b.rows for b in ranks),
@@ -355,7 +450,8 @@ def _ranks(scene: _Scene, d: int, rng: random.Random, report: PoissonReport, sta
 def _known_vectors(scene: _Scene, block: Block, known: Sequence[Bivector]) -> list[list[int]]:
     """The coefficient vectors mod p, on the block's columns, of Q_k D/D_k for each structure Q_k/D_k already found
     whose denominator divides D and whose numerator then lies in the block's degrees (its part of the block's
-    character: invariant, since the invariant bivectors split by characters)."""
+    character: invariant, since the invariant bivectors split by characters); on the fixed coordinates when the scene
+    has them (a structure of a class whose kernel has weight 0 is fixed by the flow)."""
     mmap = scene.kmap.mod(scene.prime, scene.values)
     where = {c: k for k, c in enumerate(block.columns)}
     top = max(sum(m) for _, m in block.columns)
@@ -372,8 +468,10 @@ def _known_vectors(scene: _Scene, block: Block, known: Sequence[Bivector]) -> li
             for m, c in e.items():
                 if (k, tuple(m)) in where:
                     vector[where[(k, tuple(m))]] = int(c)
-        if any(vector):
-            out.append(vector)
+        basis = scene.basis(block)
+        coordinates = basis.coordinates(vector, scene.prime) if basis is not None else vector
+        if coordinates is not None and any(vector):
+            out.append(coordinates)
     return out
 
 
@@ -404,6 +502,12 @@ def _found(scene: _Scene, degree: int, with_kernel: Sequence[Kernel], rng: rando
     for k, s in proven:
         others = [(n, h) for n, h in report.integrals if n not in {c for c, _ in s.casimirs}]
         report.involution.append((k, involution_certificate(kmap, s.bivector, others, report.fixed)))
+    alone = report.structures[first] if len(built) == 1 and not any(known for _, _, known in with_kernel) else None
+    if alone is not None and alone.status.is_verified and alone.poisson is False:
+        report.notes.append(f"D = {scene.name}, deg Q <= {degree}: the invariant bivectors of this class are the "
+                            f"multiples c Pi{first + 1} (a kernel of dimension 1 mod p bounds their space, Pi{first + 1} "
+                            f"is proven invariant), and [c Pi, c Pi] = c^2 [Pi, Pi] != 0: the class has no invariant "
+                            "Poisson structure")
     if len(built) > 1:
         report.notes.append(f"D = {scene.name}: the invariant bivectors of degree {degree} form a space of dimension "
                             f"{len(built)} over "
@@ -433,9 +537,7 @@ def _rebuild_block(scene: _Scene, block: Block, rows: np.ndarray, known: Sequenc
         for t in points:
             controls = {**{n: 1 for n in normalized}, **dict(zip(sampled, t))}
             try:
-                mmap = kmap.mod(q, controls)
-                matrix, _ = system_mod_p(mmap, factored_mod(mmap, scene.den.parts()), block, local,
-                                         confirming_rows(block)[0])
+                matrix, _ = scene.rows(kmap.mod(q, controls), block, local, confirming_rows(scene.width(block))[0])
             except (UnluckyPrimeError, ZeroDivisionError):
                 out.append(None)
                 continue
@@ -453,11 +555,22 @@ def _rebuild_block(scene: _Scene, block: Block, rows: np.ndarray, known: Sequenc
     for (k, c), (num, den) in zip(targets, values, strict=True):
         h = Frac(ring, small.project(small.ctx.from_dict(num), ring) if sampled else ring.constant(_const(num)),
                  small.project(small.ctx.from_dict(den), ring) if sampled else ring.constant(_const(den)))
-        restored = weights.restore_frac(h, _weight(weights, kmap, block, frees[k], c))
+        restored = weights.restore_frac(h, _weight(weights, kmap, block, scene.terms(block, frees[k])[0][0],
+                                                   scene.terms(block, c)[0][0]))
         if restored is None:
             raise SingularSystemError(f"a rebuilt coefficient {h} is not weighted homogeneous")
         coefficients[k][c] = restored
-    return [_bivector(kmap, block, coeffs, scene.denominator) for coeffs in coefficients.values()]
+    return [_bivector(kmap, block, _on_columns(scene, block, coeffs), scene.denominator)
+            for coeffs in coefficients.values()]
+
+
+def _on_columns(scene: _Scene, block: Block, coeffs: Mapping[int, Frac]) -> dict[int, Frac]:
+    """The coefficients of the block's columns from those of the unknowns (the same, without fixed coordinates)."""
+    out: dict[int, Frac] = {}
+    for c, h in coeffs.items():
+        for col, k in scene.terms(block, c):
+            out[col] = out[col] + h * k if col in out else h * k
+    return {col: h for col, h in out.items() if not h.is_zero()}
 
 
 def _new_members(basis: Sequence[Sequence[int]], known: Sequence[Sequence[int]], p: int) -> list[int]:
@@ -479,7 +592,8 @@ def _const(poly: Mapping[Exponents, int]) -> int:
 
 
 def _weight(weights: Weights, kmap: KahanMap, block: Block, free: int, col: int) -> list[flint.fmpq]:
-    """w(free column) - w(column), w(ij, x^m) = w(x^m) - w(x_i) - w(x_j): the weight of the coefficient."""
+    """w(free column) - w(column), w(ij, x^m) = w(x^m) - w(x_i) - w(x_j): the weight of the coefficient (of a fixed
+    coordinate: of one of its columns, all of one weight, as the symmetry commutes with the scalings)."""
     def w(c: int) -> list[flint.fmpq]:
         k, m = block.columns[c]
         i, j = pairs(len(kmap.variables))[k]
@@ -510,9 +624,18 @@ def _bivector(kmap: KahanMap, block: Block, coeffs: Mapping[int, Frac], den: fli
 
 def _reconstruct(box: Callable[[int, Sequence[Sequence[int]]], list[list[int] | None]], n: int, count: int,
                  rng: random.Random, budget: Budget) -> list[tuple[dict, dict]]:
-    """The one call of the reconstruction interface (method "sparse"): `count` rational functions of n variables
-    (num, den), one at a time with the same seed, so that components of equal degrees probe the same points (memoized
-    vectors)."""
+    """The one call of the reconstruction interface: `count` rational functions of n variables (num, den), on 31-bit
+    primes, where the invariance rows are numpy int64 (a 62-bit prime makes them Python integers, several times slower
+    per probe). One variable (every other control normalized by a scaling): method "dense", all coordinates on the same
+    probes (the Gaudin magnet's 704 coordinates at degree 6: each probe is an elimination of 2 110 unknowns, and one
+    sparse reconstruction per coordinate spent 25 s each). More variables: method "sparse", one at a time with the
+    same seed, so that components of equal degrees probe the same points (memoized vectors)."""
+    if count == 0:
+        return []
+    if n == 1:
+        budget.check("rebuilding the coordinates of invariant bivectors")
+        return [(r.numerator, r.denominator)
+                for r in reconstruct(box, 1, count, method="dense", rng=rng, bits=31, max_degree=DENSE_MAX_DEGREE)]
     memo: dict[tuple[int, tuple[int, ...]], list[int] | None] = {}
 
     def vectors(q: int, points: Sequence[Sequence[int]]) -> list[list[int] | None]:
@@ -527,7 +650,7 @@ def _reconstruct(box: Callable[[int, Sequence[Sequence[int]]], list[list[int] | 
 
         def component(q: int, points: Sequence[Sequence[int]], k: int = k) -> list[list[int] | None]:
             return [None if v is None else [v[k]] for v in vectors(q, points)]
-        r = reconstruct(component, n, 1, method="sparse", rng=random.Random(seed), budget=budget)[0]
+        r = reconstruct(component, n, 1, method="sparse", rng=random.Random(seed), budget=budget, bits=31)[0]
         out.append((r.numerator, r.denominator))
     return out
 
@@ -535,11 +658,11 @@ def _reconstruct(box: Callable[[int, Sequence[Sequence[int]]], list[list[int] | 
 def with_integrals(kmap: KahanMap, degree: int, denominators: Sequence[Frac] = (), integrals_degree: int = 2, *,
                    darboux_degree: int = 4, seed: int = 0, fixed: Mapping[str, flint.fmpq] | None = None,
                    progress: Progress | None = None, budget: Budget | None = None,
-                   screen: bool = False) -> PoissonReport:
+                   screen: bool = False, only: Sequence[str] = ()) -> PoissonReport:
     """search_poisson with the integrals `discover` proves (degree `integrals_degree`, 0: none) for Casimirs and
     involution, and the candidate denominators of hkproof.pipelines.poisson_candidates: 1, the given ones, each
     integral's denominator and the Darboux polynomials `measure` finds (degree `darboux_degree`, 0: none), factored,
-    and the products of two factors."""
+    and the products of two factors; `only`: the classes of these names alone."""
     from hkproof.pipelines.darboux import search_darboux
     from hkproof.pipelines.discover import discover
     budget = budget or current()
@@ -559,5 +682,11 @@ def with_integrals(kmap: KahanMap, degree: int, denominators: Sequence[Frac] = (
         if search.symbolic:         # at fixed values otherwise: not a candidate for every parameter value
             sources += [(f"P{k + 1} of measure", p.poly) for k, p in enumerate(search.darboux)]
     candidates = candidate_denominators(kmap.ring.constant(1), kmap.variables, sources)
+    if only:
+        unknown = [name for name in only if name not in {d.name for d in candidates}]
+        if unknown:
+            raise HKProofError(f"no candidate class {', '.join(unknown)}: the candidates are "
+                               + ", ".join(d.name for d in candidates))
+        candidates = [d for d in candidates if d.name in only]
     return search_poisson(kmap, degree, denominators=candidates, seed=seed, integrals=lambda _: found,
                           progress=progress, fixed=fixed, budget=budget, screen=screen)
