@@ -12,10 +12,10 @@ import sympy
 
 from hkproof.algebra.modular import rank_mod_p
 from hkproof.dynamics.catalogue import kahan_map
-from hkproof.hk.fixed_columns import commutes_with_signs, fixed_columns, semi_invariance_character
+from hkproof.hk.fixed_columns import commutes_with_signs, fixed_columns
 from hkproof.hk.poisson import pairs
 from hkproof.hk.poisson_system import blocks, sign_symmetries
-from hkproof.hk.torus import commuting_linear_fields, eigen_coordinates, generic_generator
+from hkproof.hk.torus import commuting_linear_fields, eigen_coordinates, generic_generator, semi_invariance_character
 from hkproof.pipelines.poisson import _prime_and_torus, _Scene, with_integrals
 from hkproof.pipelines.poisson_candidates import Denominator
 from hkproof.proof.status import Status

@@ -25,7 +25,7 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.poisson import pairs
 from hkproof.hk.poisson_system import Block, SignSymmetry
 
-__all__ = ["FixedColumns", "commutes_with_signs", "fixed_columns", "semi_invariance_character"]
+__all__ = ["FixedColumns", "commutes_with_signs", "fixed_columns"]
 
 Term = tuple[int, int]          # (column of the block, integer coefficient)
 
@@ -58,20 +58,6 @@ class FixedColumns:
             for c, k in v:
                 back[c] = (back[c] + x * k) % p
         return coords if all((a - int(b)) % p == 0 for a, b in zip(back, vector, strict=True)) else None
-
-
-def semi_invariance_character(kmap: KahanMap, a: flint.fmpq_mat, d: flint.fmpz_mpoly) -> flint.fmpq | None:
-    """chi with X(D) = chi D for X = A x, exactly; None when D is not semi-invariant."""
-    ring, xs = kmap.ring, list(kmap.variables)
-    scale = math.lcm(*(int(e.q) for e in a.entries()))
-    moved = ring.constant(0)
-    for i, v in enumerate(xs):
-        ax = sum((ring.gen(xs[j]) * int(a[i, j] * scale) for j in range(len(xs))), ring.constant(0))
-        moved += d.derivative(ring.index(v)) * ax
-    if moved.is_zero():
-        return flint.fmpq(0)
-    chi = flint.fmpq(int(moved.leading_coefficient()), int(d.leading_coefficient()))
-    return chi / scale if moved * d.leading_coefficient() == d * moved.leading_coefficient() else None
 
 
 def commutes_with_signs(a: flint.fmpq_mat, symmetries: Sequence[SignSymmetry]) -> bool:

@@ -23,7 +23,7 @@ from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 
 __all__ = ["Torus", "commuting_linear_fields", "eigen_coordinates", "generic_generator", "is_semi_invariant",
-           "squarefree_charpoly", "torus_data"]
+           "semi_invariance_character", "squarefree_charpoly", "torus_data"]
 
 
 def commuting_linear_fields(field: QuadraticField) -> list[flint.fmpq_mat]:
@@ -124,10 +124,19 @@ def generic_generator(basis: Sequence[flint.fmpq_mat], rng: random.Random) -> fl
 
 def is_semi_invariant(kmap: KahanMap, a: flint.fmpq_mat, d: flint.fmpz_mpoly) -> bool:
     """grad D . (A x) = c D with c a rational constant: then L_A keeps the class Q/D."""
+    return semi_invariance_character(kmap, a, d) is not None
+
+
+def semi_invariance_character(kmap: KahanMap, a: flint.fmpq_mat, d: flint.fmpz_mpoly) -> flint.fmpq | None:
+    """chi with grad D . (A x) = chi D, exactly; None when D is not semi-invariant."""
     ring, xs = kmap.ring, list(kmap.variables)
     scale = math.lcm(*(int(e.q) for e in a.entries()))
     moved = ring.constant(0)
     for i, v in enumerate(xs):
         ax = sum((ring.gen(xs[j]) * int(a[i, j] * scale) for j in range(len(xs))), ring.constant(0))
         moved += d.derivative(ring.index(v)) * ax
-    return moved.is_zero() or moved * d.leading_coefficient() == d * moved.leading_coefficient()
+    if moved.is_zero():
+        return flint.fmpq(0)
+    if moved * d.leading_coefficient() != d * moved.leading_coefficient():
+        return None
+    return flint.fmpq(int(moved.leading_coefficient()), int(d.leading_coefficient())) / scale

@@ -37,7 +37,7 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.dynamics.modular_map import ModularKahanMap
 from hkproof.errors import BudgetExhausted, HKProofError, SingularSystemError, UnluckyPrimeError
 from hkproof.experiments.weights import Weights, scaling_weights
-from hkproof.hk.fixed_columns import FixedColumns, commutes_with_signs, fixed_columns, semi_invariance_character
+from hkproof.hk.fixed_columns import FixedColumns, commutes_with_signs, fixed_columns
 from hkproof.hk.jacobian import matrix_identity_holds
 from hkproof.hk.poisson import Bivector, is_poisson_mod, pairs
 from hkproof.hk.poisson_proofs import (BlockRank, StructureProof, compatibility_step, exclusion_certificate,
@@ -45,7 +45,7 @@ from hkproof.hk.poisson_proofs import (BlockRank, StructureProof, compatibility_
 from hkproof.hk.poisson_system import (Block, SignSymmetry, blocks, denominator_character, factored_mod,
                                        sign_symmetries, system_mod_p)
 from hkproof.hk.torus import (Torus, commuting_linear_fields, eigen_coordinates, generic_generator, is_semi_invariant,
-                              torus_data)
+                              semi_invariance_character, torus_data)
 from hkproof.pipelines.poisson_candidates import Denominator, candidate_denominators
 from hkproof.pipelines.stages import Progress, Stages
 from hkproof.proof.certificate import Certificate
