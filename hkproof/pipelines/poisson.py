@@ -499,7 +499,8 @@ def _found(scene: _Scene, degree: int, with_kernel: Sequence[Kernel], rng: rando
     for (a, sa), (b, sb) in itertools.combinations(proven, 2):
         ok = compatibility_step(sa.certificate, kmap, (f"Pi{a + 1}", sa.bivector), (f"Pi{b + 1}", sb.bivector))
         report.compatibility.append((a, b, ok))
-    for k, s in proven:
+    invariant = [(first + k, s) for k, s in enumerate(report.structures[first:]) if s.status.is_verified]
+    for k, s in invariant:          # a bivector that is not Poisson too: {I, J} = 0 is then a fact about it, no more
         others = [(n, h) for n, h in report.integrals if n not in {c for c, _ in s.casimirs}]
         report.involution.append((k, involution_certificate(kmap, s.bivector, others, report.fixed)))
     alone = report.structures[first] if len(built) == 1 and not any(known for _, _, known in with_kernel) else None
