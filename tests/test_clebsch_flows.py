@@ -58,6 +58,7 @@ def test_general_phi0_perturbed_refuted(key, text):
     assert get_claim("flow-general-phi0").prove({key: text}).status is not Status.VERIFIED
 
 
+@pytest.mark.slow      # 30-40 s; the default suite proves flow-theta-all through test_the_script_certifies_the_group
 def test_theta_every_flow_with_w_symbolic():
     cert = get_claim("flow-theta-all").prove()
     assert cert.status is Status.VERIFIED, cert.render()
