@@ -19,7 +19,7 @@ import itertools
 import random
 import time
 from dataclasses import dataclass, field
-from typing import Any, Callable, Mapping, Sequence
+from typing import Any, Callable, Mapping, Sequence, TypeVar
 
 import flint
 import numpy as np
@@ -57,6 +57,7 @@ MAX_POISSON_DEGREE = 12
 DENSE_MAX_DEGREE = 64
 """The largest degree of a coordinate in its one sampled control that the dense reconstruction takes."""
 Integrals = Callable[[KahanMap], list[tuple[str, Frac]]]
+T = TypeVar("T", Frac, int)
 
 
 @dataclass
@@ -374,11 +375,9 @@ def _jacobi_mod_p(scene: _Scene, plain: _Scene, degree: int, ranks: list[BlockRa
         rows, _ = scene.system(block, rng, confirming_rows(scene.width(block))[0])
         found = free_kernel_mod_p(rows, scene.prime, free_value=1)
         if len(found) == 1:
-            on_columns: dict[int, int] = {}
-            for b, x in enumerate(found[0][1]):
-                for col, k in scene.terms(block, b) if x else ():
-                    on_columns[col] = on_columns.get(col, 0) + x * k
-            return is_poisson_mod(_residue_bivector(scene, block, on_columns), scene.prime)
+            coordinates = {b: x for b, x in enumerate(found[0][1]) if x}
+            return is_poisson_mod(_residue_bivector(scene, block, _on_columns(scene, block, coordinates)),
+                                  scene.prime)
     return None
 
 
@@ -565,13 +564,14 @@ def _rebuild_block(scene: _Scene, block: Block, rows: np.ndarray, known: Sequenc
             for coeffs in coefficients.values()]
 
 
-def _on_columns(scene: _Scene, block: Block, coeffs: Mapping[int, Frac]) -> dict[int, Frac]:
-    """The coefficients of the block's columns from those of the unknowns (the same, without fixed coordinates)."""
-    out: dict[int, Frac] = {}
+def _on_columns(scene: _Scene, block: Block, coeffs: Mapping[int, T]) -> dict[int, T]:
+    """The coefficients of the block's columns from those of the unknowns (the same, without fixed coordinates);
+    rational functions of a rebuild or residues of a kernel mod p."""
+    out: dict[int, T] = {}
     for c, h in coeffs.items():
         for col, k in scene.terms(block, c):
             out[col] = out[col] + h * k if col in out else h * k
-    return {col: h for col, h in out.items() if not h.is_zero()}
+    return out
 
 
 def _new_members(basis: Sequence[Sequence[int]], known: Sequence[Sequence[int]], p: int) -> list[int]:
