@@ -89,3 +89,11 @@ def test_screening_excludes_and_reports_kernels_without_rebuilding() -> None:
     assert {k: kernel[k] for k in ("denominator_name", "denominator", "degree", "dimension", "status")} == {
         "denominator_name": "1", "denominator": "1", "degree": 3, "dimension": 3, "status": "evidence(exact)"}
     assert kernel["certificate"]["status"] == "evidence(exact)"
+
+
+def test_cli_class_restricts_the_search_and_an_unknown_class_exits_2() -> None:
+    base = [sys.executable, "-m", "hkproof.cli", "poisson", "lotka-volterra", "--degree", "2", "--integrals-degree", "0"]
+    one = subprocess.run(base + ["--json", "--class", "F1^2"], capture_output=True, text=True, check=True)
+    assert [e["denominator_name"] for e in json.loads(one.stdout)["excluded"]] == ["F1^2"]
+    bad = subprocess.run(base + ["--class", "F7"], capture_output=True, text=True)
+    assert bad.returncode == 2 and "no candidate class F7" in bad.stderr and "Traceback" not in bad.stderr

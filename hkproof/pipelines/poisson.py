@@ -357,13 +357,13 @@ def _screen_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random,
         if any(b.rank < b.columns for b in ranks):
             dimension = sum(b.columns - b.rank for b in ranks)
             cert = kernel_certificate(scene.kmap, scene.den.text(), d, scene.prime, dimension, report.fixed)
-            jacobi = _jacobi_mod_p(scene, plain, d, ranks, rng) if dimension == 1 else None
+            jacobi = _jacobi_mod_p(scene, plain, d, ranks, rng, budget) if dimension == 1 else None
             report.kernels.append(ScreenedKernel(scene.name, scene.den.text(), d, dimension, cert, jacobi))
             return
 
 
-def _jacobi_mod_p(scene: _Scene, plain: _Scene, degree: int, ranks: list[BlockRank], rng: random.Random
-                  ) -> bool | None:
+def _jacobi_mod_p(scene: _Scene, plain: _Scene, degree: int, ranks: list[BlockRank], rng: random.Random,
+                  budget: Budget) -> bool | None:
     """[Pi, Pi] = 0 mod p for the one member of a kernel of dimension 1, in the field's coordinates: on the sign blocks,
     or on the coordinates fixed by the torus' flow when the kernel has weight 0 (None where neither applies)."""
     if scene.torus is not None:
@@ -372,8 +372,10 @@ def _jacobi_mod_p(scene: _Scene, plain: _Scene, degree: int, ranks: list[BlockRa
             return None
         scene = dataclasses.replace(plain, fixed=scene.torus.generator, _bases={})
     for block in scene.blocks(degree):
+        budget.check(f"the invariance rows of degree {degree} for Jacobi mod p")
         rows, _ = scene.system(block, rng, confirming_rows(scene.width(block))[0])
-        found = free_kernel_mod_p(rows, scene.prime, free_value=1)
+        found = budget.call(f"the kernel mod p of {rows.shape[0]} x {rows.shape[1]} invariance rows",
+                            free_kernel_mod_p, rows, scene.prime, 1)
         if len(found) == 1:
             coordinates = {b: x for b, x in enumerate(found[0][1]) if x}
             return is_poisson_mod(_residue_bivector(scene, block, _on_columns(scene, block, coordinates)),
