@@ -131,16 +131,23 @@ def test_the_gaudin_magnets_invariant_bivector_of_rank_four_is_not_poisson() -> 
 
 
 def test_jacobi_mod_p_of_a_screened_kernel_and_of_residue_bivectors() -> None:
-    """--screen tests Jacobi mod p on a kernel of dimension 1: Lotka-Volterra's xy passes; a bivector that fails
-    Jacobi over Z fails it mod p, one that holds holds."""
+    """--screen tests Jacobi mod p on a small kernel: Lotka-Volterra's xy passes (no theorem); a bivector that fails
+    Jacobi over Z fails it mod p, one that holds holds; two Poisson members have dependent brackets (a member may be
+    Poisson), two whose brackets are independent leave none."""
     from hkproof.algebra.ring import get_ring
-    from hkproof.hk.poisson import Bivector, is_poisson_mod
+    from hkproof.hk.poisson import Bivector, brackets_independent_mod
     report = with_integrals(kahan_map("lotka-volterra"), 2, integrals_degree=0, screen=True)
     assert [(k.name, k.dimension, k.jacobi_mod_p) for k in report.kernels] == [("1", 1, True)]
-    assert "satisfies Jacobi mod p" in report.text()
-    ring = get_ring(("x", "y", "z"))
-    y, z = ring.gen("y"), ring.gen("z")
+    assert "a member may satisfy Jacobi mod p" in report.text() and report.kernels[0].no_poisson is None
+    names = ("x", "y", "z")
+    ring = get_ring(names)
+    x, y, z = (ring.gen(v) for v in names)
     one, zero = ring.constant(1), ring.constant(0)
-    assert not is_poisson_mod(Bivector(ring, ("x", "y", "z"), (y, zero, z), one), 1000003)     # v.curl v = z
-    assert is_poisson_mod(Bivector(ring, ("x", "y", "z"), (y * 1000003, zero, z * 1000003), one), 1000003)
-    assert is_poisson_mod(Bivector(ring, ("x", "y", "z"), (z, zero, zero), one), 1000003)
+    p = 1000003
+    assert brackets_independent_mod([Bivector(ring, names, (y, zero, z), one)], p)            # v.curl v = z
+    assert not brackets_independent_mod([Bivector(ring, names, (y * p, zero, z * p), one)], p)
+    assert not brackets_independent_mod([Bivector(ring, names, (z, zero, zero), one)], p)
+    assert not brackets_independent_mod([Bivector(ring, names, (z, zero, zero), one),
+                                         Bivector(ring, names, (zero, zero, x), one)], p)     # both Poisson
+    assert brackets_independent_mod([Bivector(ring, names, (y, zero, z), one),
+                                     Bivector(ring, names, (zero, x * y, z * z), one)], p)

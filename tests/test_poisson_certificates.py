@@ -42,7 +42,7 @@ def test_lotka_volterra_round_trip_through_the_command(tmp_path, capsys):
     assert main(["check", str(out)]) == 0
     assert "bivector Pi1 of field lotka-volterra: [[0, x*y], [-x*y, 0]]" in capsys.readouterr().out
     d = json.loads(out.read_text())
-    assert d["version"] == 8 and d["claim"]["bivectors"] == [{"name": "Pi1", "field": "lotka-volterra"}]
+    assert d["version"] == 9 and d["claim"]["bivectors"] == [{"name": "Pi1", "field": "lotka-volterra"}]
     assert [s["kind"] for s in d["steps"]] == ["bivector-invariance", "jacobi"] + ["exclusion"] * 3    # x^2, xy, y^2
     assert {s["denominator"] for s in d["steps"][2:]} == {"(x)**2", "(y)*(x)", "(y)**2"}     # as products of factors
 

@@ -1,6 +1,7 @@
 """Step kinds on bivectors (version 7, docs/certificates.md): invariance Pi(f(x)) = Df Pi(x) Df^T, Jacobi and
 compatibility (Schouten brackets), Casimirs, involution, and the exclusion of a class Q/D by a full column rank mod p
-of invariance rows that the checker computes itself from its own Kahan map (no row is ever read from the file)."""
+of invariance rows that the checker computes itself from its own Kahan map (no row is ever read from the file); from
+version 9, no-poisson: the invariant Q/D of a class reduce mod p into a kernel none of whose members is Poisson."""
 from __future__ import annotations
 
 import itertools
@@ -20,6 +21,7 @@ __all__ = ["BIVECTOR_STEPS", "Matrix", "MAX_COLUMNS", "MAX_ROWS"]
 Matrix = list[list[Frac]]
 MAX_COLUMNS = 20_000       # unknowns of one block of an exclusion (its rank mod p is computed here)
 MAX_ROWS = 60_000          # rows of one block of an exclusion
+MAX_KERNEL = 4             # the dimension of a no-poisson kernel (its brackets: 10 at most)
 Outcome = tuple[dict[str, Matrix], str]    # the bivectors a step concludes, and the fact it checked
 
 
@@ -137,7 +139,7 @@ def _involution(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mappin
     return {}, f"in involution for {name}: {', '.join(t for t, _ in found)}"
 
 
-# ---- exclusion by a full column rank mod p ---------------------------------------------------------------------------
+# ---- exclusion by a full column rank mod p; no Poisson member ---------------------------------------------------------
 def _exclusion(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mapping[str, Matrix], where: str
                ) -> Outcome:
     """No Q != 0 (antisymmetric, degree <= d in x, coefficients in Q(eps, params)) with Q/D invariant. The checker
@@ -146,54 +148,142 @@ def _exclusion(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mapping
     is the image of a maximal minor over Q(eps, params) (denominators: powers of Delta(x_k), units mod p). Blocks are
     the characters of sign symmetries S that it proves itself (S f(Sx) = f(x) or f^-1(x), D(Sx) = +-D(x)): each S
     maps invariant Q/D to invariant ones, so an invariant Q has an invariant part on the columns of one character."""
-    if "rows" in step:
-        raise CertificateError(f"{where}: an exclusion step carries no rows: the checker computes them from the field")
-    p = get(step, "prime", int, where)
-    if not 2 < p < 2**62 or not flint.fmpz(p).is_prime():
-        raise CertificateError(f"{where}: the modulus {p} is not an odd prime below 2^62")
-    degree = get(step, "degree", int, where)
-    if not 0 <= degree <= 12:
-        raise CertificateError(f"{where}: the degree of Q must be between 0 and 12")
-    denominator = f.parse(get(step, "denominator", str, where), where)
-    if not denominator.is_polynomial() or denominator.is_zero():
-        raise CertificateError(f"{where}: the denominator D must be a non-zero polynomial")
-    values = get(step, "values", dict, where)
-    if sorted(values) != sorted([EPS, *f.parameters]):
-        raise CertificateError(f"{where}: 'values' must fix eps and every parameter, nothing else")
-    fixed = []
-    for name in f.ring.names[len(f.variables):]:
-        v = parse_rational(get(values, name, str, where))
-        if v.q % p == 0:
-            raise CertificateError(f"{where}: the value of {name} has a denominator divisible by {p}")
-        fixed.append(int(v.p) * pow(int(v.q), -1, p) % p)
-    symmetries = [_symmetry(f, s, denominator, where) for s in _sign_lists(step, len(f.variables), where)]
-    torus = read_torus(f, step["torus"], denominator, p, where) if step.get("torus") is not None else None
-    if torus is not None and any(v > 0 for s in symmetries for v in s):
-        raise CertificateError(f"{where}: with a torus the only sign symmetry allowed is -I (diagonal in every chart)")
-    columns = _columns(len(f.variables), degree, symmetries, torus)
-    stated = {}
-    for block in entries(step, "blocks", where):
-        character = tuple(integers(block, "character", where))
-        if character in stated:
-            raise CertificateError(f"{where}: the character {list(character)} is stated twice")
-        stated[character] = block
-    if set(stated) != set(columns):
-        raise CertificateError(f"{where}: the blocks must be exactly the characters {sorted(columns)} of the columns")
-    rows_of = _Rows(f, denominator.num, fixed, p, torus)
-    for character, cols in columns.items():
-        points = [integers({"x": x}, "x", where) for x in get(stated[character], "points", list, where)]
-        if len(cols) > MAX_COLUMNS or len(points) * len(_pairs(len(f.variables))) > MAX_ROWS:
+    c = _Class(f, step, where)
+    sizes = c.full_rank(list(c.columns), where)
+    return {}, (f"no invariant bivector Q/({c.denominator}) with deg Q <= {c.degree} (full column rank mod {c.p} in "
+                f"{len(sizes)} block(s) of {sizes} columns)")
+
+
+def _no_poisson(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mapping[str, Matrix], where: str
+                ) -> Outcome:
+    """No invariant Q/D (deg Q <= d) is Poisson. The blocks off the sign character `kernel.character` have full column
+    rank (as for an exclusion: no invariant Q has a part there); on that character, in the field's coordinates, the rows
+    at `kernel.points` have a kernel mod p with a basis v_1..v_r (computed here), and the brackets [v_a, v_b], a <= b,
+    are linearly independent mod p, so no member sum c_a v_a != 0 over F_p satisfies Jacobi. Why that is a theorem:
+    were Q/D invariant and Poisson over Q(eps, params), restrict Q to a generic line params = values + t u, divide by
+    the power of t that divides every coefficient and set t = 0: a non-zero rational invariant bivector of the map at
+    the values, Poisson, which reduces mod p (scaled to a primitive integer vector) to a member of that kernel."""
+    c = _Class(f, step, where)
+    kernel = get(step, "kernel", dict, where)
+    sign = tuple(integers(kernel, "character", where))
+    k = len(c.symmetries)
+    plain = _columns(len(f.variables), c.degree, c.symmetries)
+    if sign not in plain:
+        raise CertificateError(f"{where}: the kernel's character {list(sign)} is not a character of the columns")
+    c.full_rank([ch for ch in c.columns if ch[:k] != sign], where)
+    cols = plain[sign]
+    matrix = c.matrix(_Rows(f, c.denominator.num, c.fixed, c.p), cols, kernel, where)
+    space, nullity = flint.nmod_mat(matrix, c.p).nullspace() if matrix else (None, 0)
+    if space is None or not 1 <= nullity <= MAX_KERNEL:
+        raise CertificateError(f"{where}: the rows at the kernel's points have a kernel of dimension {nullity} mod "
+                               f"{c.p} (this checker takes 1 to {MAX_KERNEL}): this proves nothing")
+    basis = [[int(space[r, b]) for r in range(space.nrows())] for b in range(nullity)]
+    if not _brackets_independent(f, c, cols, basis):
+        raise CertificateError(f"{where}: the brackets of the kernel's members are dependent mod {c.p} (a member may "
+                               "satisfy Jacobi): this excludes nothing")
+    return {}, (f"no invariant Poisson structure Q/({c.denominator}) with deg Q <= {c.degree} (a kernel of dimension "
+                f"{nullity} mod {c.p}, no member Poisson)")
+
+
+def _brackets_independent(f: KahanData, c: "_Class", cols: list[tuple[int, tuple]], basis: list[list[int]]) -> bool:
+    """The Schouten brackets [v_a/D, v_b/D] D^3 / 2 (a <= b; the symmetric form sum over cyclic (i, j, k) and l of
+    v_a^il (D d_l v_b^jk - v_b^jk d_l D) + (a <-> b)), with the members' residues and D at the values, linearly
+    independent mod p: then sum c_a c_b [v_a, v_b] = 0 forces every c_a c_b = 0."""
+    n, ring, zero = len(f.variables), f.ring, f.ring.constant(0)
+    gens = [ring.gen(v) for v in f.variables]
+    d = ring.substitute(c.denominator.num, dict(zip(ring.names[n:], c.fixed, strict=True)))
+    members = []
+    for vector in basis:
+        upper: dict[tuple[int, int], flint.fmpz_mpoly] = {}
+        for (k, m), value in zip(cols, vector, strict=True):
+            term = ring.constant(value)
+            for g, e in zip(gens, m, strict=True):
+                term *= g ** e
+            upper[_pairs(n)[k]] = upper.get(_pairs(n)[k], zero) + term
+        members.append(lambda i, j, u=upper: u.get((i, j), zero) if i <= j else -u.get((j, i), zero))
+
+    def half(a: Callable, b: Callable, r: int, s: int, t: int) -> flint.fmpz_mpoly:
+        return sum((a(r, ll) * (d * b(s, t).derivative(x) - b(s, t) * d.derivative(x))
+                    for ll, x in enumerate(f.variables)), zero)
+    rows = []
+    for a, b in itertools.combinations_with_replacement(range(len(members)), 2):
+        row: dict[tuple[int, tuple], int] = {}
+        for ijk, (i, j, k) in enumerate(itertools.combinations(range(n), 3)):
+            total = sum((half(members[a], members[b], *rst) + half(members[b], members[a], *rst)
+                         for rst in ((i, j, k), (j, k, i), (k, i, j))), zero)
+            row.update({(ijk, tuple(m)): int(co) % c.p for m, co in total.to_dict().items()})
+        rows.append(row)
+    keys = sorted({key for row in rows for key in row})
+    if not keys:
+        return False
+    return flint.nmod_mat([[row.get(key, 0) for key in keys] for row in rows], c.p).rank() == len(rows)
+
+
+class _Class:
+    """A class Q/D, deg Q <= degree, as an exclusion-type step states it: the prime, the values (residues), the sign
+    symmetries (each proven here), the torus, and the columns grouped by character."""
+
+    def __init__(self, f: KahanData, step: Any, where: str):
+        if "rows" in step:
+            raise CertificateError(f"{where}: a {step.get('kind')} step carries no rows: the checker computes them "
+                                   "from the field")
+        self.f = f
+        self.p = p = get(step, "prime", int, where)
+        if not 2 < p < 2**62 or not flint.fmpz(p).is_prime():
+            raise CertificateError(f"{where}: the modulus {p} is not an odd prime below 2^62")
+        self.degree = get(step, "degree", int, where)
+        if not 0 <= self.degree <= 12:
+            raise CertificateError(f"{where}: the degree of Q must be between 0 and 12")
+        self.denominator = f.parse(get(step, "denominator", str, where), where)
+        if not self.denominator.is_polynomial() or self.denominator.is_zero():
+            raise CertificateError(f"{where}: the denominator D must be a non-zero polynomial")
+        values = get(step, "values", dict, where)
+        if sorted(values) != sorted([EPS, *f.parameters]):
+            raise CertificateError(f"{where}: 'values' must fix eps and every parameter, nothing else")
+        self.fixed = []
+        for name in f.ring.names[len(f.variables):]:
+            v = parse_rational(get(values, name, str, where))
+            if v.q % p == 0:
+                raise CertificateError(f"{where}: the value of {name} has a denominator divisible by {p}")
+            self.fixed.append(int(v.p) * pow(int(v.q), -1, p) % p)
+        self.symmetries = [_symmetry(f, s, self.denominator, where)
+                           for s in _sign_lists(step, len(f.variables), where)]
+        self.torus = (read_torus(f, step["torus"], self.denominator, p, where) if step.get("torus") is not None
+                      else None)
+        if self.torus is not None and any(v > 0 for s in self.symmetries for v in s):
+            raise CertificateError(f"{where}: with a torus the only sign symmetry allowed is -I (diagonal in every "
+                                   "chart)")
+        self.columns = _columns(len(f.variables), self.degree, self.symmetries, self.torus)
+        self.stated: dict[tuple[int, ...], Any] = {}
+        for block in entries(step, "blocks", where):
+            character = tuple(integers(block, "character", where))
+            if character in self.stated:
+                raise CertificateError(f"{where}: the character {list(character)} is stated twice")
+            self.stated[character] = block
+
+    def matrix(self, rows_of: "_Rows", cols: list[tuple[int, tuple]], block: Any, where: str) -> list[list[int]]:
+        """The rows at the block's stated points, within the checker's limits."""
+        points = [integers({"x": x}, "x", where) for x in get(block, "points", list, where)]
+        if len(cols) > MAX_COLUMNS or len(points) * len(_pairs(len(self.f.variables))) > MAX_ROWS:
             raise ResourceLimitError(f"{where}: a block of {len(cols)} columns and {len(points)} points is above the "
                                      f"checker's limit ({MAX_COLUMNS} columns, {MAX_ROWS} rows)",
                                      limit=f"{MAX_COLUMNS} columns", raise_with="no option raises it")
-        matrix = [row for x in points for row in rows_of.at(x, cols, where)]
-        if not matrix or flint.nmod_mat(matrix, p).rank() != len(cols):
-            raise CertificateError(f"{where}: the rows at the stated points do not have full column rank "
-                                   f"{len(cols)} mod {p} in block {list(character)}: this refutes nothing, and "
-                                   "excludes nothing")
-    sizes = [len(c) for c in columns.values()]
-    return {}, (f"no invariant bivector Q/({denominator}) with deg Q <= {degree} (full column rank mod {p} in "
-                f"{len(sizes)} block(s) of {sizes} columns)")
+        return [row for x in points for row in rows_of.at(x, cols, where)]
+
+    def full_rank(self, characters: list[tuple[int, ...]], where: str) -> list[int]:
+        """Full column rank mod p in the blocks of these characters, which must be exactly the stated ones."""
+        if set(self.stated) != set(characters):
+            raise CertificateError(f"{where}: the blocks must be exactly the characters {sorted(characters)} of the "
+                                   "columns")
+        rows_of = _Rows(self.f, self.denominator.num, self.fixed, self.p, self.torus)
+        for character in characters:
+            cols = self.columns[character]
+            matrix = self.matrix(rows_of, cols, self.stated[character], where)
+            if not matrix or flint.nmod_mat(matrix, self.p).rank() != len(cols):
+                raise CertificateError(f"{where}: the rows at the stated points do not have full column rank "
+                                       f"{len(cols)} mod {self.p} in block {list(character)}: this refutes nothing, "
+                                       "and excludes nothing")
+        return [len(self.columns[ch]) for ch in characters]
 
 
 def _sign_lists(step: Any, n: int, where: str) -> list[list[int]]:
@@ -282,4 +372,4 @@ def _monomial(m: tuple, x: list[int], p: int) -> int:
 
 BIVECTOR_STEPS: dict[str, Callable[[KahanData, Any, Mapping[str, Frac], Mapping[str, Matrix], str], Outcome]] = {
     "bivector-invariance": _invariance, "jacobi": _jacobi, "casimir": _casimir, "involution": _involution,
-    "exclusion": _exclusion}
+    "exclusion": _exclusion, "no-poisson": _no_poisson}

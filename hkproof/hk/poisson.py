@@ -24,8 +24,8 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ShapeError
 from hkproof.hk.jacobian import pulled_matrix
 
-__all__ = ["Bivector", "bracket", "casimir_combination", "compatible", "generic_rank", "invariance_holds", "is_casimir",
-           "is_poisson", "is_poisson_mod", "pairs", "schouten"]
+__all__ = ["brackets_independent_mod", "Bivector", "bracket", "casimir_combination", "compatible", "generic_rank", "invariance_holds", "is_casimir",
+           "is_poisson", "pairs", "schouten"]
 
 
 def pairs(n: int) -> list[tuple[int, int]]:
@@ -172,10 +172,20 @@ def is_poisson(pi: Bivector) -> bool:
     return all(c.is_zero() for c in schouten(pi, pi))
 
 
-def is_poisson_mod(pi: Bivector, p: int) -> bool:
-    """[Pi, Pi] = 0 mod p: Jacobi for a bivector whose integer coefficients are residues (a kernel vector mod p at one
-    specialization; evidence about the bivector it reduces)."""
-    return all(all(int(c) % p == 0 for c in q.coeffs()) for q in schouten(pi, pi))
+def brackets_independent_mod(members: Sequence[Bivector], p: int) -> bool:
+    """The brackets [Pi_a, Pi_b] (a <= b) of bivectors with one denominator and residue coefficients (a basis of a
+    kernel mod p at one specialization) are linearly independent mod p: then no member sum c_a Pi_a != 0 satisfies
+    Jacobi mod p ([sum c_a Pi_a, same] = sum c_a c_b [Pi_a, Pi_b]); for one bivector, [Pi, Pi] != 0 mod p."""
+    rows: list[dict[tuple[int, tuple[int, ...]], int]] = []
+    for a, b in itertools.combinations_with_replacement(range(len(members)), 2):
+        row = {}
+        for k, q in enumerate(schouten(members[a], members[b])):
+            row.update({(k, tuple(m)): int(c) % p for m, c in q.to_dict().items() if int(c) % p})
+        rows.append(row)
+    keys = sorted({key for row in rows for key in row})
+    if not keys:
+        return False
+    return int(flint.nmod_mat([[row.get(key, 0) for key in keys] for row in rows], p).rank()) == len(rows)
 
 
 def compatible(a: Bivector, b: Bivector) -> bool:

@@ -17,7 +17,7 @@ from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 
 __all__ = ["BlockRank", "LEMMA", "METHOD_INVARIANCE", "StructureProof", "compatibility_step", "exclusion_certificate",
-           "involution_certificate", "prove_structure"]
+           "involution_certificate", "no_poisson_certificate", "prove_structure"]
 
 LEMMA = "M(x, eps) Df(x) = M(f(x), -eps) (the Kahan equations differentiated; hk.jacobian.matrix_identity_holds)"
 METHOD_INVARIANCE = ("through the Kahan equations: M(x, eps) Q(x~) M(x, eps)^T D(x) Delta^(dD+2) = "
@@ -138,21 +138,54 @@ def exclusion_certificate(kmap: KahanMap, denominator: flint.fmpz_mpoly, degree:
                               f"coefficients in Q(eps, parameters)) with Pi = Q/({poly_str(denominator)}) invariant",
                               fixed)
     with suppress(ProofStopped):
-        if symmetries:
-            with cert.step("sign symmetries split the columns", "exact identities of the Kahan equations",
-                           kmap.ring) as s:
-                s.note("; ".join(symmetries))
-        if torus is not None:
-            with cert.step("a linear symmetry splits the columns by weight", "[A x, F] = 0 by an exact nullspace; "
-                           "grad D . A x = c D exactly; T A = diag(l) T mod p (hkproof.hk.torus)", kmap.ring) as s:
-                s.require(is_semi_invariant(kmap, torus.generator, denominator), "D is not semi-invariant under A")
-                s.note(f"A = {torus_data(torus)['generator']}, eigenvalues mod {prime}: {list(torus.weights)}")
-        at = ", ".join(f"{k} = {v}" for k, v in values.items())
-        with cert.step("full column rank mod p", f"nmod_mat.rank at {at} mod {prime}", kmap.ring) as s:
-            for b in ranks:
-                s.require(b.rank == b.columns, f"block {b.character}: rank {b.rank} < {b.columns} columns")
-            s.note(f"{len(ranks)} block(s), columns {[b.columns for b in ranks]}, rows {[b.rows for b in ranks]}")
+        _full_rank_steps(cert, kmap, denominator, prime, values, symmetries, ranks, torus)
     return cert
+
+
+def no_poisson_certificate(kmap: KahanMap, denominator: flint.fmpz_mpoly, degree: int, prime: int,
+                           values: Mapping[str, flint.fmpq], symmetries: Sequence[str], others: Sequence[BlockRank],
+                           kernel: BlockRank, fixed: Mapping[str, Any] | None = None, torus: Torus | None = None
+                           ) -> Certificate:
+    """No invariant Q/D with deg Q <= degree is Poisson: full column rank mod p off the kernel's sign character, and on
+    it (in the field's coordinates) a kernel mod p whose basis has brackets independent mod p (the caller tested them),
+    so that no member is Poisson; any invariant Poisson Q over Q(eps, params) would reduce to such a member."""
+    cert = _class_certificate(kmap, "no-poisson", f"no invariant Poisson structure Q/D, deg Q <= {degree}",
+                              "issue 38; docs/poisson.md",
+                              f"no Q != 0 (antisymmetric, polynomial of degree <= {degree} in the phase variables, "
+                              f"coefficients in Q(eps, parameters)) with Pi = Q/({poly_str(denominator)}) invariant "
+                              "and Poisson", fixed)
+    r = kernel.columns - kernel.rank
+    with suppress(ProofStopped):
+        _full_rank_steps(cert, kmap, denominator, prime, values, symmetries, others, torus)
+        with cert.step("no member of the kernel mod p satisfies Jacobi",
+                       f"nmod_mat kernel of the block {list(kernel.character)} in the field's coordinates mod {prime}; "
+                       "the Schouten brackets of its basis, independent mod p", kmap.ring) as s:
+            s.note(f"a kernel of dimension {r} ({kernel.columns} columns, {kernel.rows} rows); the {r * (r + 1) // 2} "
+                   "brackets [v_a, v_b] are linearly independent mod p, so sum c_a c_b [v_a, v_b] = 0 forces c = 0. "
+                   "An invariant Poisson Q/D over Q(eps, params), restricted to a generic line through the values, "
+                   "divided by the power of t that divides it and set at t = 0, would give a non-zero rational "
+                   "invariant Poisson bivector at the values, hence such a member mod p: there is none")
+    return cert
+
+
+def _full_rank_steps(cert: Certificate, kmap: KahanMap, denominator: flint.fmpz_mpoly, prime: int,
+                     values: Mapping[str, flint.fmpq], symmetries: Sequence[str], ranks: Sequence[BlockRank],
+                     torus: Torus | None) -> None:
+    """The sign symmetries and torus that split the columns, and full column rank mod p in the `ranks` blocks."""
+    if symmetries:
+        with cert.step("sign symmetries split the columns", "exact identities of the Kahan equations",
+                       kmap.ring) as s:
+            s.note("; ".join(symmetries))
+    if torus is not None:
+        with cert.step("a linear symmetry splits the columns by weight", "[A x, F] = 0 by an exact nullspace; "
+                       "grad D . A x = c D exactly; T A = diag(l) T mod p (hkproof.hk.torus)", kmap.ring) as s:
+            s.require(is_semi_invariant(kmap, torus.generator, denominator), "D is not semi-invariant under A")
+            s.note(f"A = {torus_data(torus)['generator']}, eigenvalues mod {prime}: {list(torus.weights)}")
+    at = ", ".join(f"{k} = {v}" for k, v in values.items())
+    with cert.step("full column rank mod p", f"nmod_mat.rank at {at} mod {prime}", kmap.ring) as s:
+        for b in ranks:
+            s.require(b.rank == b.columns, f"block {b.character}: rank {b.rank} < {b.columns} columns")
+        s.note(f"{len(ranks)} block(s), columns {[b.columns for b in ranks]}, rows {[b.rows for b in ranks]}")
 
 
 def kernel_certificate(kmap: KahanMap, denominator: str, degree: int, prime: int, dimension: int,

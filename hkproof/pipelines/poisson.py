@@ -39,9 +39,10 @@ from hkproof.errors import BudgetExhausted, HKProofError, SingularSystemError, U
 from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.hk.fixed_columns import FixedColumns, commutes_with_signs, fixed_columns
 from hkproof.hk.jacobian import matrix_identity_holds
-from hkproof.hk.poisson import Bivector, is_poisson_mod, pairs
+from hkproof.hk.poisson import Bivector, brackets_independent_mod, pairs
 from hkproof.hk.poisson_proofs import (BlockRank, StructureProof, compatibility_step, exclusion_certificate,
-                                       involution_certificate, kernel_certificate, prove_structure)
+                                       involution_certificate, kernel_certificate, no_poisson_certificate,
+                                       prove_structure)
 from hkproof.hk.poisson_system import (Block, SignSymmetry, blocks, denominator_character, factored_mod,
                                        sign_symmetries, system_mod_p)
 from hkproof.hk.torus import (Torus, commuting_linear_fields, eigen_coordinates, generic_generator, is_semi_invariant,
@@ -51,10 +52,13 @@ from hkproof.pipelines.stages import Progress, Stages
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status, specialized_label
 
-__all__ = ["ExcludedClass", "MAX_POISSON_DEGREE", "PoissonReport", "search_poisson", "with_integrals"]
+__all__ = ["ExcludedClass", "MAX_POISSON_DEGREE", "NoPoisson", "PoissonReport", "ScreenedKernel", "search_poisson",
+           "with_integrals"]
 
 MAX_POISSON_DEGREE = 12
 DENSE_MAX_DEGREE = 64
+MAX_NO_POISSON_KERNEL = 4
+"""The largest kernel whose members `--screen` tests for Jacobi together (its brackets: 10 at most)."""
 """The largest degree of a coordinate in its one sampled control that the dense reconstruction takes."""
 Integrals = Callable[[KahanMap], list[tuple[str, Frac]]]
 T = TypeVar("T", Frac, int)
@@ -76,15 +80,42 @@ class ExcludedClass:
 
 
 @dataclass
+class NoPoisson:
+    """The top degree's kernel in the field's coordinates: its sign character, the block's rank and points, the other
+    characters' blocks (full column rank), and whether a member may satisfy Jacobi mod p (the brackets of a basis are
+    dependent); when none can, the certificate of the theorem "no invariant Q/D of the class is Poisson"."""
+    kernel: BlockRank
+    others: list[BlockRank]
+    poisson_mod_p: bool
+    certificate: Certificate | None
+    prime: int
+    values: dict[str, flint.fmpq]
+    symmetries: list[SignSymmetry]
+    torus: Torus | None
+
+
+@dataclass
 class ScreenedKernel:
     """`--screen`: a class whose invariance rows have a kernel mod p at `degree` (the lowest), not rebuilt; for a kernel
-    of dimension 1 found in the field's coordinates, whether its member satisfies Jacobi mod p (None: not tested)."""
+    of dimension 1 at the top degree, whether its member satisfies Jacobi mod p (None: not tested), and when it does
+    not, the theorem that the class has no invariant Poisson structure (`member`)."""
     name: str
     text: str
     degree: int
     dimension: int
     certificate: Certificate
-    jacobi_mod_p: bool | None = None
+    member: NoPoisson | None = None
+
+    @property
+    def jacobi_mod_p(self) -> bool | None:
+        """False: no member of the top degree's kernel satisfies Jacobi mod p; True: one may; None: not tested."""
+        return None if self.member is None else self.member.poisson_mod_p
+
+    @property
+    def no_poisson(self) -> Certificate | None:
+        """The verified certificate "no invariant Poisson Q/D in this class", if there is one."""
+        cert = None if self.member is None else self.member.certificate
+        return cert if cert is not None and cert.status.is_verified else None
 
 
 @dataclass
@@ -134,7 +165,10 @@ class PoissonReport:
             "kernels": [{"denominator_name": k.name, "denominator": k.text, "degree": k.degree,
                          "dimension": k.dimension, "jacobi_mod_p": k.jacobi_mod_p,
                          "status": label(k.certificate.status),
-                         "certificate": k.certificate.to_dict()} for k in self.kernels],
+                         "certificate": k.certificate.to_dict(),
+                         "no_poisson": None if k.no_poisson is None else {
+                             "degree": self.degree, "status": label(k.no_poisson.status),
+                             "statement": k.no_poisson.statement}} for k in self.kernels],
             "costs": self.costs,
             "seconds": {k: round(v, 3) for k, v in self.seconds.items()},
             "notes": self.notes, "complete": self.complete, "stopped": self.stopped or None}
@@ -164,10 +198,13 @@ class PoissonReport:
         names = {e.name: e for e in self.excluded}
         lines += [f"  D = {n}: {Denominator(n, e.denominator).formula()}" for n, e in names.items() if n != "1"]
         for k in d["kernels"]:
-            jac = {None: "", True: "; its member satisfies Jacobi mod p",
-                   False: "; its member fails Jacobi mod p: no Poisson structure likely"}[k["jacobi_mod_p"]]
+            jac = {None: "", True: f"; at degree {self.degree} a member may satisfy Jacobi mod p",
+                   False: f"; at degree {self.degree} no member satisfies Jacobi mod p"}[k["jacobi_mod_p"]]
             lines.append(f"  [{k['status']}] D = {k['denominator_name']}: a kernel of dimension {k['dimension']} mod p "
                          f"at degree {k['degree']} (invariant bivectors Q/D likely; not rebuilt: --screen{jac})")
+            if k["no_poisson"] is not None:
+                lines.append(f"  [{k['no_poisson']['status']}] D = {k['denominator_name']}: no invariant Q/D with deg Q "
+                             f"<= {self.degree} is Poisson (no member of its kernel mod p satisfies Jacobi)")
         for c in self.costs:
             lines.append(f"  cost: D = {c['denominator']}, degree {c['degree']}: {c['columns']} unknowns in "
                          f"{c['blocks']} block(s), {c['rows']} rows, kernel {c['kernel']}, {c['seconds']:.2f} s")
@@ -347,40 +384,52 @@ def _search_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random,
 def _screen_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random, report: PoissonReport,
                   stages: Stages, budget: Budget) -> None:
     """One D, ranks only: excluded (a theorem, as in _search_class), or its lowest degree with a kernel mod p and
-    the kernel's dimension reported (evidence: not rebuilt), with Jacobi mod p of a kernel of dimension 1."""
+    the kernel's dimension reported (evidence: not rebuilt), with Jacobi mod p of the top degree's kernel when it has
+    dimension 1 (`_kernel_member`: a theorem when Jacobi fails)."""
     top = _ranks(scene, degree, rng, report, stages, budget)[0]
     if all(b.rank == b.columns for b in top):
         _exclude(scene, degree, top, report)
         return
+    member = _kernel_member(scene, degree, top, rng, report, budget)
     for d in range(degree + 1):
         ranks = top if d == degree else _ranks(scene, d, rng, report, stages, budget)[0]
         if any(b.rank < b.columns for b in ranks):
             dimension = sum(b.columns - b.rank for b in ranks)
             cert = kernel_certificate(scene.kmap, scene.den.text(), d, scene.prime, dimension, report.fixed)
-            jacobi = _jacobi_mod_p(scene, plain, d, ranks, rng, budget) if dimension == 1 else None
-            report.kernels.append(ScreenedKernel(scene.name, scene.den.text(), d, dimension, cert, jacobi))
+            report.kernels.append(ScreenedKernel(scene.name, scene.den.text(), d, dimension, cert, member))
             return
 
 
-def _jacobi_mod_p(scene: _Scene, plain: _Scene, degree: int, ranks: list[BlockRank], rng: random.Random,
-                  budget: Budget) -> bool | None:
-    """[Pi, Pi] = 0 mod p for the one member of a kernel of dimension 1, in the field's coordinates: on the sign blocks,
-    or on the coordinates fixed by the torus' flow when the kernel has weight 0 (None where neither applies)."""
-    if scene.torus is not None:
-        [kernel] = [b for b in ranks if b.rank < b.columns]
-        if kernel.character[-1] != 0 or not _fixed_route(scene, plain):
-            return None
-        scene = dataclasses.replace(plain, fixed=scene.torus.generator, _bases={})
-    for block in scene.blocks(degree):
-        budget.check(f"the invariance rows of degree {degree} for Jacobi mod p")
-        rows, _ = scene.system(block, rng, confirming_rows(scene.width(block))[0])
-        found = budget.call(f"the kernel mod p of {rows.shape[0]} x {rows.shape[1]} invariance rows",
-                            free_kernel_mod_p, rows, scene.prime, 1)
-        if len(found) == 1:
-            coordinates = {b: x for b, x in enumerate(found[0][1]) if x}
-            return is_poisson_mod(_residue_bivector(scene, block, _on_columns(scene, block, coordinates)),
-                                  scene.prime)
-    return None
+def _kernel_member(scene: _Scene, degree: int, top: list[BlockRank], rng: random.Random, report: PoissonReport,
+                   budget: Budget) -> NoPoisson | None:
+    """When the top degree's kernel mod p lies on one sign character, its block in the field's coordinates (the same
+    sign symmetries, no torus) is computed; with a kernel of dimension 1 to MAX_NO_POISSON_KERNEL there, whether the
+    brackets of its basis are independent mod p (no member Poisson), and then the certificate of "no invariant Poisson
+    Q/D" (hkproof.hk.poisson_proofs.no_poisson_certificate). None when the kernel spans several characters or the
+    block's kernel is larger."""
+    k = len(scene.symmetries)
+    signs = {b.character[:k] for b in top if b.rank < b.columns}
+    if len(signs) != 1 or sum(b.columns - b.rank for b in top) > MAX_NO_POISSON_KERNEL:
+        return None
+    [character] = signs
+    plain = dataclasses.replace(scene, torus=None, fixed=None, _bases={})
+    [block] = [b for b in plain.blocks(degree) if b.character == character]
+    budget.check(f"the invariance rows of degree {degree} in the field's coordinates")
+    rows, points = plain.system(block, rng, confirming_rows(len(block.columns))[0])
+    found = budget.call(f"the kernel mod p of {rows.shape[0]} x {rows.shape[1]} invariance rows",
+                        free_kernel_mod_p, rows, scene.prime, 1)
+    if not 1 <= len(found) <= MAX_NO_POISSON_KERNEL:
+        return None
+    kernel = BlockRank(character, len(block.columns), rows.shape[0], len(block.columns) - len(found),
+                       tuple(tuple(x) for x in points))
+    members = [_residue_bivector(plain, block, {c: x for c, x in enumerate(v) if x}) for _, v in found]
+    excluded = brackets_independent_mod(members, scene.prime)
+    others = [b for b in top if b.character[:k] != character]
+    cert = None if not excluded else no_poisson_certificate(
+        scene.kmap, scene.denominator, degree, scene.prime, scene.values, [s.how for s in scene.symmetries], others,
+        kernel, report.fixed, scene.torus)
+    return NoPoisson(kernel, others, not excluded, cert, scene.prime, dict(scene.values), list(scene.symmetries),
+                     scene.torus)
 
 
 def _residue_bivector(scene: _Scene, block: Block, coefficients: Mapping[int, int]) -> Bivector:

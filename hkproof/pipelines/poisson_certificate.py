@@ -8,7 +8,7 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.torus import torus_data
 from hkproof.pipelines.poisson import PoissonReport
 from hkproof.proof.export import (bivector_invariance_step, casimir_step, document, exclusion_step, involution_step,
-                                  jacobi_step, substitution_step)
+                                  jacobi_step, no_poisson_step, substitution_step)
 
 __all__ = ["poisson_document", "poisson_steps"]
 
@@ -17,7 +17,8 @@ def poisson_document(kmap: KahanMap, report: PoissonReport) -> dict:
     """The certificate file of what `poisson` verified (empty steps: nothing to write)."""
     statement = (f"invariant bivectors of the Kahan map of {report.system}: "
                  f"{sum(s.status.is_verified for s in report.structures)} proven invariant, "
-                 f"{len(report.excluded)} class(es) excluded")
+                 f"{len(report.excluded)} class(es) excluded, "
+                 f"{sum(k.no_poisson is not None for k in report.kernels)} without a Poisson member")
     return document(f"poisson {report.system}", statement, poisson_steps(kmap, report),
                     {k: str(v) for k, v in report.fixed.items()})
 
@@ -49,6 +50,13 @@ def poisson_steps(kmap: KahanMap, report: PoissonReport) -> list[dict]:
             steps.append(exclusion_step(field, e.text, e.degree, e.prime, e.values,
                                         [s.signs for s in e.symmetries], [(b.character, b.points) for b in e.blocks],
                                         None if e.torus is None else torus_data(e.torus)))
+    for screened in report.kernels:
+        m = screened.member
+        if screened.no_poisson is not None and m is not None:
+            steps.append(no_poisson_step(field, screened.text, report.degree, m.prime, m.values, [s.signs for s in m.symmetries],
+                                         [(b.character, b.points) for b in m.others],
+                                         (m.kernel.character, m.kernel.points),
+                                         None if m.torus is None else torus_data(m.torus)))
     return steps
 
 

@@ -18,12 +18,13 @@ from hkproof.proof.certificate import Certificate
 
 __all__ = ["affine_change_step", "bivector_invariance_step", "casimir_step", "exclusion_step", "involution_step", "jacobi_step",
            "claimed", "CONVENTION", "Conclusion", "field_key", "darboux_step", "degrees_step", "document", "field_data", "FORMAT",
-           "prop_even_blocks_step", "prop_even_step", "recipe_g_step", "relation_data", "substitution_step", "VERSION"]
+           "no_poisson_step", "prop_even_blocks_step", "prop_even_step", "recipe_g_step", "relation_data", "substitution_step", "VERSION"]
 
 FORMAT = "hkproof-certificate"
-VERSION = 8                   # 2: darboux, recipe-g, densities; 3: degrees, cofactor "det Df"; 4: prop-even blocks;
+VERSION = 9                   # 2: darboux, recipe-g, densities; 3: degrees, cofactor "det Df"; 4: prop-even blocks;
 # 5: reparametrization; 6: the claim names the field of each integral and density, field keys ASCII; 7: the bivector
-# steps (bivector-invariance, jacobi, casimir, involution, exclusion) and the claim's bivectors; 8: affine-change
+# steps (bivector-invariance, jacobi, casimir, involution, exclusion) and the claim's bivectors; 8: affine-change;
+# 9: no-poisson
 Conclusion = tuple[str, Frac, str]      # (name, value, the value written in the step's own names)
 CONVENTION = "eps = h/2"      # x~ - x = 2 eps F(x, x~): hkproof's eps is half the time step h
 
@@ -158,6 +159,21 @@ def exclusion_step(field: QuadraticField, denominator: object, degree: int, prim
                        for ch, points in blocks],
             "identity": "rank mod p of Q(f(x)) D(x) - D(f(x)) Df Q(x) Df^T at the points = the number of columns",
             "integrals": []}
+
+
+def no_poisson_step(field: QuadraticField, denominator: object, degree: int, prime: int,
+                    values: Mapping[str, Rational], symmetries: Sequence[Sequence[int]],
+                    blocks: Sequence[tuple[Sequence[int], Sequence[Sequence[int]]]],
+                    kernel: tuple[Sequence[int], Sequence[Sequence[int]]],
+                    torus: Mapping[str, list] | None = None) -> dict:
+    """The step "no invariant Q/D with deg Q <= degree is Poisson" (version 9): the blocks off the kernel's sign
+    character as for an exclusion (full column rank), and the kernel's block (character, points) in the field's
+    coordinates, where the checker finds a kernel of dimension 1 mod p and its member failing Jacobi."""
+    step = exclusion_step(field, denominator, degree, prime, values, symmetries, blocks, torus)
+    return {**step, "kind": "no-poisson",
+            "kernel": {"character": [int(c) for c in kernel[0]], "points": [[int(v) for v in x] for x in kernel[1]]},
+            "identity": "full column rank mod p off the kernel's character; on it a kernel of dimension 1 mod p whose "
+                        "member v has [v/D, v/D] != 0 mod p"}
 
 
 def _conclusion(c: Conclusion) -> dict:

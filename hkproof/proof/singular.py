@@ -273,7 +273,8 @@ _DECLARE = "poly hkP; poly hkQ; list hkA; list hkBq;"
 _STEPS = {"substitution": _substitution, "darboux": _darboux, "recipe-g": _recipe_g,
           "bivector-invariance": _invariance, "jacobi": _jacobi, "casimir": _casimir, "involution": _involution}
 _MAPLESS = {"jacobi", "casimir", "involution"}      # identities of the bivectors alone: no Kahan map in the script
-_WHY = {"exclusion": "a rank mod p of many rows that hkproof check recomputes itself from the field"}
+_WHY = {"exclusion": "a rank mod p of many rows that hkproof check recomputes itself from the field",
+        "no-poisson": "a kernel mod p of many rows and its Schouten bracket, which hkproof check recomputes itself"}
 
 
 def _text(ring: Ring, text: str) -> str:
