@@ -61,11 +61,16 @@ def test_a_poisson_pencil_or_a_large_kernel_proves_nothing() -> None:
 
 
 def test_malformed_no_poisson_steps() -> None:
-    """A kernel character that the columns do not have, and a no-poisson step in a version-8 file."""
+    """A kernel character that the columns do not have, a no-poisson step in a version-8 file, a kernel on the fixed
+    bivectors of a flow without a torus."""
     verdict, lines = check([_euler_step(40, [1])])
     assert verdict == "malformed" and "not a character of the columns" in lines
     verdict, lines = check([_euler_step(40)], version=8)
     assert verdict == "malformed" and "no-poisson" in lines
+    step = _euler_step(40)
+    step["kernel"]["fixed"] = True
+    verdict, lines = check([step])
+    assert verdict == "malformed" and "needs the torus" in lines
 
 
 @pytest.mark.slow

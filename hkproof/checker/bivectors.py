@@ -5,6 +5,7 @@ version 9, no-poisson: the invariant Q/D of a class reduce mod p into a kernel n
 from __future__ import annotations
 
 import itertools
+import math
 from typing import Any, Callable, Mapping
 
 import flint
@@ -162,27 +163,103 @@ def _no_poisson(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mappin
     are linearly independent mod p, so no member sum c_a v_a != 0 over F_p satisfies Jacobi. Why that is a theorem:
     were Q/D invariant and Poisson over Q(eps, params), restrict Q to a generic line params = values + t u, divide by
     the power of t that divides every coefficient and set t = 0: a non-zero rational invariant bivector of the map at
-    the values, Poisson, which reduces mod p (scaled to a primitive integer vector) to a member of that kernel."""
+    the values, Poisson, which reduces mod p (scaled to a primitive integer vector) to a member of that kernel.
+    With `kernel.fixed` (and a torus A, grad D . A x = chi D): the torus blocks of that character are stated too, but
+    for the weight chi; the exact kernel of L_X - chi on the character's columns (X = A x) has as many vectors as that
+    weight's block has columns, so no other weight is chi mod p and every invariant Q lies in it; the rows are solved
+    on its basis."""
     c = _Class(f, step, where)
     kernel = get(step, "kernel", dict, where)
     sign = tuple(integers(kernel, "character", where))
+    fixed = get(kernel, "fixed", bool, where) if "fixed" in kernel else False
     k = len(c.symmetries)
     plain = _columns(len(f.variables), c.degree, c.symmetries)
     if sign not in plain:
         raise CertificateError(f"{where}: the kernel's character {list(sign)} is not a character of the columns")
-    c.full_rank([ch for ch in c.columns if ch[:k] != sign], where)
     cols = plain[sign]
-    matrix = c.matrix(_Rows(f, c.denominator.num, c.fixed, c.p), cols, kernel, where)
-    space, nullity = flint.nmod_mat(matrix, c.p).nullspace() if matrix else (None, 0)
+    if fixed:
+        if c.torus is None:
+            raise CertificateError(f"{where}: a fixed kernel needs the torus whose flow fixes it")
+        chi = int(c.torus.chi.p) * pow(int(c.torus.chi.q), -1, c.p) % c.p
+        kept = sign + (chi,)
+        c.full_rank([ch for ch in c.columns if ch != kept], where)
+        basis = _fixed_basis(c.torus, cols, len(f.variables))
+        if len(basis) != len(c.columns.get(kept, [])):
+            raise CertificateError(f"{where}: L_X - chi has a kernel of dimension {len(basis)} on the character "
+                                   f"{list(sign)}, not the {len(c.columns.get(kept, []))} columns of weight chi mod "
+                                   f"{c.p}: another weight is chi mod p (choose another prime)")
+    else:
+        c.full_rank([ch for ch in c.columns if ch[:k] != sign], where)
+        basis = [[(j, 1)] for j in range(len(cols))]
+    rows = c.matrix(_Rows(f, c.denominator.num, c.fixed, c.p), cols, kernel, where)
+    projected = [[sum(row[j] * e for j, e in vector) % c.p for vector in basis] for row in rows]
+    space, nullity = flint.nmod_mat(projected, c.p).nullspace() if projected and basis else (None, 0)
     if space is None or not 1 <= nullity <= MAX_KERNEL:
         raise CertificateError(f"{where}: the rows at the kernel's points have a kernel of dimension {nullity} mod "
                                f"{c.p} (this checker takes 1 to {MAX_KERNEL}): this proves nothing")
-    basis = [[int(space[r, b]) for r in range(space.nrows())] for b in range(nullity)]
-    if not _brackets_independent(f, c, cols, basis):
+    members = []
+    for b in range(nullity):
+        member = [0] * len(cols)
+        for u, vector in enumerate(basis):
+            for j, e in vector:
+                member[j] = (member[j] + int(space[u, b]) * e) % c.p
+        members.append(member)
+    if not _brackets_independent(f, c, cols, members):
         raise CertificateError(f"{where}: the brackets of the kernel's members are dependent mod {c.p} (a member may "
                                "satisfy Jacobi): this excludes nothing")
     return {}, (f"no invariant Poisson structure Q/({c.denominator}) with deg Q <= {c.degree} (a kernel of dimension "
-                f"{nullity} mod {c.p}, no member Poisson)")
+                f"{nullity} mod {c.p}{' on the fixed bivectors' if fixed else ''}, no member Poisson)")
+
+
+def _fixed_basis(torus: CheckedTorus, cols: list[tuple[int, tuple]], n: int) -> list[list[tuple[int, int]]]:
+    """A basis over Z of ker(L_X - chi) on the columns, X = A x: (L_X Q)^ij = X(Q^ij) - A_ik Q^kj - A_jk Q^ik, scaled
+    to integers, solved exactly on the connected pieces of columns (two meet when their images share a term)."""
+    scale = 1
+    for e in [*(e for row in torus.generator for e in row), torus.chi]:
+        scale = scale * int(e.q) // math.gcd(scale, int(e.q))
+    a = [[int(e * scale) for e in row] for row in torus.generator]
+    index = {pair: k for k, pair in enumerate(_pairs(n))}
+    images: list[dict[tuple[int, tuple], int]] = []
+    for k, m in cols:
+        image: dict[tuple[int, tuple], int] = {}
+
+        def add(i: int, j: int, mono: tuple, v: int) -> None:
+            if i != j and v:
+                key = (index[(min(i, j), max(i, j))], mono)
+                image[key] = image.get(key, 0) + (v if i < j else -v)
+        i, j = _pairs(n)[k]
+        for ll in range(n):
+            for r in range(n):
+                if m[ll] and a[ll][r]:
+                    add(i, j, tuple(e - (t == ll) + (t == r) for t, e in enumerate(m)), a[ll][r] * m[ll])
+        for r in range(n):
+            add(r, j, m, -a[r][i])
+            add(i, r, m, -a[r][j])
+        add(i, j, m, -int(torus.chi * scale))
+        images.append({key: v for key, v in image.items() if v})
+    parent = list(range(len(cols)))
+
+    def root(x: int) -> int:
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+    owner: dict[tuple[int, tuple], int] = {}
+    for col, image in enumerate(images):
+        for key in image:
+            parent[root(col)] = root(owner.setdefault(key, col))
+    pieces: dict[int, list[int]] = {}
+    for col in range(len(cols)):
+        pieces.setdefault(root(col), []).append(col)
+    basis = []
+    for piece in pieces.values():
+        keys = sorted({key for col in piece for key in images[col]})
+        if not keys:
+            basis += [[(col, 1)] for col in piece]
+            continue
+        space, nullity = flint.fmpz_mat([[images[col].get(key, 0) for col in piece] for key in keys]).nullspace()
+        basis += [[(col, int(space[t, b])) for t, col in enumerate(piece) if space[t, b] != 0] for b in range(nullity)]
+    return basis
 
 
 def _brackets_independent(f: KahanData, c: "_Class", cols: list[tuple[int, tuple]], basis: list[list[int]]) -> bool:

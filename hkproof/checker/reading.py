@@ -70,7 +70,7 @@ def get(obj: Any, key: str, kind: type, where: str) -> Any:
     if not isinstance(obj, dict) or key not in obj:
         raise CertificateError(f"{where}: the entry {key!r} is missing")
     value = obj[key]
-    if not isinstance(value, kind) or isinstance(value, bool):
+    if not isinstance(value, kind) or (isinstance(value, bool) and kind is not bool):
         raise CertificateError(f"{where}: {key!r} must be a JSON {_NAMES.get(kind, kind.__name__)}, got "
                                f"{_NAMES.get(type(value), type(value).__name__)}")
     return value

@@ -26,8 +26,10 @@ __all__ = ["CheckedTorus", "read_torus"]
 class CheckedTorus:
     """T and T^-1 mod p and the weights, after every condition of the module docstring held."""
 
-    def __init__(self, rows: list[list[int]], inverse: list[list[int]], weights: list[int], p: int):
+    def __init__(self, rows: list[list[int]], inverse: list[list[int]], weights: list[int], p: int,
+                 generator: list[list[flint.fmpq]], chi: flint.fmpq):
         self.rows, self.inverse, self.weights, self.p = rows, inverse, weights, p
+        self.generator, self.chi = generator, chi       # A, and chi with grad D . A x = chi D
 
     def weight(self, pair: tuple[int, int], m: tuple[int, ...]) -> int:
         """sum_c m_c w_c - w_i - w_j mod p: the eigenvalue of L_A on y^m e_i ^ e_j."""
@@ -81,4 +83,6 @@ def read_torus(f: KahanData, data: Any, denominator: Frac, p: int, where: str) -
         raise CertificateError(f"{where}: T A = diag(weights) T with T invertible does not hold mod {p}")
     inv = t.inv()
     return CheckedTorus([[int(t[i, j]) for j in range(n)] for i in range(n)],
-                        [[int(inv[i, j]) for j in range(n)] for i in range(n)], weights, p)
+                        [[int(inv[i, j]) for j in range(n)] for i in range(n)], weights, p, a,
+                        flint.fmpq(int(ratio.num.leading_coefficient()), int(ratio.den.leading_coefficient()))
+                        if not ratio.num.is_zero() else flint.fmpq(0))

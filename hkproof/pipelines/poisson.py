@@ -92,6 +92,7 @@ class NoPoisson:
     values: dict[str, flint.fmpq]
     symmetries: list[SignSymmetry]
     torus: Torus | None
+    fixed: bool             # the kernel was solved on the bivectors fixed by the torus' flow
 
 
 @dataclass
@@ -402,34 +403,61 @@ def _screen_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random,
 
 def _kernel_member(scene: _Scene, degree: int, top: list[BlockRank], rng: random.Random, report: PoissonReport,
                    budget: Budget) -> NoPoisson | None:
-    """When the top degree's kernel mod p lies on one sign character, its block in the field's coordinates (the same
-    sign symmetries, no torus) is computed; with a kernel of dimension 1 to MAX_NO_POISSON_KERNEL there, whether the
-    brackets of its basis are independent mod p (no member Poisson), and then the certificate of "no invariant Poisson
-    Q/D" (hkproof.hk.poisson_proofs.no_poisson_certificate). None when the kernel spans several characters or the
-    block's kernel is larger."""
+    """When the top degree's kernel mod p lies on one sign character, the kernel of its block in the field's
+    coordinates (the same sign symmetries, no torus): on the bivectors fixed by the torus' flow when the kernel has the
+    weight chi of D only and the fixed basis has as many vectors as that weight's columns (`_fixed_kernel`), on all the
+    columns otherwise. With a kernel of dimension 1 to MAX_NO_POISSON_KERNEL, whether the brackets of its basis are
+    independent mod p (no member Poisson), and then the certificate of "no invariant Poisson Q/D"
+    (hkproof.hk.poisson_proofs.no_poisson_certificate). None when the kernel spans several characters or is larger."""
     k = len(scene.symmetries)
-    signs = {b.character[:k] for b in top if b.rank < b.columns}
-    if len(signs) != 1 or sum(b.columns - b.rank for b in top) > MAX_NO_POISSON_KERNEL:
+    short = [b for b in top if b.rank < b.columns]
+    signs = {b.character[:k] for b in short}
+    if len(signs) != 1 or sum(b.columns - b.rank for b in short) > MAX_NO_POISSON_KERNEL:
         return None
     [character] = signs
     plain = dataclasses.replace(scene, torus=None, fixed=None, _bases={})
     [block] = [b for b in plain.blocks(degree) if b.character == character]
+    fixed = _fixed_kernel(scene, block, short, top)
+    kept = None if fixed is None else fixed[0]
+    if fixed is not None and scene.torus is not None:
+        plain = dataclasses.replace(plain, fixed=scene.torus.generator, _bases={block: fixed[1]})
     budget.check(f"the invariance rows of degree {degree} in the field's coordinates")
-    rows, points = plain.system(block, rng, confirming_rows(len(block.columns))[0])
+    rows, points = plain.system(block, rng, confirming_rows(plain.width(block))[0])
     found = budget.call(f"the kernel mod p of {rows.shape[0]} x {rows.shape[1]} invariance rows",
                         free_kernel_mod_p, rows, scene.prime, 1)
     if not 1 <= len(found) <= MAX_NO_POISSON_KERNEL:
         return None
-    kernel = BlockRank(character, len(block.columns), rows.shape[0], len(block.columns) - len(found),
+    kernel = BlockRank(character, plain.width(block), rows.shape[0], plain.width(block) - len(found),
                        tuple(tuple(x) for x in points))
-    members = [_residue_bivector(plain, block, {c: x for c, x in enumerate(v) if x}) for _, v in found]
+    members = [_residue_bivector(plain, block, _on_columns(plain, block, {c: x for c, x in enumerate(v) if x}))
+               for _, v in found]
     excluded = brackets_independent_mod(members, scene.prime)
-    others = [b for b in top if b.character[:k] != character]
+    others = [b for b in top if b.character != kept] if kept is not None else \
+        [b for b in top if b.character[:k] != character]
     cert = None if not excluded else no_poisson_certificate(
         scene.kmap, scene.denominator, degree, scene.prime, scene.values, [s.how for s in scene.symmetries], others,
-        kernel, report.fixed, scene.torus)
+        kernel, report.fixed, scene.torus, on_fixed=kept is not None, text=scene.den.text())
     return NoPoisson(kernel, others, not excluded, cert, scene.prime, dict(scene.values), list(scene.symmetries),
-                     scene.torus)
+                     scene.torus, kept is not None)
+
+
+def _fixed_kernel(scene: _Scene, block: Block, short: list[BlockRank], top: list[BlockRank]
+                  ) -> tuple[tuple[int, ...], FixedColumns] | None:
+    """The torus block (sign character, weight chi mod p) of a kernel that has that weight only, with the flow's fixed
+    bivectors on `block`, when these are exactly as many as that block's columns (no other weight is chi mod p: every
+    invariant Q/D of the class is then fixed by the flow); None otherwise."""
+    if scene.torus is None or not _fixed_route(scene, scene):
+        return None
+    chi = semi_invariance_character(scene.kmap, scene.torus.generator, scene.denominator)
+    if chi is None:
+        return None
+    weight = int(chi.p) * pow(int(chi.q), -1, scene.prime) % scene.prime
+    kept = short[0].character[:-1] + (weight,)
+    fixed = fixed_columns(scene.kmap, block, scene.torus.generator, chi)
+    same = [b for b in top if b.character == kept]
+    if any(b.character != kept for b in short) or not same or len(fixed) != same[0].columns:
+        return None
+    return kept, fixed
 
 
 def _residue_bivector(scene: _Scene, block: Block, coefficients: Mapping[int, int]) -> Bivector:

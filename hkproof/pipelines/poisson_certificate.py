@@ -56,7 +56,7 @@ def poisson_steps(kmap: KahanMap, report: PoissonReport) -> list[dict]:
             steps.append(no_poisson_step(field, screened.text, report.degree, m.prime, m.values, [s.signs for s in m.symmetries],
                                          [(b.character, b.points) for b in m.others],
                                          (m.kernel.character, m.kernel.points),
-                                         None if m.torus is None else torus_data(m.torus)))
+                                         None if m.torus is None else torus_data(m.torus), fixed=m.fixed))
     return steps
 
 
