@@ -41,7 +41,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    "repeatable); an unknown name is an error that lists the candidates")
     p.add_argument("--screen", action="store_true",
                    help="ranks only: classes are excluded (a theorem) or reported with the lowest degree and dimension "
-                   "of their kernel mod p (evidence), not rebuilt: a quick survey of large classes")
+                   "of their kernel mod p (evidence), not rebuilt: a quick survey of large classes; a small kernel whose "
+                   "members' Schouten brackets are independent mod p proves that the class has no invariant Poisson "
+                   "structure (a theorem)")
     add_param_option(p)
     p.add_argument("--seed", type=integer, default=0, help="seed of the values, prime and points (default 0)")
     add_progress_option(p)
