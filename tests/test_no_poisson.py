@@ -76,8 +76,8 @@ def test_malformed_no_poisson_steps() -> None:
 @pytest.mark.slow
 def test_gaudin_class_without_a_poisson_structure(tmp_path, capsys) -> None:
     """The Gaudin magnet, D = F4^2 = (eps^2 b g s3 - 1)^2, degree 6 (about 3 minutes): the screen proves that no
-    invariant Q/D is Poisson, the checker agrees on the file, and the same step for the class F4 (whose rows have no
-    kernel) is refused."""
+    invariant Q/D is Poisson (on the bivectors fixed by the rotation), the checker agrees on the file; the step without
+    the fixed coordinates (too few rows for the 6 920 columns) and the same step for the class F4 are refused."""
     out = tmp_path / "gaudin.json"
     assert main(["poisson", "gaudin-2", "--degree", "6", "--screen", "--class", "F4^2", "--no-progress",
                  "--certificate", str(out)]) == 0
@@ -85,7 +85,12 @@ def test_gaudin_class_without_a_poisson_structure(tmp_path, capsys) -> None:
     assert "no invariant Q/D with deg Q <= 6 is Poisson" in text
     d = json.loads(out.read_text())
     [step] = [s for s in d["steps"] if s["kind"] == "no-poisson"]
+    assert step["kernel"].get("fixed") is True          # solved on the bivectors fixed by the rotation's flow
     report = check_document(d)
     assert report.verdict == "verified", report.lines
+    assert "no invariant Poisson structure" in " ".join(report.facts)
+    plain = json.loads(json.dumps(d))
+    next(s for s in plain["steps"] if s["kind"] == "no-poisson")["kernel"].pop("fixed")
+    assert check_document(plain).verdict == "malformed"   # the points were chosen for the fixed coordinates
     step["denominator"] = "s3*eps**2*b*g - 1"
     assert check_document(d).verdict == "malformed"

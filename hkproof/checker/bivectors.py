@@ -213,7 +213,9 @@ def _no_poisson(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mappin
 
 def _fixed_basis(torus: CheckedTorus, cols: list[tuple[int, tuple]], n: int) -> list[list[tuple[int, int]]]:
     """A basis over Z of ker(L_X - chi) on the columns, X = A x: (L_X Q)^ij = X(Q^ij) - A_ik Q^kj - A_jk Q^ik, scaled
-    to integers, solved exactly on the connected pieces of columns (two meet when their images share a term)."""
+    to integers, solved exactly on the connected pieces of columns (two meet when their images share a term); its
+    reduction mod p must keep full rank (then a rational fixed vector has coordinates without p in their
+    denominators, and its reduction lies in the span of the reduced basis)."""
     scale = 1
     for e in [*(e for row in torus.generator for e in row), torus.chi]:
         scale = scale * int(e.q) // math.gcd(scale, int(e.q))
@@ -258,6 +260,9 @@ def _fixed_basis(torus: CheckedTorus, cols: list[tuple[int, tuple]], n: int) -> 
             basis += [[(col, 1)] for col in piece]
             continue
         space, nullity = flint.fmpz_mat([[images[col].get(key, 0) for col in piece] for key in keys]).nullspace()
+        if nullity and flint.nmod_mat([[int(space[t, b]) % torus.p for b in range(nullity)] for t in range(len(piece))],
+                                      torus.p).rank() != nullity:
+            raise CertificateError(f"the fixed bivectors' basis is degenerate mod {torus.p}: choose another prime")
         basis += [[(col, int(space[t, b])) for t, col in enumerate(piece) if space[t, b] != 0] for b in range(nullity)]
     return basis
 

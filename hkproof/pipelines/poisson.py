@@ -457,6 +457,8 @@ def _fixed_kernel(scene: _Scene, block: Block, short: list[BlockRank], top: list
     same = [b for b in top if b.character == kept]
     if any(b.character != kept for b in short) or not same or len(fixed) != same[0].columns:
         return None
+    if any(v[0][1] % scene.prime == 0 for v in fixed.vectors):      # the basis must stay independent mod p
+        return None
     return kept, fixed
 
 
