@@ -106,6 +106,7 @@ class ScreenedKernel:
     dimension: int
     certificate: Certificate
     member: NoPoisson | None = None
+    rebuilt: bool = False       # found by the full search (its structures are rebuilt and listed), not --screen
 
     @property
     def jacobi_mod_p(self) -> bool | None:
@@ -135,7 +136,7 @@ class PoissonReport:
     fixed: dict[str, flint.fmpq] = field(default_factory=dict)
     seconds: dict[str, float] = field(default_factory=dict)
     stopped: str = ""
-    kernels: list[ScreenedKernel] = field(default_factory=list)     # screening: classes with a kernel, not rebuilt
+    kernels: list[ScreenedKernel] = field(default_factory=list)     # --screen: classes with a kernel; or no-poisson
 
     @property
     def complete(self) -> bool:
@@ -166,7 +167,7 @@ class PoissonReport:
             "kernels": [{"denominator_name": k.name, "denominator": k.text, "degree": k.degree,
                          "dimension": k.dimension, "jacobi_mod_p": k.jacobi_mod_p,
                          "status": label(k.certificate.status),
-                         "certificate": k.certificate.to_dict(),
+                         "certificate": k.certificate.to_dict(), "rebuilt": k.rebuilt,
                          "no_poisson": None if k.no_poisson is None else {
                              "degree": self.degree, "status": label(k.no_poisson.status),
                              "statement": k.no_poisson.statement}} for k in self.kernels],
@@ -201,8 +202,9 @@ class PoissonReport:
         for k in d["kernels"]:
             jac = {None: "", True: f"; at degree {self.degree} a member may satisfy Jacobi mod p",
                    False: f"; at degree {self.degree} no member satisfies Jacobi mod p"}[k["jacobi_mod_p"]]
-            lines.append(f"  [{k['status']}] D = {k['denominator_name']}: a kernel of dimension {k['dimension']} mod p "
-                         f"at degree {k['degree']} (invariant bivectors Q/D likely; not rebuilt: --screen{jac})")
+            if not k["rebuilt"]:
+                lines.append(f"  [{k['status']}] D = {k['denominator_name']}: a kernel of dimension {k['dimension']} "
+                             f"mod p at degree {k['degree']} (invariant bivectors Q/D likely; not rebuilt: --screen{jac})")
             if k["no_poisson"] is not None:
                 lines.append(f"  [{k['no_poisson']['status']}] D = {k['denominator_name']}: no invariant Q/D with deg Q "
                              f"<= {self.degree} is Poisson (no member of its kernel mod p satisfies Jacobi)")
@@ -352,9 +354,10 @@ def _prime_and_torus(rng: random.Random, generator: flint.fmpq_mat | None) -> tu
 
 
 def _search_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random, report: PoissonReport,
-                  stages: Stages, budget: Budget, lemma: bool, integrals: Integrals | None) -> None:
+                  stages: Stages, budget: Budget, lemma: bool, integrals: Integrals | None, top: bool = True) -> None:
     """One D: the top degree first (full column rank there excludes every lower degree too, the columns of a lower
-    degree being a subset); with a kernel there, the lowest degree with a kernel is rebuilt and proven, in the `plain`
+    degree being a subset); with a kernel there, the no-poisson theorem when it holds (`_kernel_member`, recorded
+    under the report's kernels as rebuilt), and the lowest degree with a kernel rebuilt and proven, in the `plain`
     scene (sign symmetries of x only: the kernel is rebuilt in the field's own coordinates), on the coordinates fixed
     by the torus' flow when the kernel has weight 0 only."""
     ranks, with_kernel = _ranks(scene, degree, rng, report, stages, budget)
@@ -364,10 +367,17 @@ def _search_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random,
                                       "torus' weight 0 had a kernel")
         _exclude(scene, degree, ranks, report)
         return
+    if top:
+        member = _kernel_member(scene, degree, ranks, rng, report, budget)
+        if member is not None and member.certificate is not None and member.certificate.status.is_verified:
+            dimension = sum(b.columns - b.rank for b in ranks)
+            cert = kernel_certificate(scene.kmap, scene.den.text(), degree, scene.prime, dimension, report.fixed)
+            report.kernels.append(ScreenedKernel(scene.name, scene.den.text(), degree, dimension, cert, member,
+                                                 rebuilt=True))
     if scene.torus is not None:
         if all(b.character[-1] == 0 for b in ranks if b.rank < b.columns) and _fixed_route(scene, plain):
             plain = dataclasses.replace(plain, fixed=scene.torus.generator, _bases={})
-        _search_class(plain, plain, degree, rng, report, stages, budget, lemma, integrals)
+        _search_class(plain, plain, degree, rng, report, stages, budget, lemma, integrals, top=False)
         return
     if not with_kernel:
         report.notes.append(f"D = {scene.name}, deg Q <= {degree}: every invariant Q/D is a combination of the "
