@@ -116,8 +116,8 @@ def test_the_fixed_coordinates_have_the_rank_of_the_torus_weight_zero() -> None:
 def test_the_gaudin_magnets_invariant_bivector_of_rank_four_is_not_poisson() -> None:
     """The class F4^2 = (eps^2 b g s3 - 1)^2 at degree 6: its kernel (weight 0) is rebuilt on the fixed coordinates,
     proven invariant with eps, b and g symbolic, of rank 4, and NOT Poisson; sympy agrees at a random rational
-    point (invariant, Jacobi fails), the note says that the class has no invariant Poisson structure, and the four
-    integrals are pairwise in involution with respect to it."""
+    point (invariant, Jacobi fails), the note says that the class has no invariant Poisson structure (and a no-poisson
+    theorem certifies it), and the four integrals are pairwise in involution with respect to it."""
     report = with_integrals(kahan_map("gaudin-2"), 6, only=["F4^2"])
     [s] = report.structures
     assert s.status is Status.VERIFIED and s.poisson is False and s.rank == 4
@@ -126,6 +126,8 @@ def test_the_gaudin_magnets_invariant_bivector_of_rank_four_is_not_poisson() -> 
     assert s.bivector.denominator in ((eps ** 2 * b * g * s3 - 1) ** 2, -(eps ** 2 * b * g * s3 - 1) ** 2)
     assert sympy_check("gaudin-2", s.bivector) == (True, False)
     assert any("no invariant Poisson structure" in n for n in report.notes)
+    [screened] = report.kernels                           # and the certificate of that: a no-poisson step
+    assert screened.rebuilt and screened.no_poisson is not None and screened.no_poisson.status is Status.VERIFIED
     [(_, involution)] = report.involution                 # the four integrals in involution: a fact about Pi, no more
     assert involution.status is Status.VERIFIED and len(report.integrals) == 4
 
