@@ -35,10 +35,10 @@ def test_a_poisson_member_excludes_nothing() -> None:
     assert member is not None and member.poisson_mod_p is True and screened.no_poisson is None
     assert "no invariant Q/D" not in report.text()
     step = no_poisson_step(f.field, "1", 2, member.prime, member.values, [s.signs for s in member.symmetries],
-                           [(b.character, b.points) for b in member.others], (member.kernel.character,
-                                                                              member.kernel.points))
+                           [(b.character, b.points) for b in member.others],
+                           [(b.character, b.points, False) for b in member.kernels])
     verdict, lines = check([step])
-    assert verdict == "malformed" and "brackets of the kernel's members are dependent" in lines
+    assert verdict == "malformed" and "members are dependent" in lines
 
 
 def _euler_step(points: int, character: list[int] | None = None) -> dict:
@@ -47,7 +47,7 @@ def _euler_step(points: int, character: list[int] | None = None) -> dict:
     p = 1_000_003
     xs = [[rng.randrange(p) for _ in range(3)] for _ in range(points)]
     return no_poisson_step(f.field, "1", 3, p, {"eps": 3, "a1": 2, "a2": 5, "a3": 7}, [], [],
-                           (character or [], xs))
+                           [(character or [], xs, False)])
 
 
 def test_a_poisson_pencil_or_a_large_kernel_proves_nothing() -> None:
@@ -58,17 +58,21 @@ def test_a_poisson_pencil_or_a_large_kernel_proves_nothing() -> None:
     assert verdict == "malformed" and "are dependent" in lines
     verdict, lines = check([_euler_step(5)])
     assert verdict == "malformed" and "(this checker takes 1 to 4)" in lines
+    step = _euler_step(40)
+    step["kernels"] *= 2                                  # one character stated twice
+    verdict, lines = check([step])
+    assert verdict == "malformed" and "must be distinct" in lines
 
 
 def test_malformed_no_poisson_steps() -> None:
     """A kernel character that the columns do not have, a no-poisson step in a version-8 file, a kernel on the fixed
     bivectors of a flow without a torus."""
     verdict, lines = check([_euler_step(40, [1])])
-    assert verdict == "malformed" and "not a character of the columns" in lines
+    assert verdict == "malformed" and "must be distinct characters of the columns" in lines
     verdict, lines = check([_euler_step(40)], version=8)
     assert verdict == "malformed" and "no-poisson" in lines
     step = _euler_step(40)
-    step["kernel"]["fixed"] = True
+    step["kernels"][0]["fixed"] = True
     verdict, lines = check([step])
     assert verdict == "malformed" and "needs the torus" in lines
 
@@ -85,12 +89,12 @@ def test_gaudin_class_without_a_poisson_structure(tmp_path, capsys) -> None:
     assert "no invariant Q/D with deg Q <= 6 is Poisson" in text
     d = json.loads(out.read_text())
     [step] = [s for s in d["steps"] if s["kind"] == "no-poisson"]
-    assert step["kernel"].get("fixed") is True          # solved on the bivectors fixed by the rotation's flow
+    assert [k.get("fixed") for k in step["kernels"]] == [True]     # solved on the bivectors fixed by the rotation
     report = check_document(d)
     assert report.verdict == "verified", report.lines
     assert "no invariant Poisson structure" in " ".join(report.facts)
     plain = json.loads(json.dumps(d))
-    next(s for s in plain["steps"] if s["kind"] == "no-poisson")["kernel"].pop("fixed")
+    next(s for s in plain["steps"] if s["kind"] == "no-poisson")["kernels"][0].pop("fixed")
     assert check_document(plain).verdict == "malformed"   # the points were chosen for the fixed coordinates
     step["denominator"] = "s3*eps**2*b*g - 1"
     assert check_document(d).verdict == "malformed"

@@ -157,58 +157,59 @@ def _exclusion(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mapping
 
 def _no_poisson(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mapping[str, Matrix], where: str
                 ) -> Outcome:
-    """No invariant Q/D (deg Q <= d) is Poisson. The blocks off the sign character `kernel.character` have full column
-    rank (as for an exclusion: no invariant Q has a part there); on that character, in the field's coordinates, the rows
-    at `kernel.points` have a kernel mod p with a basis v_1..v_r (computed here), and the brackets [v_a, v_b], a <= b,
-    are linearly independent mod p, so no member sum c_a v_a != 0 over F_p satisfies Jacobi. Why that is a theorem:
-    were Q/D invariant and Poisson over Q(eps, params), restrict Q to a generic line params = values + t u, divide by
-    the power of t that divides every coefficient and set t = 0: a non-zero rational invariant bivector of the map at
-    the values, Poisson, which reduces mod p (scaled to a primitive integer vector) to a member of that kernel.
-    With `kernel.fixed` (and a torus A, grad D . A x = chi D): the torus blocks of that character are stated too, but
-    for the weight chi; the exact kernel of L_X - chi on the character's columns (X = A x) has as many vectors as that
-    weight's block has columns, so no other weight is chi mod p and every invariant Q lies in it; the rows are solved
-    on its basis."""
+    """No invariant Q/D (deg Q <= d) is Poisson. The blocks off the sign characters of `kernels` have full column rank
+    (as for an exclusion: no invariant Q has a part there); on each of those characters, in the field's coordinates,
+    the rows at its points have a kernel mod p (computed here); with v_1..v_r the members of all of them, the brackets
+    [v_a, v_b], a <= b, are linearly independent mod p, so no member sum c_a v_a != 0 over F_p satisfies Jacobi. Why
+    that is a theorem: were Q/D invariant and Poisson over Q(eps, params), restrict Q to a generic line params =
+    values + t u, divide by the power of t that divides every coefficient and set t = 0: a non-zero rational invariant
+    bivector of the map at the values, Poisson, whose part on each character reduces mod p (the whole scaled to a
+    primitive integer vector) into that character's kernel. A kernel with `fixed` (and a torus A, grad D . A x =
+    chi D): the torus blocks of its character are stated too, but for the weight chi; the exact kernel of L_X - chi on
+    the character's columns (X = A x) has as many vectors as that weight's block has columns, so no other weight is
+    chi mod p and every invariant Q there lies in it; the rows are solved on its basis."""
     c = _Class(f, step, where)
-    kernel = get(step, "kernel", dict, where)
-    sign = tuple(integers(kernel, "character", where))
-    fixed = get(kernel, "fixed", bool, where) if "fixed" in kernel else False
     k = len(c.symmetries)
     plain = _columns(len(f.variables), c.degree, c.symmetries)
-    if sign not in plain:
-        raise CertificateError(f"{where}: the kernel's character {list(sign)} is not a character of the columns")
-    cols = plain[sign]
-    if fixed:
-        if c.torus is None:
-            raise CertificateError(f"{where}: a fixed kernel needs the torus whose flow fixes it")
-        chi = int(c.torus.chi.p) * pow(int(c.torus.chi.q), -1, c.p) % c.p
-        kept = sign + (chi,)
-        c.full_rank([ch for ch in c.columns if ch != kept], where)
-        basis = _fixed_basis(c.torus, cols, len(f.variables))
-        if len(basis) != len(c.columns.get(kept, [])):
+    blocks = entries(step, "kernels", where)
+    signs = [tuple(integers(b, "character", where)) for b in blocks]
+    if not blocks or len(set(signs)) != len(signs) or any(sign not in plain for sign in signs):
+        raise CertificateError(f"{where}: the kernels' characters {[list(x) for x in signs]} must be distinct "
+                               "characters of the columns")
+    fixed = [get(b, "fixed", bool, where) if "fixed" in b else False for b in blocks]
+    if any(fixed) and c.torus is None:
+        raise CertificateError(f"{where}: a fixed kernel needs the torus whose flow fixes it")
+    chi = int(c.torus.chi.p) * pow(int(c.torus.chi.q), -1, c.p) % c.p if c.torus is not None else 0
+    kept = {ch for ch in c.columns for sign, fx in zip(signs, fixed, strict=True)
+            if (ch == sign + (chi,) if fx else ch[:k] == sign)}
+    c.full_rank([ch for ch in c.columns if ch not in kept], where)
+    members: list[dict[tuple[int, tuple], int]] = []
+    for b, sign, fx in zip(blocks, signs, fixed, strict=True):
+        cols = plain[sign]
+        basis = _fixed_basis(c.torus, cols, len(f.variables)) if fx and c.torus else [[(j, 1)] for j in range(len(cols))]
+        if fx and len(basis) != len(c.columns.get(sign + (chi,), [])):
             raise CertificateError(f"{where}: L_X - chi has a kernel of dimension {len(basis)} on the character "
-                                   f"{list(sign)}, not the {len(c.columns.get(kept, []))} columns of weight chi mod "
-                                   f"{c.p}: another weight is chi mod p (choose another prime)")
-    else:
-        c.full_rank([ch for ch in c.columns if ch[:k] != sign], where)
-        basis = [[(j, 1)] for j in range(len(cols))]
-    rows = c.matrix(_Rows(f, c.denominator.num, c.fixed, c.p), cols, kernel, where)
-    projected = [[sum(row[j] * e for j, e in vector) % c.p for vector in basis] for row in rows]
-    space, nullity = flint.nmod_mat(projected, c.p).nullspace() if projected and basis else (None, 0)
-    if space is None or not 1 <= nullity <= MAX_KERNEL:
-        raise CertificateError(f"{where}: the rows at the kernel's points have a kernel of dimension {nullity} mod "
-                               f"{c.p} (this checker takes 1 to {MAX_KERNEL}): this proves nothing")
-    members = []
-    for b in range(nullity):
-        member = [0] * len(cols)
-        for u, vector in enumerate(basis):
-            for j, e in vector:
-                member[j] = (member[j] + int(space[u, b]) * e) % c.p
-        members.append(member)
-    if not _brackets_independent(f, c, cols, members):
-        raise CertificateError(f"{where}: the brackets of the kernel's members are dependent mod {c.p} (a member may "
-                               "satisfy Jacobi): this excludes nothing")
-    return {}, (f"no invariant Poisson structure Q/({c.denominator}) with deg Q <= {c.degree} (a kernel of dimension "
-                f"{nullity} mod {c.p}{' on the fixed bivectors' if fixed else ''}, no member Poisson)")
+                                   f"{list(sign)}, not the {len(c.columns.get(sign + (chi,), []))} columns of weight "
+                                   f"chi mod {c.p}: another weight is chi mod p (choose another prime)")
+        rows = c.matrix(_Rows(f, c.denominator.num, c.fixed, c.p), cols, b, where)
+        projected = [[sum(row[j] * e for j, e in vector) % c.p for vector in basis] for row in rows]
+        space, nullity = flint.nmod_mat(projected, c.p).nullspace() if projected and basis else (None, 0)
+        if space is None or not 1 <= nullity <= MAX_KERNEL:
+            raise CertificateError(f"{where}: the rows at the points of the kernel {list(sign)} have a kernel of "
+                                   f"dimension {nullity} mod {c.p} (this checker takes 1 to {MAX_KERNEL}): this "
+                                   "proves nothing")
+        for v in range(nullity):
+            member: dict[tuple[int, tuple], int] = {}
+            for u, vector in enumerate(basis):
+                for j, e in vector:
+                    member[cols[j]] = (member.get(cols[j], 0) + int(space[u, v]) * e) % c.p
+            members.append(member)
+    if len(members) > MAX_KERNEL or not _brackets_independent(f, c, members):
+        raise CertificateError(f"{where}: the brackets of the kernels' {len(members)} members are dependent mod {c.p} "
+                               f"(a member may satisfy Jacobi), or there are more than {MAX_KERNEL}: this excludes "
+                               "nothing")
+    return {}, (f"no invariant Poisson structure Q/({c.denominator}) with deg Q <= {c.degree} (kernels of dimension "
+                f"{len(members)} in all mod {c.p}{' on fixed bivectors' if any(fixed) else ''}, no member Poisson)")
 
 
 def _fixed_basis(torus: CheckedTorus, cols: list[tuple[int, tuple]], n: int) -> list[list[tuple[int, int]]]:
@@ -267,32 +268,31 @@ def _fixed_basis(torus: CheckedTorus, cols: list[tuple[int, tuple]], n: int) -> 
     return basis
 
 
-def _brackets_independent(f: KahanData, c: "_Class", cols: list[tuple[int, tuple]], basis: list[list[int]]) -> bool:
+def _brackets_independent(f: KahanData, c: "_Class", members: list[dict[tuple[int, tuple], int]]) -> bool:
     """The Schouten brackets [v_a/D, v_b/D] D^3 / 2 (a <= b; the symmetric form sum over cyclic (i, j, k) and l of
-    v_a^il (D d_l v_b^jk - v_b^jk d_l D) + (a <-> b)), with the members' residues and D at the values, linearly
-    independent mod p: then sum c_a c_b [v_a, v_b] = 0 forces every c_a c_b = 0."""
+    v_a^il (D d_l v_b^jk - v_b^jk d_l D) + (a <-> b)), with the members' residues (by column) and D at the values,
+    linearly independent mod p: then sum c_a c_b [v_a, v_b] = 0 forces every c_a c_b = 0."""
     n, ring, zero = len(f.variables), f.ring, f.ring.constant(0)
     gens = [ring.gen(v) for v in f.variables]
     d = ring.substitute(c.denominator.num, dict(zip(ring.names[n:], c.fixed, strict=True)))
-    members = []
-    for vector in basis:
+    entries_of = []
+    for member in members:
         upper: dict[tuple[int, int], flint.fmpz_mpoly] = {}
-        for (k, m), value in zip(cols, vector, strict=True):
+        for (k, m), value in member.items():
             term = ring.constant(value)
             for g, e in zip(gens, m, strict=True):
                 term *= g ** e
             upper[_pairs(n)[k]] = upper.get(_pairs(n)[k], zero) + term
-        members.append(lambda i, j, u=upper: u.get((i, j), zero) if i <= j else -u.get((j, i), zero))
+        entries_of.append(lambda i, j, u=upper: u.get((i, j), zero) if i <= j else -u.get((j, i), zero))
 
     def half(a: Callable, b: Callable, r: int, s: int, t: int) -> flint.fmpz_mpoly:
         return sum((a(r, ll) * (d * b(s, t).derivative(x) - b(s, t) * d.derivative(x))
                     for ll, x in enumerate(f.variables)), zero)
     rows = []
-    for a, b in itertools.combinations_with_replacement(range(len(members)), 2):
+    for a, b in itertools.combinations_with_replacement(entries_of, 2):
         row: dict[tuple[int, tuple], int] = {}
         for ijk, (i, j, k) in enumerate(itertools.combinations(range(n), 3)):
-            total = sum((half(members[a], members[b], *rst) + half(members[b], members[a], *rst)
-                         for rst in ((i, j, k), (j, k, i), (k, i, j))), zero)
+            total = sum((half(a, b, *rst) + half(b, a, *rst) for rst in ((i, j, k), (j, k, i), (k, i, j))), zero)
             row.update({(ijk, tuple(m)): int(co) % c.p for m, co in total.to_dict().items()})
         rows.append(row)
     keys = sorted({key for row in rows for key in row})

@@ -144,26 +144,27 @@ def exclusion_certificate(kmap: KahanMap, denominator: flint.fmpz_mpoly, degree:
 
 def no_poisson_certificate(kmap: KahanMap, denominator: flint.fmpz_mpoly, degree: int, prime: int,
                            values: Mapping[str, flint.fmpq], symmetries: Sequence[str], others: Sequence[BlockRank],
-                           kernel: BlockRank, fixed: Mapping[str, Any] | None = None, torus: Torus | None = None,
-                           *, on_fixed: bool = False, text: str = "") -> Certificate:
-    """No invariant Q/D with deg Q <= degree is Poisson: full column rank mod p off the kernel's sign character, and on
-    it (in the field's coordinates) a kernel mod p whose basis has brackets independent mod p (the caller tested them),
-    so that no member is Poisson; any invariant Poisson Q over Q(eps, params) would reduce to such a member. `text`: D
-    as the product of its factors, for the statement."""
+                           kernels: Sequence[BlockRank], fixed: Mapping[str, Any] | None = None,
+                           torus: Torus | None = None, *, on_fixed: bool = False, text: str = "") -> Certificate:
+    """No invariant Q/D with deg Q <= degree is Poisson: full column rank mod p off the kernels' sign characters, and on
+    each (in the field's coordinates) a kernel mod p; the brackets of all their members are independent mod p (the
+    caller tested them), so that no member is Poisson; any invariant Poisson Q over Q(eps, params) would reduce to
+    such a member. `text`: D as the product of its factors, for the statement."""
     cert = _class_certificate(kmap, "no-poisson", f"no invariant Poisson structure Q/D, deg Q <= {degree}",
                               "issue 38; docs/poisson.md",
                               f"no Q != 0 (antisymmetric, polynomial of degree <= {degree} in the phase variables, "
                               f"coefficients in Q(eps, parameters)) with Pi = Q/({text or poly_str(denominator)}) "
                               "invariant and Poisson", fixed)
-    r = kernel.columns - kernel.rank
+    r = sum(b.columns - b.rank for b in kernels)
     with suppress(ProofStopped):
         _full_rank_steps(cert, kmap, denominator, prime, values, symmetries, others, torus)
-        where = ("on the bivectors fixed by the torus' flow (ker(L_X - chi), exact, as many as the columns of weight "
+        where = (" (on the bivectors fixed by the torus' flow: ker(L_X - chi), exact, as many as the columns of weight "
                  "chi mod p)" if on_fixed else "")
-        with cert.step("no member of the kernel mod p satisfies Jacobi",
-                       f"nmod_mat kernel of the block {list(kernel.character)} in the field's coordinates {where} mod "
-                       f"{prime}; the Schouten brackets of its basis, independent mod p", kmap.ring) as s:
-            s.note(f"a kernel of dimension {r} ({kernel.columns} columns, {kernel.rows} rows); the {r * (r + 1) // 2} "
+        with cert.step("no member of the kernels mod p satisfies Jacobi",
+                       f"nmod_mat kernels of the blocks {[list(b.character) for b in kernels]} in the field's "
+                       f"coordinates{where} mod {prime}; the Schouten brackets of their members, independent mod p",
+                       kmap.ring) as s:
+            s.note(f"kernels of dimension {r} in all ({[b.columns for b in kernels]} columns); the {r * (r + 1) // 2} "
                    "brackets [v_a, v_b] are linearly independent mod p, so sum c_a c_b [v_a, v_b] = 0 forces c = 0. "
                    "An invariant Poisson Q/D over Q(eps, params), restricted to a generic line through the values, "
                    "divided by the power of t that divides it and set at t = 0, would give a non-zero rational "

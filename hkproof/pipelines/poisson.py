@@ -84,7 +84,7 @@ class NoPoisson:
     """The top degree's kernel in the field's coordinates: its sign character, the block's rank and points, the other
     characters' blocks (full column rank), and whether a member may satisfy Jacobi mod p (the brackets of a basis are
     dependent); when none can, the certificate of the theorem "no invariant Q/D of the class is Poisson"."""
-    kernel: BlockRank
+    kernels: list[BlockRank]      # one per sign character holding part of the kernel
     others: list[BlockRank]
     poisson_mod_p: bool
     certificate: Certificate | None
@@ -92,7 +92,7 @@ class NoPoisson:
     values: dict[str, flint.fmpq]
     symmetries: list[SignSymmetry]
     torus: Torus | None
-    fixed: bool             # the kernel was solved on the bivectors fixed by the torus' flow
+    fixed: list[bool]       # per kernel block: solved on the bivectors fixed by the torus' flow
 
 
 @dataclass
@@ -413,42 +413,47 @@ def _screen_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random,
 
 def _kernel_member(scene: _Scene, degree: int, top: list[BlockRank], rng: random.Random, report: PoissonReport,
                    budget: Budget) -> NoPoisson | None:
-    """When the top degree's kernel mod p lies on one sign character, the kernel of its block in the field's
-    coordinates (the same sign symmetries, no torus): on the bivectors fixed by the torus' flow when the kernel has the
-    weight chi of D only and the fixed basis has as many vectors as that weight's columns (`_fixed_kernel`), on all the
-    columns otherwise. With a kernel of dimension 1 to MAX_NO_POISSON_KERNEL, whether the brackets of its basis are
-    independent mod p (no member Poisson), and then the certificate of "no invariant Poisson Q/D"
-    (hkproof.hk.poisson_proofs.no_poisson_certificate). None when the kernel spans several characters or is larger."""
+    """The top degree's kernel solved again, for each sign character that holds part of it, on that character's block
+    in the field's coordinates (the same sign symmetries, no torus): on the bivectors fixed by the torus' flow when
+    that part has the weight chi of D only and the fixed basis has as many vectors as that weight's columns
+    (`_fixed_kernel`), on all the columns otherwise. With at most MAX_NO_POISSON_KERNEL members in all, whether the
+    brackets of all of them are independent mod p (no member Poisson), and then the certificate of "no invariant
+    Poisson Q/D" (hkproof.hk.poisson_proofs.no_poisson_certificate). None when the kernel is larger."""
     k = len(scene.symmetries)
     short = [b for b in top if b.rank < b.columns]
-    signs = {b.character[:k] for b in short}
-    if len(signs) != 1 or sum(b.columns - b.rank for b in short) > MAX_NO_POISSON_KERNEL:
+    if sum(b.columns - b.rank for b in short) > MAX_NO_POISSON_KERNEL:
         return None
-    [character] = signs
-    plain = dataclasses.replace(scene, torus=None, fixed=None, _bases={})
-    [block] = [b for b in plain.blocks(degree) if b.character == character]
-    fixed = _fixed_kernel(scene, block, short, top)
-    kept = None if fixed is None else fixed[0]
-    if fixed is not None and scene.torus is not None:
-        plain = dataclasses.replace(plain, fixed=scene.torus.generator, _bases={block: fixed[1]})
-    budget.check(f"the invariance rows of degree {degree} in the field's coordinates")
-    rows, points = plain.system(block, rng, confirming_rows(plain.width(block))[0])
-    found = budget.call(f"the kernel mod p of {rows.shape[0]} x {rows.shape[1]} invariance rows",
-                        free_kernel_mod_p, rows, scene.prime, 1)
-    if not 1 <= len(found) <= MAX_NO_POISSON_KERNEL:
-        return None
-    kernel = BlockRank(character, plain.width(block), rows.shape[0], plain.width(block) - len(found),
-                       tuple(tuple(x) for x in points))
-    members = [_residue_bivector(plain, block, _on_columns(plain, block, {c: x for c, x in enumerate(v) if x}))
-               for _, v in found]
-    excluded = brackets_independent_mod(members, scene.prime)
-    others = [b for b in top if b.character != kept] if kept is not None else \
-        [b for b in top if b.character[:k] != character]
+    kernels: list[BlockRank] = []
+    fixed_flags: list[bool] = []
+    kept: set[tuple[int, ...]] = set()
+    members: list[Bivector] = []
+    for character in dict.fromkeys(b.character[:k] for b in short):
+        plain = dataclasses.replace(scene, torus=None, fixed=None, _bases={})
+        [block] = [b for b in plain.blocks(degree) if b.character == character]
+        fixed = _fixed_kernel(scene, block, [b for b in short if b.character[:k] == character], top)
+        if fixed is not None and scene.torus is not None:
+            plain = dataclasses.replace(plain, fixed=scene.torus.generator, _bases={block: fixed[1]})
+            kept.add(fixed[0])
+        else:
+            kept |= {b.character for b in top if b.character[:k] == character}
+        budget.check(f"the invariance rows of degree {degree} in the field's coordinates")
+        rows, points = plain.system(block, rng, confirming_rows(plain.width(block))[0])
+        found = budget.call(f"the kernel mod p of {rows.shape[0]} x {rows.shape[1]} invariance rows",
+                            free_kernel_mod_p, rows, scene.prime, 1)
+        if not 1 <= len(found) + len(members) <= MAX_NO_POISSON_KERNEL:
+            return None
+        kernels.append(BlockRank(character, plain.width(block), rows.shape[0], plain.width(block) - len(found),
+                                 tuple(tuple(x) for x in points)))
+        fixed_flags.append(fixed is not None)
+        members += [_residue_bivector(plain, block, _on_columns(plain, block, {c: x for c, x in enumerate(v) if x}))
+                    for _, v in found]
+    excluded = brackets_independent_mod(members, scene.prime) if members else False
+    others = [b for b in top if b.character not in kept]
     cert = None if not excluded else no_poisson_certificate(
         scene.kmap, scene.denominator, degree, scene.prime, scene.values, [s.how for s in scene.symmetries], others,
-        kernel, report.fixed, scene.torus, on_fixed=kept is not None, text=scene.den.text())
-    return NoPoisson(kernel, others, not excluded, cert, scene.prime, dict(scene.values), list(scene.symmetries),
-                     scene.torus, kept is not None)
+        kernels, report.fixed, scene.torus, on_fixed=any(fixed_flags), text=scene.den.text())
+    return NoPoisson(kernels, others, not excluded, cert, scene.prime, dict(scene.values), list(scene.symmetries),
+                     scene.torus, fixed_flags)
 
 
 def _fixed_kernel(scene: _Scene, block: Block, short: list[BlockRank], top: list[BlockRank]

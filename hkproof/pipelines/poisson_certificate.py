@@ -53,10 +53,11 @@ def poisson_steps(kmap: KahanMap, report: PoissonReport) -> list[dict]:
     for screened in report.kernels:
         m = screened.member
         if screened.no_poisson is not None and m is not None:
-            steps.append(no_poisson_step(field, screened.text, report.degree, m.prime, m.values, [s.signs for s in m.symmetries],
-                                         [(b.character, b.points) for b in m.others],
-                                         (m.kernel.character, m.kernel.points),
-                                         None if m.torus is None else torus_data(m.torus), fixed=m.fixed))
+            steps.append(no_poisson_step(field, screened.text, report.degree, m.prime, m.values,
+                                         [s.signs for s in m.symmetries], [(b.character, b.points) for b in m.others],
+                                         [(b.character, b.points, fx) for b, fx in zip(m.kernels, m.fixed,
+                                                                                         strict=True)],
+                                         None if m.torus is None else torus_data(m.torus)))
     return steps
 
 

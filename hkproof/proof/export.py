@@ -164,18 +164,18 @@ def exclusion_step(field: QuadraticField, denominator: object, degree: int, prim
 def no_poisson_step(field: QuadraticField, denominator: object, degree: int, prime: int,
                     values: Mapping[str, Rational], symmetries: Sequence[Sequence[int]],
                     blocks: Sequence[tuple[Sequence[int], Sequence[Sequence[int]]]],
-                    kernel: tuple[Sequence[int], Sequence[Sequence[int]]],
-                    torus: Mapping[str, list] | None = None, fixed: bool = False) -> dict:
-    """The step "no invariant Q/D with deg Q <= degree is Poisson" (version 9): the blocks off the kernel's sign
-    character as for an exclusion (full column rank), and the kernel's block (character, points) in the field's
-    coordinates (on the bivectors fixed by the torus' flow when `fixed`), where the checker finds a small kernel mod p
+                    kernels: Sequence[tuple[Sequence[int], Sequence[Sequence[int]], bool]],
+                    torus: Mapping[str, list] | None = None) -> dict:
+    """The step "no invariant Q/D with deg Q <= degree is Poisson" (version 9): the blocks off the kernels' characters
+    as for an exclusion (full column rank), and each kernel's block (sign character, points, fixed) in the field's
+    coordinates (on the bivectors fixed by the torus' flow when fixed), where the checker finds small kernels mod p
     none of whose members satisfies Jacobi."""
     step = exclusion_step(field, denominator, degree, prime, values, symmetries, blocks, torus)
     return {**step, "kind": "no-poisson",
-            "kernel": {"character": [int(c) for c in kernel[0]], "points": [[int(v) for v in x] for x in kernel[1]],
-                       **({"fixed": True} if fixed else {})},
-            "identity": "full column rank mod p off the kernel's character; on it a kernel of dimension 1 mod p whose "
-                        "member v has [v/D, v/D] != 0 mod p"}
+            "kernels": [{"character": [int(c) for c in ch], "points": [[int(v) for v in x] for x in points],
+                         **({"fixed": True} if fixed else {})} for ch, points, fixed in kernels],
+            "identity": "full column rank mod p off the kernels' characters; on them kernels mod p whose members' "
+                        "Schouten brackets are linearly independent mod p"}
 
 
 def _conclusion(c: Conclusion) -> dict:
