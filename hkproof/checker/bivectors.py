@@ -186,14 +186,14 @@ def _no_poisson(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mappin
     members: list[dict[tuple[int, tuple], int]] = []
     for b, sign, fx in zip(blocks, signs, fixed, strict=True):
         cols = plain[sign]
-        basis = _fixed_basis(c.torus, cols, len(f.variables)) if fx and c.torus else [[(j, 1)] for j in range(len(cols))]
-        if fx and len(basis) != len(c.columns.get(sign + (chi,), [])):
+        basis = _fixed_basis(c.torus, cols, len(f.variables)) if fx and c.torus else None
+        if basis is not None and len(basis) != len(c.columns.get(sign + (chi,), [])):
             raise CertificateError(f"{where}: L_X - chi has a kernel of dimension {len(basis)} on the character "
                                    f"{list(sign)}, not the {len(c.columns.get(sign + (chi,), []))} columns of weight "
                                    f"chi mod {c.p}: another weight is chi mod p (choose another prime)")
-        rows = c.matrix(_Rows(f, c.denominator.num, c.fixed, c.p), cols, b, where)
-        projected = [[sum(row[j] * e for j, e in vector) % c.p for vector in basis] for row in rows]
-        space, nullity = flint.nmod_mat(projected, c.p).nullspace() if projected and basis else (None, 0)
+        rows = c.matrix(_Rows(f, c.denominator.num, c.fixed, c.p), cols, b, where, basis)
+        basis = basis if basis is not None else [[(j, 1)] for j in range(len(cols))]
+        space, nullity = flint.nmod_mat(rows, c.p).nullspace() if rows and basis else (None, 0)
         if space is None or not 1 <= nullity <= MAX_KERNEL:
             raise CertificateError(f"{where}: the rows at the points of the kernel {list(sign)} have a kernel of "
                                    f"dimension {nullity} mod {c.p} (this checker takes 1 to {MAX_KERNEL}): this "
@@ -343,14 +343,20 @@ class _Class:
                 raise CertificateError(f"{where}: the character {list(character)} is stated twice")
             self.stated[character] = block
 
-    def matrix(self, rows_of: "_Rows", cols: list[tuple[int, tuple]], block: Any, where: str) -> list[list[int]]:
-        """The rows at the block's stated points, within the checker's limits."""
+    def matrix(self, rows_of: "_Rows", cols: list[tuple[int, tuple]], block: Any, where: str,
+               basis: list[list[tuple[int, int]]] | None = None) -> list[list[int]]:
+        """The rows at the block's stated points, within the checker's limits; on a basis of vectors (column,
+        coefficient) when one is given, point by point (the unknowns are then the basis vectors)."""
         points = [integers({"x": x}, "x", where) for x in get(block, "points", list, where)]
-        if len(cols) > MAX_COLUMNS or len(points) * len(_pairs(len(self.f.variables))) > MAX_ROWS:
-            raise ResourceLimitError(f"{where}: a block of {len(cols)} columns and {len(points)} points is above the "
-                                     f"checker's limit ({MAX_COLUMNS} columns, {MAX_ROWS} rows)",
+        width = len(cols) if basis is None else len(basis)
+        if width > MAX_COLUMNS or len(points) * len(_pairs(len(self.f.variables))) > MAX_ROWS:
+            raise ResourceLimitError(f"{where}: a block of {width} unknowns and {len(points)} points is above the "
+                                     f"checker's limit ({MAX_COLUMNS} unknowns, {MAX_ROWS} rows)",
                                      limit=f"{MAX_COLUMNS} columns", raise_with="no option raises it")
-        return [row for x in points for row in rows_of.at(x, cols, where)]
+        if basis is None:
+            return [row for x in points for row in rows_of.at(x, cols, where)]
+        return [[sum(row[j] * e for j, e in vector) % self.p for vector in basis]
+                for x in points for row in rows_of.at(x, cols, where)]
 
     def full_rank(self, characters: list[tuple[int, ...]], where: str) -> list[int]:
         """Full column rank mod p in the blocks of these characters, which must be exactly the stated ones."""
