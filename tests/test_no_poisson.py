@@ -57,7 +57,7 @@ def test_a_poisson_pencil_or_a_large_kernel_proves_nothing() -> None:
     verdict, lines = check([_euler_step(40)])
     assert verdict == "malformed" and "are dependent" in lines
     verdict, lines = check([_euler_step(5)])
-    assert verdict == "malformed" and "(this checker takes 1 to 4)" in lines
+    assert verdict == "malformed" and "(this checker takes 1 to 6)" in lines
     step = _euler_step(40)
     step["kernels"] *= 2                                  # one character stated twice
     verdict, lines = check([step])

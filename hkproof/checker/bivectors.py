@@ -22,7 +22,7 @@ __all__ = ["BIVECTOR_STEPS", "Matrix", "MAX_COLUMNS", "MAX_ROWS"]
 Matrix = list[list[Frac]]
 MAX_COLUMNS = 20_000       # unknowns of one block of an exclusion (its rank mod p is computed here)
 MAX_ROWS = 60_000          # rows of one block of an exclusion
-MAX_KERNEL = 4             # the dimension of a no-poisson kernel (its brackets: 10 at most)
+MAX_KERNEL = 6             # the dimension of a no-poisson kernel (its brackets: 21 at most)
 Outcome = tuple[dict[str, Matrix], str]    # the bivectors a step concludes, and the fact it checked
 
 

@@ -57,8 +57,8 @@ __all__ = ["ExcludedClass", "MAX_POISSON_DEGREE", "NoPoisson", "PoissonReport", 
 
 MAX_POISSON_DEGREE = 12
 DENSE_MAX_DEGREE = 64
-MAX_NO_POISSON_KERNEL = 4
-"""The largest kernel whose members `--screen` tests for Jacobi together (its brackets: 10 at most)."""
+MAX_NO_POISSON_KERNEL = 6
+"""The largest kernel whose members are tested for Jacobi together (its brackets: 21 at most)."""
 """The largest degree of a coordinate in its one sampled control that the dense reconstruction takes."""
 Integrals = Callable[[KahanMap], list[tuple[str, Frac]]]
 T = TypeVar("T", Frac, int)
