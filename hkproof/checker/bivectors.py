@@ -184,6 +184,7 @@ def _no_poisson(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mappin
             if (ch == sign + (chi,) if fx else ch[:k] == sign)}
     c.full_rank([ch for ch in c.columns if ch not in kept], where)
     members: list[dict[tuple[int, tuple], int]] = []
+    rows_of = _Rows(f, c.denominator.num, c.fixed, c.p)
     for b, sign, fx in zip(blocks, signs, fixed, strict=True):
         cols = plain[sign]
         basis = _fixed_basis(c.torus, cols, len(f.variables)) if fx and c.torus else None
@@ -191,7 +192,7 @@ def _no_poisson(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mappin
             raise CertificateError(f"{where}: L_X - chi has a kernel of dimension {len(basis)} on the character "
                                    f"{list(sign)}, not the {len(c.columns.get(sign + (chi,), []))} columns of weight "
                                    f"chi mod {c.p}: another weight is chi mod p (choose another prime)")
-        rows = c.matrix(_Rows(f, c.denominator.num, c.fixed, c.p), cols, b, where, basis)
+        rows = c.matrix(rows_of, cols, b, where, basis)
         basis = basis if basis is not None else [[(j, 1)] for j in range(len(cols))]
         space, nullity = flint.nmod_mat(rows, c.p).nullspace() if rows and basis else (None, 0)
         if space is None or not 1 <= nullity <= MAX_KERNEL:

@@ -24,8 +24,8 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ShapeError
 from hkproof.hk.jacobian import pulled_matrix
 
-__all__ = ["brackets_independent_mod", "Bivector", "bracket", "casimir_combination", "compatible", "generic_rank", "invariance_holds", "is_casimir",
-           "is_poisson", "pairs", "schouten"]
+__all__ = ["Bivector", "bracket", "brackets_independent_mod", "casimir_combination", "compatible", "generic_rank",
+           "invariance_holds", "is_casimir", "is_poisson", "pairs", "schouten"]
 
 
 def pairs(n: int) -> list[tuple[int, int]]:

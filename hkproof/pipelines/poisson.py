@@ -57,9 +57,9 @@ __all__ = ["ExcludedClass", "MAX_POISSON_DEGREE", "NoPoisson", "PoissonReport", 
 
 MAX_POISSON_DEGREE = 12
 DENSE_MAX_DEGREE = 64
+"""The largest degree of a coordinate in its one sampled control that the dense reconstruction takes."""
 MAX_NO_POISSON_KERNEL = 6
 """The largest kernel whose members are tested for Jacobi together (its brackets: 21 at most)."""
-"""The largest degree of a coordinate in its one sampled control that the dense reconstruction takes."""
 Integrals = Callable[[KahanMap], list[tuple[str, Frac]]]
 T = TypeVar("T", Frac, int)
 
@@ -97,9 +97,9 @@ class NoPoisson:
 
 @dataclass
 class ScreenedKernel:
-    """`--screen`: a class whose invariance rows have a kernel mod p at `degree` (the lowest), not rebuilt; for a kernel
-    of dimension 1 at the top degree, whether its member satisfies Jacobi mod p (None: not tested), and when it does
-    not, the theorem that the class has no invariant Poisson structure (`member`)."""
+    """A class whose invariance rows have a kernel mod p at `degree` (the lowest; `--screen`: not rebuilt), with the
+    test of the top degree's kernel (`member`, `_kernel_member`): whether a member may satisfy Jacobi mod p, and when
+    none can, the theorem that the class has no invariant Poisson structure."""
     name: str
     text: str
     degree: int
@@ -395,8 +395,8 @@ def _search_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random,
 def _screen_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random, report: PoissonReport,
                   stages: Stages, budget: Budget) -> None:
     """One D, ranks only: excluded (a theorem, as in _search_class), or its lowest degree with a kernel mod p and
-    the kernel's dimension reported (evidence: not rebuilt), with Jacobi mod p of the top degree's kernel when it has
-    dimension 1 (`_kernel_member`: a theorem when Jacobi fails)."""
+    the kernel's dimension reported (evidence: not rebuilt), with the Jacobi test of the top degree's kernel
+    (`_kernel_member`: a theorem when no member can be Poisson)."""
     top = _ranks(scene, degree, rng, report, stages, budget)[0]
     if all(b.rank == b.columns for b in top):
         _exclude(scene, degree, top, report)
@@ -427,12 +427,13 @@ def _kernel_member(scene: _Scene, degree: int, top: list[BlockRank], rng: random
     fixed_flags: list[bool] = []
     kept: set[tuple[int, ...]] = set()
     members: list[Bivector] = []
+    coordinates = dataclasses.replace(scene, torus=None, fixed=None, _bases={})
     for character in dict.fromkeys(b.character[:k] for b in short):
-        plain = dataclasses.replace(scene, torus=None, fixed=None, _bases={})
-        [block] = [b for b in plain.blocks(degree) if b.character == character]
+        [block] = [b for b in coordinates.blocks(degree) if b.character == character]
         fixed = _fixed_kernel(scene, block, [b for b in short if b.character[:k] == character], top)
+        plain = coordinates
         if fixed is not None and scene.torus is not None:
-            plain = dataclasses.replace(plain, fixed=scene.torus.generator, _bases={block: fixed[1]})
+            plain = dataclasses.replace(coordinates, fixed=scene.torus.generator, _bases={block: fixed[1]})
             kept.add(fixed[0])
         else:
             kept |= {b.character for b in top if b.character[:k] == character}
@@ -461,10 +462,10 @@ def _fixed_kernel(scene: _Scene, block: Block, short: list[BlockRank], top: list
     """The torus block (sign character, weight chi mod p) of a kernel that has that weight only, with the flow's fixed
     bivectors on `block`, when these are exactly as many as that block's columns (no other weight is chi mod p: every
     invariant Q/D of the class is then fixed by the flow); None otherwise."""
-    if scene.torus is None or not _fixed_route(scene, scene):
+    if scene.torus is None or not commutes_with_signs(scene.torus.generator, scene.symmetries):
         return None
     chi = semi_invariance_character(scene.kmap, scene.torus.generator, scene.denominator)
-    if chi is None:
+    if chi is None:                 # with commuting signs, the conditions of _fixed_route
         return None
     weight = int(chi.p) * pow(int(chi.q), -1, scene.prime) % scene.prime
     kept = short[0].character[:-1] + (weight,)
