@@ -38,7 +38,7 @@ from typing import Any, Callable, Iterator, Sequence, TypeVar
 
 from hkproof.errors import BudgetExhausted, HKProofError
 
-__all__ = ["Budget", "UNLIMITED", "check", "current"]
+__all__ = ["Budget", "Spread", "UNLIMITED", "check", "current", "parallel_parts", "spread_on", "spread_slots"]
 
 T = TypeVar("T")
 
@@ -102,7 +102,7 @@ class Budget:
         """Raise BudgetExhausted (saying what was being done) once the deadline or the memory ceiling is passed."""
         now = time.monotonic()
         if now >= self.deadline:
-            raise self._out_of_time(doing)
+            raise self.out_of_time(doing)
         if self.memory_mb is not None and now - self._memory_checked > 0.2:
             self._memory_checked = now
             used = resident_mb()
@@ -123,7 +123,8 @@ class Budget:
         total = None if not math.isfinite(limit) else max(0.0, limit - now)
         return Budget(total, memory_mb=self.memory_mb, raise_with=self.raise_with, _deadline=limit)
 
-    def _out_of_time(self, doing: str) -> BudgetExhausted:
+    def out_of_time(self, doing: str) -> BudgetExhausted:
+        """The exception of this budget's deadline, saying what was being done (raised by its owner)."""
         return BudgetExhausted(f"the time budget of {self.seconds:g} s ran out while {doing} (give {self.raise_with} "
                                "to go further)", limit=f"a time budget of {self.seconds:g} s", raise_with=self.raise_with)
 
@@ -143,7 +144,11 @@ class Budget:
     def call_each(self, doing: str, fn: Callable[[int], T], jobs: int) -> list[T]:
         """[fn(0), ..., fn(jobs - 1)], each in a forked child at the same time (side by side on the cores), with the
         deadline of `call`: every child is killed when it passes (BudgetExhausted), and a child's exception is
-        raised here. One job, or no fork (Windows), runs in this process."""
+        raised here. Under `spread_on(spread)` the parts are tasks of that spread instead (Dask workers, on other
+        machines too), each under this budget. One job, or no fork (Windows), runs in this process."""
+        spread = _SPREAD.get()
+        if jobs > 1 and spread is not None:
+            return spread.run(self, doing, fn, jobs)
         if jobs <= 1 or not hasattr(os, "fork"):
             return [fn(k) for k in range(jobs)]
         return self._in_children(doing, [(fn, (k,)) for k in range(jobs)])
@@ -176,7 +181,7 @@ class Budget:
             for _, answer in children:
                 wait = self.remaining() if math.isfinite(self.deadline) else None
                 if not select.select([answer], [], [], wait)[0]:
-                    raise self._out_of_time(doing)
+                    raise self.out_of_time(doing)
                 answers.append(answer.read())
         finally:
             for pid, answer in children:
@@ -267,8 +272,47 @@ def _reap(pid: int) -> None:
         pass
 
 
+class Spread:
+    """Where the parts of one computation (`Budget.call_each`) run instead of forked children: `slots` at once, on
+    workers that may be other machines (hkproof.orchestration.execution.DaskSpread). `stages` records, for each call,
+    what was done, the seconds of each part and the wall time of the call: the critical path of the run's tasks."""
+
+    slots = 1
+
+    def __init__(self) -> None:
+        self.stages: list[tuple[str, list[float], float]] = []
+
+    def run(self, budget: Budget, doing: str, fn: Callable[[int], T], jobs: int) -> list[T]:
+        """[fn(0), ..., fn(jobs - 1)] as tasks, each under `budget`; the first task's exception is raised here."""
+        raise NotImplementedError
+
+
 UNLIMITED = Budget(None)
 _ACTIVE: ContextVar[Budget] = ContextVar("hkproof_budget", default=UNLIMITED)
+_SPREAD: ContextVar[Spread | None] = ContextVar("hkproof_spread", default=None)
+
+
+@contextmanager
+def spread_on(spread: Spread | None) -> Iterator[Spread | None]:
+    """Run the parts of `Budget.call_each` in this thread on `spread` (None: forked children, as without it)."""
+    token = _SPREAD.set(spread)
+    try:
+        yield spread
+    finally:
+        _SPREAD.reset(token)
+
+
+def parallel_parts(local: int) -> int:
+    """How many parts to cut a computation into: `local` (the cores of this machine) without a spread, else four
+    per slot of the spread (the scheduler queues them: finer parts balance the load across workers)."""
+    spread = _SPREAD.get()
+    return local if spread is None else max(local, 4 * spread.slots)
+
+
+def spread_slots() -> int | None:
+    """The slots of the active spread (None: parts run as forked children on this machine)."""
+    spread = _SPREAD.get()
+    return None if spread is None else spread.slots
 
 
 def current() -> Budget:

@@ -233,8 +233,8 @@ def plan_lattice(terms: Terms, factors: Sequence[flint.fmpz_mpoly], names: Seque
 def vanishes_on_lattice(terms: Terms, factors: Sequence[flint.fmpz_mpoly], plan: LatticePlan, jobs: int = 1
                         ) -> tuple[bool, dict[str, int] | None]:
     """Whether R = 0, by `plan`: (True, None), or (False, a lattice point where R(point) != 0). The active budget
-    is checked at every point; with jobs > 1 the values of the first lattice name are shared among forked children
-    (`Budget.call_each`, under the same deadline)."""
+    is checked at every point; with jobs > 1 the values of the first lattice name are shared among `jobs` parts, forked
+    children or the tasks of a spread (`Budget.call_each`, under the same deadline)."""
     ones: dict[str | int, int | flint.fmpz] = {n: 1 for n in plan.ones}
     start = {mu: p.subs(ones) if ones else p for mu, p in terms.items() if not p.is_zero()}
     moved = [f.subs(ones) if ones else f for f in factors]
@@ -253,10 +253,11 @@ def vanishes_on_lattice(terms: Terms, factors: Sequence[flint.fmpz_mpoly], plan:
                 return bad
         return None
 
-    jobs = jobs if plan.lattice and plan.points >= PARALLEL_POINTS else 1
+    first = min([plan.degree, *plan.degrees[:1]]) + 1            # the values of the first lattice name
+    jobs = min(jobs, first) if plan.lattice and plan.points >= PARALLEL_POINTS else 1
 
     def part(k: int) -> dict[str, int] | None:
-        return walk(0, plan.degree, start, moved, {}, range(k, min([plan.degree, *plan.degrees[:1]]) + 1, jobs))
+        return walk(0, plan.degree, start, moved, {}, range(k, first, jobs))
 
     found = budget.current().call_each("checking a row identity on a lattice", part, jobs)
     bad = next((b for b in found if b is not None), None)

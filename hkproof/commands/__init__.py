@@ -196,7 +196,8 @@ def add_run_options(parser: argparse.ArgumentParser, jobs: int | None = None) ->
                              "in this process)")
     parser.add_argument("--executor", choices=EXECUTORS, default="process",
                         help="process: a pool of local processes; dask: Dask distributed (pip install "
-                             "'hkproof[dask]'), a LocalCluster of N workers unless --scheduler is given")
+                             "'hkproof[dask]'), a LocalCluster of N workers unless --scheduler is given; the "
+                             "points of lattice identities and the primes of modular ones run there too")
     parser.add_argument("--scheduler", type=scheduler_address, metavar="ADDRESS",
                         help="with --executor dask: the address of a running Dask scheduler, e.g. tcp://host:8786")
 

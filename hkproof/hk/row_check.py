@@ -18,7 +18,7 @@ from hkproof.algebra.modular_identity import plan_modular, vanishes_modulo
 from hkproof.algebra.linalg import lcm
 from hkproof.algebra.monomials import Exponents
 from hkproof.algebra.ring import cores, flint_threads
-from hkproof.budget import current
+from hkproof.budget import current, parallel_parts, spread_slots
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals
@@ -90,11 +90,11 @@ def decide_identity(terms: dict[Exponents, flint.fmpz_mpoly], factors: Sequence[
     if chosen == "lattice":
         plan = costs.lattice if costs and costs.lattice else plan_lattice(terms, factors, names, free, tuple(free[1:]))
         with flint_threads():
-            holds, bad = vanishes_on_lattice(terms, factors, plan, jobs=cores())
+            holds, bad = vanishes_on_lattice(terms, factors, plan, jobs=parallel_parts(cores()))
         return RowCheck(holds, f"{what}: {plan.describe()}" + (f"; not zero at {bad}" if bad else ""), "lattice")
     if chosen == "modular":
-        modular = costs.modular if costs else plan_modular(terms, factors, 0, cores())
-        holds, prime = vanishes_modulo(terms, factors, modular.primes, jobs=cores())
+        modular = costs.modular if costs else plan_modular(terms, factors, 0, spread_slots() or cores())
+        holds, prime = vanishes_modulo(terms, factors, modular.primes, jobs=parallel_parts(cores()))
         return RowCheck(holds, f"{what} by Horner's scheme in {where}, modulo primes: {modular.describe()}" +
                         (f"; not zero modulo {prime}" if prime else ""), "modular")
     holds = current().call(f"checking {what} by Horner's scheme", _vanishes, terms, factors)
@@ -106,18 +106,22 @@ class RouteCosts:
     times 1 + WORD_WEIGHT per further word of the coefficient bound, at the lattice points likewise (parameters only,
     the names of `free` after the first), and modulo primes times ONE_PRIME_WEIGHT for a lone prime, else the
     primes each of `jobs` children takes times MODULAR_WEIGHT (so on two cores the expansion over Z stays cheaper;
-    with many cores and large coefficients the primes win)."""
+    with many cores and large coefficients the primes win). `jobs` defaults to the slots of the active spread
+    (`budget.spread_on`) or the cores; the expansion runs on this machine's cores only, so a spread with more slots
+    than cores divides the lattice's estimate by slots / cores (its points are independent tasks)."""
 
     def __init__(self, terms: dict[Exponents, flint.fmpz_mpoly], factors: Sequence[flint.fmpz_mpoly],
                  names: Sequence[str], free: Sequence[str], jobs: int | None = None):
         plain = horner_work(terms, factors)
-        self.modular = plan_modular(terms, factors, plain, jobs or cores())
+        local = cores()
+        jobs = jobs or spread_slots() or local
+        self.modular = plan_modular(terms, factors, plain, jobs)
         words = 1 + WORD_WEIGHT * max(0, self.modular.bound.bit_length() - LIMB_BITS) / 64
         self.lattice = plan_lattice(terms, factors, names, free, tuple(free[1:])) if free[1:] else None
         weight = ONE_PRIME_WEIGHT if len(self.modular.primes) <= 1 else MODULAR_WEIGHT
         self.costs: dict[Route, float] = {"horner": plain * words, "modular": self.modular.work * weight}
         if self.lattice is not None:
-            self.costs["lattice"] = self.lattice.work * words
+            self.costs["lattice"] = self.lattice.work * words * local / max(local, jobs)
 
     @property
     def cheapest(self) -> Route:

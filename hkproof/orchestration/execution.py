@@ -9,30 +9,78 @@ import logging
 import multiprocessing
 import multiprocessing.connection
 import os
+import math
 import signal
+import time
 import uuid
 from multiprocessing.connection import Connection
-from contextlib import contextmanager
-from typing import Any, Callable, Hashable, Iterable, Iterator, Mapping, Sequence, cast
+from contextlib import contextmanager, nullcontext
+from typing import Any, Callable, Hashable, Iterable, Iterator, Mapping, Sequence, TypeVar, cast
 
+import hkproof.algebra.pickling  # noqa: F401 -- FLINT polynomials travel to Dask workers as data
+from hkproof.budget import Budget, Spread, spread_on
 from hkproof.errors import HKProofError
 from hkproof.orchestration.graph import in_dependency_order
 from hkproof.orchestration.interrupts import as_worker, interrupts_blocked, interrupts_deferred
 from hkproof.orchestration.registry import REGISTRY, cached, get_claim, load_all, remember
 from hkproof.proof.certificate import Certificate
 
-__all__ = ["dask_client", "DaskExecutor", "Executor", "EXECUTORS", "InProcessExecutor", "make_executor", "map_executor",
-           "ProcessPoolExecutor", "prove_citing", "run_graph", "worker_failed"]
+__all__ = ["dask_client", "DaskExecutor", "DaskSpread", "Executor", "EXECUTORS", "InProcessExecutor", "make_executor",
+           "map_executor", "ProcessPoolExecutor", "prove_citing", "run_graph", "worker_failed"]
 
 EXECUTORS = ("process", "dask")
+T = TypeVar("T")
 
 
-def prove_citing(claim_id: str, cited: Mapping[str, Certificate], seconds: float | None = None) -> Certificate:
+def prove_citing(claim_id: str, cited: Mapping[str, Certificate], seconds: float | None = None,
+                 spread: bool = False) -> Certificate:
     """A worker's task: the run's cache seeded with the certificates `claim_id` cites, then the claim proven once
-    (within `seconds`, if given)."""
+    (within `seconds`, if given); with `spread` (a Dask worker) the parts of its computations are tasks of the same
+    cluster (`DaskSpread`)."""
     load_all()
     remember(cited.values())
-    return get_claim(claim_id).prove(seconds=seconds)
+    with spread_on(DaskSpread()) if spread else nullcontext():
+        return get_claim(claim_id).prove(seconds=seconds)
+
+
+def _timed_part(fn: Callable[[int], T], k: int, budget: Budget) -> tuple[T, float]:
+    """A task of `DaskSpread`: fn(k) under `budget` (its deadline travels as wall-clock time), and its seconds."""
+    start = time.perf_counter()
+    with budget.active():
+        value = fn(k)
+    return value, time.perf_counter() - start
+
+
+class DaskSpread(Spread):
+    """The parts of one computation (the points of a lattice, the primes of a modular identity) as tasks on a Dask
+    cluster: `fn` is scattered once to every worker (FLINT polynomials as data, hkproof.algebra.pickling), then one
+    task per part. With `client` None it runs inside a task of a Dask worker (`prove --executor dask`), whose client
+    it takes through `distributed.worker_client` (the task leaves its thread to the parts while it waits). A part's
+    exception is raised here; at the deadline the parts still queued are cancelled (a running one stops at its next
+    budget check)."""
+
+    def __init__(self, client: Any = None) -> None:
+        super().__init__()
+        import distributed
+        self._distributed, self._client = distributed, client
+        here = client if client is not None else distributed.get_client()
+        self.slots = max(1, sum(here.nthreads().values()))
+
+    def run(self, budget: Budget, doing: str, fn: Callable[[int], T], jobs: int) -> list[T]:
+        start = time.perf_counter()
+        budget.check(doing)
+        with nullcontext(self._client) if self._client is not None else self._distributed.worker_client() as client:
+            shared = client.scatter(fn, broadcast=True, hash=False)
+            futures = [client.submit(_timed_part, shared, k, budget, pure=False) for k in range(jobs)]
+            wait = budget.remaining() if math.isfinite(budget.deadline) else None
+            try:
+                self._distributed.wait(futures, timeout=wait)
+            except TimeoutError:
+                client.cancel(futures)
+                raise budget.out_of_time(doing) from None
+            answers = client.gather(futures)
+        self.stages.append((doing, [seconds for _, seconds in answers], time.perf_counter() - start))
+        return [value for value, _ in answers]
 
 
 def worker_failed(claim_id: str, exc: BaseException) -> Certificate:
@@ -236,7 +284,8 @@ class DaskExecutor(Executor):
         self._claims: dict[Hashable, str] = {}
 
     def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
-        future = self._client.submit(prove_citing, claim_id, dict(cited), self.seconds, key=f"prove-{claim_id}-{uuid.uuid4().hex}")
+        future = self._client.submit(prove_citing, claim_id, dict(cited), self.seconds, True,
+                                     key=f"prove-{claim_id}-{uuid.uuid4().hex}")
         self._claims[future] = claim_id
         return future
 
@@ -299,7 +348,8 @@ def map_executor(kind: str, jobs: int, scheduler: str | None, tasks: int
     if kind == "dask" and workers >= 1:
         client, cluster = dask_client(workers, scheduler)
         try:
-            yield client.get_executor()
+            with spread_on(DaskSpread(client)):
+                yield client.get_executor()
         finally:
             client.close()
             if cluster is not None:
