@@ -17,7 +17,7 @@ from typing import NoReturn, Sequence
 
 from hkproof.algebra.printing import to_json
 from hkproof.commands import command_budget
-from hkproof.errors import HKProofError, ResourceLimitError, UsageError
+from hkproof.errors import HKProofError, OutputError, ResourceLimitError, UsageError
 from hkproof.exit_codes import ExitCode, exit_code_for
 from hkproof.orchestration.interrupts import from_signal, interrupt_label, interrupts_live, interrupts_raised
 from hkproof.orchestration.output import emit
@@ -116,6 +116,10 @@ def _run(argv: list[str]) -> int:
         emit(to_json(result.payload, indent=2))
     elif result.text:
         emit(result.text)
+    missing = result.payload.get("certificate_error") if isinstance(result.payload, dict) else None
+    if missing:                 # --certificate FILE with nothing to write: the report above, then the error
+        _report(False, {"message": missing})
+        return result.exit_code or exit_code_for(OutputError(missing))
     return result.exit_code
 
 

@@ -182,7 +182,11 @@ DEGREES = {
 def test_degrees_certificate_verifies(degrees_doc, capsys, tmp_path):
     assert degrees_doc["steps"][0]["degrees"] == [3, 9, 19] and verdict(degrees_doc) == "verified"
     assert main(["degrees", "euler-top", "--iterates", "3", "--certificate", str(tmp_path / "no.json")]) == 2
-    assert "degrees --symbolic-up-to" in capsys.readouterr().err      # mod p degrees are evidence: no certificate
+    out = capsys.readouterr()
+    assert "degrees --symbolic-up-to" in out.err      # mod p degrees are evidence: no certificate
+    assert "3, 9, 19" in out.out and not (tmp_path / "no.json").exists()    # the report is printed all the same
+    assert main(["degrees", "euler-top", "--iterates", "3", "--json", "--certificate", str(tmp_path / "no.json")]) == 2
+    assert "no certificate written" in json.loads(capsys.readouterr().out)["certificate_error"]
 
 
 @pytest.mark.parametrize("name", DEGREES)

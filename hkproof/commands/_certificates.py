@@ -11,7 +11,6 @@ from hkproof.algebra.fraction import Frac
 from hkproof.checker import DET_DF
 from hkproof.commands.report import writable_target, write_atomically
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import OutputError
 from hkproof.hk.darboux import cofactor_value
 from hkproof.hk.modified_hamiltonian import ModifiedHamiltonianResult
 from hkproof.pipelines.darboux import DarbouxSearch
@@ -35,13 +34,16 @@ def certificate_target(args: argparse.Namespace) -> Path | None:
 
 
 def write_certificate(target: Path | None, doc: dict | None, payload: dict) -> str:
-    """Write the certificate (when asked for) and say so in the payload; the line for the text output."""
+    """Write the certificate (when asked for) and say so in the payload; the line for the text output. With nothing
+    to write, the payload's `certificate_error` says so: the report is still printed, then the error (cli)."""
     if target is None:
         return ""
     if doc is None or not doc["steps"]:
-        raise OutputError(f"no certificate written to {target}: nothing was verified by a step a certificate can "
-                          "record (an exact substitution, Prop. \"prop: even\", a Darboux polynomial, recipe (G), "
-                          "or the degrees of symbolic iterates: degrees --symbolic-up-to N)")
+        payload["certificate_error"] = (
+            f"no certificate written to {target}: nothing was verified by a step a certificate can record (an exact "
+            "substitution, Prop. \"prop: even\", a Darboux polynomial, recipe (G), an exclusion or no-poisson step of "
+            "invariant bivectors, or the degrees of symbolic iterates: degrees --symbolic-up-to N)")
+        return ""
     write_atomically(target, to_json(doc, indent=1) + "\n")
     payload["certificate"] = str(target)
     return f"\ncertificate: {target} ({len(doc['steps'])} step(s); check it with `hkproof check {target}`)"
