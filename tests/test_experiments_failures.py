@@ -145,3 +145,23 @@ def test_float_paths_are_never_wrong_on_hard_points():
             for arithmetic in (Float64(), MPMath(30), MPMath(60)):
                 p = problem.profile(x, arithmetic, with_kernel=False)
                 assert p.dims == exact or p.verdict in (AMBIGUOUS, SINGULAR), (arithmetic.name, x)
+
+
+def test_exact_rows_in_integers_agree_with_rational_products():
+    """ExactQ evaluates a basis over the common denominator of the point (IntegerPoly); the generic loop of rational
+    products gives the same rows on a basis with rational coefficients, a constant and a rational function, and a
+    vanishing denominator is a ZeroDivisionError as before."""
+    from hkproof.experiments.arithmetics import FieldArithmetic
+    problem = _problem("euler-top", ET_VALUES, "x1**2/3 - 5*x2/7, x1*x2*x3/(x3 + 2), -2/9, x3**4")
+    exact = ExactQ()
+    prep = exact.prepare(problem.scene, problem.compiled)
+    rng = random.Random(5)
+    for _ in range(20):
+        x = [flint.fmpq(rng.randrange(-50, 50), rng.randrange(1, 40)) for _ in range(3)]
+        if x[2] == -2:
+            continue
+        assert exact.basis_row(prep, x) == FieldArithmetic.basis_row(exact, prep, x)
+    with pytest.raises(ZeroDivisionError):
+        exact.basis_row(prep, [flint.fmpq(1), flint.fmpq(1, 2), flint.fmpq(-2)])
+    with pytest.raises(ZeroDivisionError):
+        FieldArithmetic.basis_row(exact, prep, [flint.fmpq(1), flint.fmpq(1, 2), flint.fmpq(-2)])

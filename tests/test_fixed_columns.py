@@ -137,7 +137,7 @@ def test_jacobi_mod_p_of_a_screened_kernel_and_of_residue_bivectors() -> None:
     Jacobi over Z fails it mod p, one that holds holds; two Poisson members have dependent brackets (a member may be
     Poisson), two whose brackets are independent leave none."""
     from hkproof.algebra.ring import get_ring
-    from hkproof.hk.poisson import Bivector, brackets_independent_mod
+    from hkproof.hk.poisson import Bivector, _values_independent_mod, brackets_independent_mod
     report = with_integrals(kahan_map("lotka-volterra"), 2, integrals_degree=0, screen=True)
     assert [(k.name, k.dimension, k.jacobi_mod_p) for k in report.kernels] == [("1", 1, True)]
     assert "a member may satisfy Jacobi mod p" in report.text() and report.kernels[0].no_poisson is None
@@ -153,3 +153,7 @@ def test_jacobi_mod_p_of_a_screened_kernel_and_of_residue_bivectors() -> None:
                                          Bivector(ring, names, (zero, zero, x), one)], p)     # both Poisson
     assert brackets_independent_mod([Bivector(ring, names, (y, zero, z), one),
                                      Bivector(ring, names, (zero, x * y, z * z), one)], p)
+    # the values at points decide first (a linear image of the coefficients: full rank there is a proof)
+    assert _values_independent_mod([[y * z, x], [x ** 2, x]], p)
+    assert not _values_independent_mod([[y * z, x], [2 * y * z, 2 * x]], p)       # dependent: the values cannot tell
+    assert not _values_independent_mod([[x * p, y * p]], p)                        # zero mod p

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import random
 from typing import Any, Callable, Mapping
 
 import flint
@@ -272,7 +273,7 @@ def _fixed_basis(torus: CheckedTorus, cols: list[tuple[int, tuple]], n: int) -> 
 def _brackets_independent(f: KahanData, c: "_Class", members: list[dict[tuple[int, tuple], int]]) -> bool:
     """The Schouten brackets [v_a/D, v_b/D] D^3 / 2 (a <= b; the symmetric form sum over cyclic (i, j, k) and l of
     v_a^il (D d_l v_b^jk - v_b^jk d_l D) + (a <-> b)), with the members' residues (by column) and D at the values,
-    linearly independent mod p: then sum c_a c_b [v_a, v_b] = 0 forces every c_a c_b = 0."""
+    linearly independent mod p: then sum c_a c_b [v_a, v_b] = 0 forces every c_a c_b = 0. (Values, then terms.)"""
     n, ring, zero = len(f.variables), f.ring, f.ring.constant(0)
     gens = [ring.gen(v) for v in f.variables]
     d = ring.substitute(c.denominator.num, dict(zip(ring.names[n:], c.fixed, strict=True)))
@@ -289,17 +290,21 @@ def _brackets_independent(f: KahanData, c: "_Class", members: list[dict[tuple[in
     def half(a: Callable, b: Callable, r: int, s: int, t: int) -> flint.fmpz_mpoly:
         return sum((a(r, ll) * (d * b(s, t).derivative(x) - b(s, t) * d.derivative(x))
                     for ll, x in enumerate(f.variables)), zero)
-    rows = []
-    for a, b in itertools.combinations_with_replacement(entries_of, 2):
-        row: dict[tuple[int, tuple], int] = {}
-        for ijk, (i, j, k) in enumerate(itertools.combinations(range(n), 3)):
-            total = sum((half(a, b, *rst) + half(b, a, *rst) for rst in ((i, j, k), (j, k, i), (k, i, j))), zero)
-            row.update({(ijk, tuple(m)): int(co) % c.p for m, co in total.to_dict().items()})
-        rows.append(row)
+    brackets = [[sum((half(a, b, *rst) + half(b, a, *rst) for rst in ((i, j, k), (j, k, i), (k, i, j))), zero)
+                 for i, j, k in itertools.combinations(range(n), 3)]
+                for a, b in itertools.combinations_with_replacement(entries_of, 2)]
+    values: list[list[int]] = [[] for _ in brackets]        # a linear image of the coefficients: full rank proves it
+    rng = random.Random(c.p)
+    for _ in range(len(brackets) + 2 if n >= 3 else 0):
+        point = [rng.randrange(c.p) for _ in ring.names]
+        for row, bracket in zip(values, brackets, strict=True):
+            row.extend(int(q(*point)) % c.p for q in bracket)
+        if flint.nmod_mat(values, c.p).rank() == len(brackets):
+            return True
+    rows = [{(ijk, tuple(m)): int(co) % c.p for ijk, q in enumerate(bracket) for m, co in q.to_dict().items()}
+            for bracket in brackets]
     keys = sorted({key for row in rows for key in row})
-    if not keys:
-        return False
-    return flint.nmod_mat([[row.get(key, 0) for key in keys] for row in rows], c.p).rank() == len(rows)
+    return bool(keys) and flint.nmod_mat([[row.get(key, 0) for key in keys] for row in rows], c.p).rank() == len(rows)
 
 
 class _Class:

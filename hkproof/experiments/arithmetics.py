@@ -5,6 +5,7 @@ approximate.py hold the arithmetics that are faster and say how sure they are.
 """
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from typing import Any, Callable, Sequence
@@ -56,6 +57,7 @@ class Prepared:
     rhs: list[tuple[Number, tuple[tuple[int, Number], ...]]]
     basis: list[tuple[tuple, tuple]]
     matrices: Any = None  # arithmetic-specific form of M0, M_k, b0, B (see ModP)
+    integer_basis: Any = None  # ExactQ: the basis with integer coefficients over one denominator (IntegerPoly)
 
 
 class FieldArithmetic(Arithmetic):
@@ -189,6 +191,37 @@ def integer_rows(rows: Sequence[Sequence[flint.fmpq]]) -> flint.fmpz_mat:
     return flint.fmpz_mat(out)
 
 
+@dataclass(frozen=True)
+class IntegerPoly:
+    """A compiled polynomial sum_t c_t x^e_t as (sum_t n_t x^e_t) / den with integers n_t: evaluated at x = a / D
+    (integers a over one D) as sum_t n_t a^e_t D^(top - |e_t|) / (den D^top), in integers until one last quotient."""
+
+    den: int
+    top: int
+    terms: tuple[tuple[flint.fmpz, tuple[tuple[int, int], ...], int], ...]  # (n_t, ((variable, exponent), ...), |e_t|)
+
+    @classmethod
+    def of(cls, poly: tuple) -> IntegerPoly:
+        den = math.lcm(1, *(int(c.q) for c, _ in poly))
+        terms = tuple((flint.fmpz(c.p * (den // int(c.q))), exps, sum(e for _, e in exps)) for c, exps in poly)
+        return cls(den, max((k for *_, k in terms), default=0), terms)
+
+    def numerator_at(self, a: Sequence[flint.fmpz], scale: flint.fmpz, powers: dict[tuple[int, int], flint.fmpz]
+                     ) -> flint.fmpz:
+        """sum_t n_t a^e_t scale^(top - |e_t|); `powers` caches a_i^e and scale^j (key (-1, j)) across calls."""
+        def power(i: int, e: int) -> flint.fmpz:
+            if (i, e) not in powers:
+                powers[(i, e)] = (a[i] if i >= 0 else scale) ** e
+            return powers[(i, e)]
+        total = flint.fmpz(0)
+        for n, exps, k in self.terms:
+            term = n
+            for i, e in exps:
+                term *= power(i, e)
+            total += term * power(-1, self.top - k) if k < self.top else term
+        return total
+
+
 class ExactQ(FieldArithmetic):
     """Exact rational arithmetic (fmpq_mat solves; ranks and kernels on fmpz_mat): the reference answer."""
 
@@ -196,6 +229,22 @@ class ExactQ(FieldArithmetic):
 
     def number(self, q: flint.fmpq) -> flint.fmpq:
         return q
+
+    def basis_row(self, prep: Prepared, x: Sequence[flint.fmpq]) -> list[flint.fmpq]:
+        """(phi_1(x), ..., phi_l(x)) in integers over the common denominator of x (`IntegerPoly`): one rational
+        quotient per function instead of a rational product per term."""
+        if prep.integer_basis is None:
+            prep.integer_basis = [(IntegerPoly.of(num), IntegerPoly.of(den)) for num, den in prep.basis]
+        scale = flint.fmpz(math.lcm(*(int(v.q) for v in x)))
+        a = [v.p * (scale // v.q) for v in x]
+        powers: dict[tuple[int, int], flint.fmpz] = {}
+        row = []
+        for num, den in prep.integer_basis:
+            bottom = den.numerator_at(a, scale, powers) * num.den * scale ** num.top
+            if bottom == 0:
+                raise ZeroDivisionError("a basis function's denominator vanishes on the orbit")
+            row.append(flint.fmpq(num.numerator_at(a, scale, powers) * den.den * scale ** den.top, bottom))
+        return row
 
     def watch(self, steps: int) -> Callable[[int, Sequence[Number]], None]:
         """Exact orbits whose heights grow exponentially are stopped before the costly steps (HeightGuard)."""

@@ -12,6 +12,7 @@ Casimirs (Pi grad C = 0) and involution ({I, J} = grad I . Pi grad J = 0) are ex
 from __future__ import annotations
 
 import itertools
+import random
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -176,16 +177,36 @@ def brackets_independent_mod(members: Sequence[Bivector], p: int) -> bool:
     """The brackets [Pi_a, Pi_b] (a <= b) of bivectors with one denominator and residue coefficients (a basis of a
     kernel mod p at one specialization) are linearly independent mod p: then no member sum c_a Pi_a != 0 satisfies
     Jacobi mod p ([sum c_a Pi_a, same] = sum c_a c_b [Pi_a, Pi_b]); for one bivector, [Pi, Pi] != 0 mod p."""
+    brackets = [schouten(members[a], members[b])
+                for a, b in itertools.combinations_with_replacement(range(len(members)), 2)]
+    if _values_independent_mod(brackets, p):
+        return True
     rows: list[dict[tuple[int, tuple[int, ...]], int]] = []
-    for a, b in itertools.combinations_with_replacement(range(len(members)), 2):
+    for bracket in brackets:
         row = {}
-        for k, q in enumerate(schouten(members[a], members[b])):
+        for k, q in enumerate(bracket):
             row.update({(k, tuple(m)): int(c) % p for m, c in q.to_dict().items() if int(c) % p})
         rows.append(row)
     keys = sorted({key for row in rows for key in row})
     if not keys:
         return False
     return int(flint.nmod_mat([[row.get(key, 0) for key in keys] for row in rows], p).rank()) == len(rows)
+
+
+def _values_independent_mod(rows: Sequence[Sequence[flint.fmpz_mpoly]], p: int) -> bool:
+    """Rows of polynomial vectors whose values at random points mod p (a linear image of their coefficients) have
+    full row rank: then the rows are linearly independent mod p. False says nothing (the coefficients decide)."""
+    if not rows or not rows[0]:               # dimension < 3: a bracket has no components
+        return False
+    rng, nvars = random.Random(p), rows[0][0].context().nvars()
+    values: list[list[int]] = [[] for _ in rows]
+    for _ in range(len(rows) + 2):
+        point = [rng.randrange(p) for _ in range(nvars)]
+        for row, polys in zip(values, rows, strict=True):
+            row.extend(int(q(*point)) % p for q in polys)
+        if int(flint.nmod_mat(values, p).rank()) == len(rows):
+            return True
+    return False
 
 
 def compatible(a: Bivector, b: Bivector) -> bool:
