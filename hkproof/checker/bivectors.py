@@ -271,40 +271,42 @@ def _fixed_basis(torus: CheckedTorus, cols: list[tuple[int, tuple]], n: int) -> 
 
 
 def _brackets_independent(f: KahanData, c: "_Class", members: list[dict[tuple[int, tuple], int]]) -> bool:
-    """The Schouten brackets [v_a/D, v_b/D] D^3 / 2 (a <= b; the symmetric form sum over cyclic (i, j, k) and l of
-    v_a^il (D d_l v_b^jk - v_b^jk d_l D) + (a <-> b)), with the members' residues (by column) and D at the values,
-    linearly independent mod p: then sum c_a c_b [v_a, v_b] = 0 forces every c_a c_b = 0. (Values, then terms.)"""
-    n, ring, zero = len(f.variables), f.ring, f.ring.constant(0)
-    gens = [ring.gen(v) for v in f.variables]
+    """The brackets [v_a/D, v_b/D] D^3 / 2 (a <= b; sum over cyclic (i, j, k) and l of v_a^il (D d_l v_b^jk -
+    v_b^jk d_l D) + (a <-> b)), members' residues and D at the values, independent mod p (then sum c_a c_b [v_a, v_b]
+    = 0 forces every c_a c_b = 0): their values at points mod p, a linear image of their coefficients, from those of
+    v, D and their first derivatives, have full rank (points that do not show it prove nothing: refused)."""
+    n, p, ring, rng = len(f.variables), c.p, f.ring, random.Random(c.p)
     d = ring.substitute(c.denominator.num, dict(zip(ring.names[n:], c.fixed, strict=True)))
-    entries_of = []
-    for member in members:
-        upper: dict[tuple[int, int], flint.fmpz_mpoly] = {}
-        for (k, m), value in member.items():
-            term = ring.constant(value)
-            for g, e in zip(gens, m, strict=True):
-                term *= g ** e
-            upper[_pairs(n)[k]] = upper.get(_pairs(n)[k], zero) + term
-        entries_of.append(lambda i, j, u=upper: u.get((i, j), zero) if i <= j else -u.get((j, i), zero))
-
-    def half(a: Callable, b: Callable, r: int, s: int, t: int) -> flint.fmpz_mpoly:
-        return sum((a(r, ll) * (d * b(s, t).derivative(x) - b(s, t) * d.derivative(x))
-                    for ll, x in enumerate(f.variables)), zero)
-    brackets = [[sum((half(a, b, *rst) + half(b, a, *rst) for rst in ((i, j, k), (j, k, i), (k, i, j))), zero)
-                 for i, j, k in itertools.combinations(range(n), 3)]
-                for a, b in itertools.combinations_with_replacement(entries_of, 2)]
-    values: list[list[int]] = [[] for _ in brackets]        # a linear image of the coefficients: full rank proves it
-    rng = random.Random(c.p)
+    grad_d = [d.derivative(x) for x in f.variables]
+    pair_index = {pair: k for k, pair in enumerate(_pairs(n))}
+    brackets = list(itertools.combinations_with_replacement(range(len(members)), 2))
+    values: list[list[int]] = [[] for _ in brackets]
     for _ in range(len(brackets) + 2 if n >= 3 else 0):
-        point = [rng.randrange(c.p) for _ in ring.names]
-        for row, bracket in zip(values, brackets, strict=True):
-            row.extend(int(q(*point)) % c.p for q in bracket)
-        if flint.nmod_mat(values, c.p).rank() == len(brackets):
+        x = [rng.randrange(p) for _ in ring.names]
+        dx, grad = int(d(*x)) % p, [int(g(*x)) % p for g in grad_d]
+        jets = []                                   # member -> (v^k(x), d_l v^k(x)) for each pair k
+        for member in members:
+            val, der = [0] * len(pair_index), [[0] * n for _ in pair_index]
+            for (k, m), value in member.items():
+                mono = [pow(x[t], e, p) for t, e in enumerate(m)]
+                val[k] += value * math.prod(mono)
+                for ll in (ll for ll in range(n) if m[ll]):
+                    der[k][ll] += value * m[ll] * math.prod(mono[:ll] + [pow(x[ll], m[ll] - 1, p)] + mono[ll + 1:])
+            jets.append((val, der))
+
+        def entry(a: int, i: int, j: int, ll: int | None = None) -> int:
+            k = pair_index.get((min(i, j), max(i, j)))
+            v = 0 if k is None else jets[a][0][k] if ll is None else jets[a][1][k][ll]
+            return v if i < j else -v
+
+        def half(a: int, b: int, r: int, s_: int, t: int) -> int:
+            return sum(entry(a, r, ll) * (dx * entry(b, s_, t, ll) - entry(b, s_, t) * grad[ll]) for ll in range(n))
+        for row, (a, b) in zip(values, brackets, strict=True):
+            row.extend(sum(half(a, b, *rst) + half(b, a, *rst) for rst in ((i, j, k), (j, k, i), (k, i, j))) % p
+                       for i, j, k in itertools.combinations(range(n), 3))
+        if flint.nmod_mat(values, p).rank() == len(brackets):
             return True
-    rows = [{(ijk, tuple(m)): int(co) % c.p for ijk, q in enumerate(bracket) for m, co in q.to_dict().items()}
-            for bracket in brackets]
-    keys = sorted({key for row in rows for key in row})
-    return bool(keys) and flint.nmod_mat([[row.get(key, 0) for key in keys] for row in rows], c.p).rank() == len(rows)
+    return False
 
 
 class _Class:

@@ -51,12 +51,10 @@ def read_torus(f: KahanData, data: Any, denominator: Frac, p: int, where: str) -
     const = lambda q: Frac(ring, ring.constant(int(q.p)), ring.constant(int(q.q)))  # noqa: E731
     ax = [sum((const(a[i][j]) * Frac(ring, xs[j]) for j in range(n)), Frac(ring, ring.constant(0))) for i in range(n)]
     for i, fi in enumerate(f.rhs):
-        flow = sum((fi.derivative(v) * ax[k] for k, v in enumerate(f.variables)),
-                   Frac(ring, ring.constant(0)))
+        flow = sum((fi.derivative(v) * ax[k] for k, v in enumerate(f.variables)), Frac(ring, ring.constant(0)))
         if flow != sum((const(a[i][j]) * f.rhs[j] for j in range(n)), Frac(ring, ring.constant(0))):
             raise Refutation(f"{where}: [A x, F] != 0 in component {i + 1}: A is no symmetry of the field")
-    grad = sum((denominator.derivative(v) * ax[k] for k, v in enumerate(f.variables)),
-               Frac(ring, ring.constant(0)))
+    grad = sum((denominator.derivative(v) * ax[k] for k, v in enumerate(f.variables)), Frac(ring, ring.constant(0)))
     ratio = grad / denominator
     if not ratio.num.is_constant() or not ratio.den.is_constant():
         raise Refutation(f"{where}: grad D . A x is no constant multiple of D: the torus does not keep the class")

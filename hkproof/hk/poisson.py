@@ -176,15 +176,14 @@ def is_poisson(pi: Bivector) -> bool:
 def brackets_independent_mod(members: Sequence[Bivector], p: int) -> bool:
     """The brackets [Pi_a, Pi_b] (a <= b) of bivectors with one denominator and residue coefficients (a basis of a
     kernel mod p at one specialization) are linearly independent mod p: then no member sum c_a Pi_a != 0 satisfies
-    Jacobi mod p ([sum c_a Pi_a, same] = sum c_a c_b [Pi_a, Pi_b]); for one bivector, [Pi, Pi] != 0 mod p."""
-    brackets = [schouten(members[a], members[b])
-                for a, b in itertools.combinations_with_replacement(range(len(members)), 2)]
-    if _values_independent_mod(brackets, p):
+    Jacobi mod p ([sum c_a Pi_a, same] = sum c_a c_b [Pi_a, Pi_b]); for one bivector, [Pi, Pi] != 0 mod p. Decided
+    by their values at points first (`_bracket_values_independent`), else by their coefficients."""
+    if _bracket_values_independent(members, p):
         return True
     rows: list[dict[tuple[int, tuple[int, ...]], int]] = []
-    for bracket in brackets:
+    for a, b in itertools.combinations_with_replacement(range(len(members)), 2):
         row = {}
-        for k, q in enumerate(bracket):
+        for k, q in enumerate(schouten(members[a], members[b])):
             row.update({(k, tuple(m)): int(c) % p for m, c in q.to_dict().items() if int(c) % p})
         rows.append(row)
     keys = sorted({key for row in rows for key in row})
@@ -193,18 +192,38 @@ def brackets_independent_mod(members: Sequence[Bivector], p: int) -> bool:
     return int(flint.nmod_mat([[row.get(key, 0) for key in keys] for row in rows], p).rank()) == len(rows)
 
 
-def _values_independent_mod(rows: Sequence[Sequence[flint.fmpz_mpoly]], p: int) -> bool:
-    """Rows of polynomial vectors whose values at random points mod p (a linear image of their coefficients) have
-    full row rank: then the rows are linearly independent mod p. False says nothing (the coefficients decide)."""
-    if not rows or not rows[0]:               # dimension < 3: a bracket has no components
+def _bracket_values_independent(members: Sequence[Bivector], p: int) -> bool:
+    """The values of the polynomials `schouten(a, b)` (a <= b) at random points mod p, a linear image of their
+    coefficients, have full row rank: then the brackets are independent mod p (False says nothing). Each value
+    comes from the values of Q, D and their first derivatives at the point: no bracket is expanded."""
+    if not members or len(members[0].variables) < 3:        # no components (dimension < 3)
         return False
-    rng, nvars = random.Random(p), rows[0][0].context().nvars()
-    values: list[list[int]] = [[] for _ in rows]
-    for _ in range(len(rows) + 2):
-        point = [rng.randrange(p) for _ in range(nvars)]
-        for row, polys in zip(values, rows, strict=True):
-            row.extend(int(q(*point)) % p for q in polys)
-        if int(flint.nmod_mat(values, p).rank()) == len(rows):
+    n, ring = len(members[0].variables), members[0].ring
+    idx = [ring.index(v) for v in members[0].variables]
+    polys = [[*m.upper, m.denominator] for m in members]                 # Q_ij (i < j), then D
+    grads = [[[q.derivative(k) for k in idx] for q in qs] for qs in polys]
+    index = {pair: k for k, pair in enumerate(pairs(n))}
+    brackets = list(itertools.combinations_with_replacement(range(len(members)), 2))
+    rng, nvars = random.Random(p), polys[0][0].context().nvars()
+    values: list[list[int]] = [[] for _ in brackets]
+    for _ in range(len(brackets) + 2):
+        x = [rng.randrange(p) for _ in range(nvars)]
+        val = [[int(q(*x)) % p for q in qs] for qs in polys]
+        der = [[[int(g(*x)) % p for g in gs] for gs in gss] for gss in grads]
+
+        def q_at(a: int, i: int, j: int, l: int | None = None) -> int:
+            k = index.get((min(i, j), max(i, j)))
+            v = 0 if k is None else val[a][k] if l is None else der[a][k][l]
+            return v if i < j else -v
+
+        def half(a: int, b: int, i: int, j: int, k: int) -> int:      # schouten's half, at x
+            d_b, grad_b = val[b][-1], der[b][-1]
+            return sum(q_at(a, i, l) * (d_b * q_at(b, j, k, l) - q_at(b, j, k) * grad_b[l]) for l in range(n))
+        for row, (a, b) in zip(values, brackets, strict=True):
+            row.extend(sum(half(a, b, r, s, t) * val[a][-1] + half(b, a, r, s, t) * val[b][-1]
+                           for r, s, t in ((i, j, k), (j, k, i), (k, i, j))) % p
+                       for i, j, k in itertools.combinations(range(n), 3))
+        if int(flint.nmod_mat(values, p).rank()) == len(brackets):
             return True
     return False
 
