@@ -370,10 +370,7 @@ def _search_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random,
     if top:
         member = _kernel_member(scene, degree, ranks, rng, report, budget)
         if member is not None and member.certificate is not None and member.certificate.status.is_verified:
-            dimension = sum(b.columns - b.rank for b in ranks)
-            cert = kernel_certificate(scene.kmap, scene.den.text(), degree, scene.prime, dimension, report.fixed)
-            report.kernels.append(ScreenedKernel(scene.name, scene.den.text(), degree, dimension, cert, member,
-                                                 rebuilt=True))
+            _record_kernel(scene, degree, ranks, member, report, rebuilt=True)
     if scene.torus is not None:
         if all(b.character[-1] == 0 for b in ranks if b.rank < b.columns) and _fixed_route(scene, plain):
             plain = dataclasses.replace(plain, fixed=scene.torus.generator, _bases={})
@@ -405,10 +402,17 @@ def _screen_class(scene: _Scene, plain: _Scene, degree: int, rng: random.Random,
     for d in range(degree + 1):
         ranks = top if d == degree else _ranks(scene, d, rng, report, stages, budget)[0]
         if any(b.rank < b.columns for b in ranks):
-            dimension = sum(b.columns - b.rank for b in ranks)
-            cert = kernel_certificate(scene.kmap, scene.den.text(), d, scene.prime, dimension, report.fixed)
-            report.kernels.append(ScreenedKernel(scene.name, scene.den.text(), d, dimension, cert, member))
+            _record_kernel(scene, d, ranks, member, report)
             return
+
+
+def _record_kernel(scene: _Scene, degree: int, ranks: list[BlockRank], member: NoPoisson | None,
+                   report: PoissonReport, rebuilt: bool = False) -> None:
+    """A class's kernel mod p at `degree` in the report's kernels, with the certificate of its proof kernel."""
+    dimension = sum(b.columns - b.rank for b in ranks)
+    cert = kernel_certificate(scene.kmap, scene.den.text(), degree, scene.prime, dimension, report.fixed)
+    report.kernels.append(ScreenedKernel(scene.name, scene.den.text(), degree, dimension, cert, member,
+                                         rebuilt=rebuilt))
 
 
 def _kernel_member(scene: _Scene, degree: int, top: list[BlockRank], rng: random.Random, report: PoissonReport,
