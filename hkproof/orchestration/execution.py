@@ -6,10 +6,10 @@ from __future__ import annotations
 import concurrent.futures
 import itertools
 import logging
+import math
 import multiprocessing
 import multiprocessing.connection
 import os
-import math
 import signal
 import time
 import uuid
