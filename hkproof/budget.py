@@ -81,6 +81,11 @@ class Budget:
         shift = time.time() - time.monotonic()
         return {**self.__dict__, "started": self.started + shift, "deadline": self.deadline + shift}
 
+    def __dask_tokenize__(self) -> tuple:
+        """Dask's key for a task that carries this budget: the budget itself (its pickled state holds a wall-clock time,
+        which Dask would refuse as a non-deterministic token)."""
+        return ("hkproof.Budget", id(self), self.seconds, self.memory_mb)
+
     def __setstate__(self, state: dict) -> None:
         shift = time.monotonic() - time.time()
         self.__dict__.update(state, started=state["started"] + shift, deadline=state["deadline"] + shift,

@@ -89,3 +89,22 @@ def test_a_proof_running_on_a_dask_worker_spreads_its_parts_on_the_same_cluster(
             return Budget(60).call_each("parts of a claim", lambda k: k + 10, 5), len(inner.stages)
 
     assert cluster.submit(claim_like, pure=False).result(timeout=60) == ([10, 11, 12, 13, 14], 1)
+
+
+def test_a_task_that_carries_a_budget_has_a_dask_key():
+    """discover --executor dask maps step 5d's coordinates (dataclasses holding the command's Budget) through Dask's
+    executor, which tokenizes its arguments: the budget's pickled state holds a wall-clock time, so it names its own
+    token (without it: TokenizationError, an internal error of the command)."""
+    from dataclasses import dataclass
+
+    from dask.base import tokenize
+
+    @dataclass(frozen=True)
+    class Job:
+        seed: int
+        budget: Budget
+
+    import dask
+    budget = Budget(60)
+    with dask.config.set({"tokenize.ensure-deterministic": True}):       # what made Dask's executor refuse the job
+        assert tokenize(Job(1, budget)) == tokenize(Job(1, budget)) != tokenize(Job(2, budget))
