@@ -325,6 +325,9 @@ class _Client:
     def get_executor(self):
         return None
 
+    def nthreads(self):                 # DaskSpread counts the cluster's slots
+        return {"worker": 1}
+
     def close(self):
         pass
 

@@ -15,7 +15,7 @@ import copyreg
 
 import flint
 
-__all__: list[str] = []
+__all__ = ["register"]
 
 
 def _context(names: tuple[str, ...], ordering: str) -> flint.fmpz_mpoly_ctx:
@@ -35,5 +35,10 @@ def _reduce_polynomial(p: flint.fmpz_mpoly) -> tuple:
     return _polynomial, (p.context(), [tuple(int(e) for e in m) for m in p.monoms()], [int(c) for c in p.coeffs()])
 
 
-copyreg.pickle(flint.fmpz_mpoly_ctx, _reduce_context)
-copyreg.pickle(flint.fmpz_mpoly, _reduce_polynomial)
+def register() -> None:
+    """Teach pickle (and Dask's cloudpickle) to send FLINT's polynomials over Z and their contexts as data."""
+    copyreg.pickle(flint.fmpz_mpoly_ctx, _reduce_context)
+    copyreg.pickle(flint.fmpz_mpoly, _reduce_polynomial)
+
+
+register()
