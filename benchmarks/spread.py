@@ -2,7 +2,7 @@
 identity checked by forked children and by a local Dask cluster of 1 and 2 workers, its finest task graph (one
 task per value of the first lattice name) timed task by task, and what 4 to 64 workers would give by that graph's
 critical path; and the whole `discover` command on 1 and 2 Dask workers. Writes the section "Beyond one machine"
-of docs/performance-frontier.md.
+of docs/performance-frontier.md (between its markers).
 
     python benchmarks/spread.py          # about 5 minutes on 2 cores
 
@@ -15,7 +15,6 @@ from __future__ import annotations
 import argparse
 import heapq
 import platform
-import re
 import subprocess
 import sys
 import time
@@ -30,6 +29,8 @@ from hkproof.budget import Budget, spread_on
 from hkproof.hk import row_check
 from hkproof.orchestration.execution import DaskSpread, dask_client
 from hkproof.pipelines.discover import discover
+
+from docs_section import write_section
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "performance-frontier.md"
 SECTION = "## Beyond one machine"
@@ -120,15 +121,6 @@ def section(rows: dict[str, Any]) -> str:
     return "\n".join(out) + "\n"
 
 
-def write(text: str) -> None:
-    """Replace (or add) the section in docs/performance-frontier.md, keeping the rest of the page."""
-    page = DOC.read_text()
-    pattern = re.compile(re.escape(SECTION) + r"\n.*?(?=\n## |\Z)", re.S)
-    page = pattern.sub(lambda _: text.rstrip("\n") + "\n", page) if SECTION in page else \
-        page.rstrip("\n") + "\n\n" + text
-    DOC.write_text(page)
-
-
 def main() -> None:
     argparse.ArgumentParser(description=__doc__).parse_args()
     terms, factors, names, free, what = capture()
@@ -147,9 +139,7 @@ def main() -> None:
     rows["fine"], rows["tasks"] = (holds, wall), tasks
     print(rows["runs"], flush=True)
     rows["command"] = {jobs: command(jobs) for jobs in (1, 2)}
-    text = section(rows)
-    write(text)
-    print(text)
+    print(write_section(DOC, "spread", section(rows).rstrip("\n").split("\n")))
     print(f"wrote {DOC}")
 
 
