@@ -18,6 +18,7 @@ from typing import Sequence
 
 import flint
 
+from hkproof import budget
 from hkproof.algebra.fraction import Frac, homogenized_compose, poly_str
 from hkproof.algebra.linalg import lcm, rank_over_fraction_field
 from hkproof.algebra.ring import Ring
@@ -177,16 +178,11 @@ def brackets_independent_mod(members: Sequence[Bivector], p: int) -> bool:
     """The brackets [Pi_a, Pi_b] (a <= b) of bivectors with one denominator and residue coefficients (a basis of a
     kernel mod p at one specialization) are linearly independent mod p: then no member sum c_a Pi_a != 0 satisfies
     Jacobi mod p ([sum c_a Pi_a, same] = sum c_a c_b [Pi_a, Pi_b]); for one bivector, [Pi, Pi] != 0 mod p. Shown by
-    their values at random points (`_bracket_values_independent`); False when the values do not show it (then the
-    brackets are dependent, but for a chance of about deg/p per point: the checker decides the same way)."""
-    return _bracket_values_independent(members, p)
-
-
-def _bracket_values_independent(members: Sequence[Bivector], p: int) -> bool:
-    """The values of the polynomials `schouten(a, b)` (a <= b) at up to N + 2 random points mod p (N brackets), a
-    linear image of their coefficients, have full row rank: then the brackets are independent mod p. Each value
-    comes from the values of Q, D and their first derivatives at the point: no bracket is expanded (the Gaudin
-    magnet's 21 brackets at degree 7 have about a million terms)."""
+    the values of the polynomials `schouten(a, b)` at up to N + 2 random points mod p (N brackets), a linear image of
+    their coefficients, when they have full row rank; each value comes from the values of Q, D and their first
+    derivatives at the point, no bracket is expanded (the Gaudin magnet's 21 brackets at degree 7 have about a
+    million terms). False when the values do not show it: then the brackets are dependent, but for a chance of
+    about deg/p per point (the checker decides the same way)."""
     if not members or len(members[0].variables) < 3:        # no components (dimension < 3)
         return False
     n, ring = len(members[0].variables), members[0].ring
@@ -198,6 +194,7 @@ def _bracket_values_independent(members: Sequence[Bivector], p: int) -> bool:
     rng, nvars = random.Random(p), polys[0][0].context().nvars()
     values: list[list[int]] = [[] for _ in brackets]
     for _ in range(len(brackets) + 2):
+        budget.check("the Schouten brackets of a kernel's members at a point mod p")
         x = [rng.randrange(p) for _ in range(nvars)]
         val = [[int(q(*x)) % p for q in qs] for qs in polys]
         der = [[[int(g(*x)) % p for g in gs] for gs in gss] for gss in grads]

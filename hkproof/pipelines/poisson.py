@@ -81,9 +81,10 @@ class ExcludedClass:
 
 @dataclass
 class NoPoisson:
-    """The top degree's kernel in the field's coordinates: its sign character, the block's rank and points, the other
-    characters' blocks (full column rank), and whether a member may satisfy Jacobi mod p (the brackets of a basis are
-    dependent); when none can, the certificate of the theorem "no invariant Q/D of the class is Poisson"."""
+    """The top degree's kernel in the field's coordinates: one block per sign character holding part of it (rank and
+    points), the other characters' blocks (full column rank), and whether a member may satisfy Jacobi mod p (the
+    brackets of the members are dependent); when none can, the certificate of "no invariant Q/D of the class is
+    Poisson"."""
     kernels: list[BlockRank]      # one per sign character holding part of the kernel
     others: list[BlockRank]
     poisson_mod_p: bool
