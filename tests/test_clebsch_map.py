@@ -76,3 +76,10 @@ def test_invariant_measures_of_the_clebsch_map():
     for name in ("P1", "P2"):
         p = sympy.sympify(str(cert.values[name]), locals=symbols)
         assert p.subs({**at, **image}) == det * p.subs(at), name
+
+
+@pytest.mark.slow
+def test_nambu_poisson_structure_of_the_clebsch_map():
+    """Rank 2 with the four integrals as Casimirs, eps and w symbolic; a claimed rank 4 is refuted."""
+    assert proven("dc-nambu-poisson").status is Status.VERIFIED
+    assert get_claim("dc-nambu-poisson").prove({"rank": "4"}).status is Status.REFUTED

@@ -1,7 +1,7 @@
 """Exact linear algebra: fraction-free determinants and Cramer's rule over Z[v]; ranks and kernels over Q and Z/p."""
 from __future__ import annotations
 
-from typing import Mapping, Sequence
+from typing import Mapping, Sequence, TypeVar
 
 import flint
 
@@ -10,11 +10,12 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.errors import ShapeError, SingularSystemError
 
-__all__ = ["clear_row_denominators", "cleared_system", "cramer", "cramer_polynomials", "det", "LAPLACE_MAX", "lcm",
+__all__ = ["clear_row_denominators", "cleared_system", "cramer", "cramer_polynomials", "det", "Element", "LAPLACE_MAX", "lcm",
            "maximal_minors", "nullspace_q", "pivots_at", "PolyMatrix", "primitive_vector", "q_matrix", "rank_over_fraction_field", "rank_q",
            "solve_by_inverse", "solve_cleared", "solve_overdetermined"]
 
 PolyMatrix = Sequence[Sequence[flint.fmpz_mpoly]]
+Element = TypeVar("Element", flint.fmpz_mpoly, flint.fmpq)
 
 LAPLACE_MAX = 8
 
@@ -35,19 +36,20 @@ def _det_laplace(matrix: PolyMatrix) -> flint.fmpz_mpoly:
     return maximal_minors(matrix).get((1 << n) - 1, matrix[0][0] - matrix[0][0])
 
 
-def maximal_minors(matrix: PolyMatrix) -> dict[int, flint.fmpz_mpoly]:
-    """All non-zero n x n minors of an n x m matrix (m >= n), keyed by the bit mask of their columns.
+def maximal_minors(matrix: Sequence[Sequence[Element]]) -> dict[int, Element]:
+    """All non-zero n x n minors of an n x m matrix (m >= n) of polynomials or rationals, keyed by the bit mask of
+    their columns.
 
     Expansion along rows from the bottom, memoizing the minor of the last rows on each column subset, so
     that the minors share their sub-minors (one pass gives det M and every Cramer numerator of [M | b]).
     """
     n, m = len(matrix), len(matrix[0])
     one = matrix[0][0] - matrix[0][0] + 1
-    minors: dict[int, flint.fmpz_mpoly] = {0: one}
+    minors: dict[int, Element] = {0: one}
     for size in range(1, n + 1):
         budget.check(f"the minors of size {size} of a {n} x {m} polynomial matrix")
         row = matrix[n - size]
-        new: dict[int, flint.fmpz_mpoly] = {}
+        new: dict[int, Element] = {}
         for mask, sub in minors.items():
             for j in range(m):
                 bit = 1 << j

@@ -14,7 +14,7 @@ from __future__ import annotations
 import itertools
 import random
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Callable, Sequence
 
 import flint
 
@@ -145,20 +145,26 @@ def _congruence(a: Sequence[Sequence[flint.fmpz_mpoly]], q: Sequence[Sequence[fl
 
 
 # ---- Schouten bracket, rank, Casimirs, involution ----------------------------------------------------------------------
-def schouten(a: Bivector, b: Bivector) -> list[flint.fmpz_mpoly]:
+def schouten(a: Bivector, b: Bivector, derivation: Callable[[flint.fmpz_mpoly, int], flint.fmpz_mpoly] | None = None
+             ) -> list[flint.fmpz_mpoly]:
     """[Pi_a, Pi_b]^ijk (i < j < k) times D_a^2 D_b^2: sum over cyclic (i, j, k) and l of
-    Pi_a^il d_l Pi_b^jk + Pi_b^il d_l Pi_a^jk (zero for both iff the two are compatible; [Pi, Pi] = 0 is Jacobi)."""
+    Pi_a^il d_l Pi_b^jk + Pi_b^il d_l Pi_a^jk (zero for both iff the two are compatible; [Pi, Pi] = 0 is Jacobi).
+    `derivation(p, l)`: d_l p, the partial derivative in the l-th phase variable unless given (hkproof.hk.nambu
+    passes the total derivative of a ring of jets)."""
     ring, n = a.ring, len(a.variables)
-    idx = [ring.index(v) for v in a.variables]
+    if derivation is None:
+        idx = [ring.index(v) for v in a.variables]
+        derivation = lambda p, l: p.derivative(idx[l])  # noqa: E731
+    d_ = derivation
     da, db = a.denominator, b.denominator
-    grad_da = [da.derivative(k) for k in idx]
-    grad_db = [db.derivative(k) for k in idx]
+    grad_da = [d_(da, k) for k in range(n)]
+    grad_db = [d_(db, k) for k in range(n)]
 
     def half(p: Bivector, q: Bivector, dp: flint.fmpz_mpoly, dq: flint.fmpz_mpoly, grad_dq: list,
              i: int, j: int, k: int) -> flint.fmpz_mpoly:
         # sum_l Q_p^il (D_q d_l Q_q^jk - Q_q^jk d_l D_q), times D_p D_q^2 relative to Pi_p^il d_l Pi_q^jk
         qjk = q.entry(j, k)
-        return sum((p.entry(i, l) * (dq * qjk.derivative(idx[l]) - qjk * grad_dq[l]) for l in range(n)
+        return sum((p.entry(i, l) * (dq * d_(qjk, l) - qjk * grad_dq[l]) for l in range(n)
                     if l != i), ring.constant(0))
     out = []
     for i, j, k in itertools.combinations(range(n), 3):

@@ -19,7 +19,7 @@ import itertools
 import random
 import time
 from dataclasses import dataclass, field
-from typing import Any, Callable, Mapping, Sequence, TypeVar
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Sequence, TypeVar
 
 import flint
 import numpy as np
@@ -39,6 +39,7 @@ from hkproof.errors import BudgetExhausted, HKProofError, SingularSystemError, U
 from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.hk.fixed_columns import FixedColumns, commutes_with_signs, fixed_columns
 from hkproof.hk.jacobian import matrix_identity_holds
+from hkproof.hk.nambu import NambuStructure, prove_nambu
 from hkproof.hk.poisson import Bivector, brackets_independent_mod, pairs
 from hkproof.hk.poisson_proofs import (BlockRank, StructureProof, compatibility_step, exclusion_certificate,
                                        involution_certificate, kernel_certificate, no_poisson_certificate,
@@ -51,6 +52,9 @@ from hkproof.pipelines.poisson_candidates import Denominator, candidate_denomina
 from hkproof.pipelines.stages import Progress, Stages
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status, specialized_label
+
+if TYPE_CHECKING:
+    from hkproof.pipelines.darboux import DarbouxSearch
 
 __all__ = ["ExcludedClass", "MAX_POISSON_DEGREE", "NoPoisson", "PoissonReport", "ScreenedKernel", "search_poisson",
            "with_integrals"]
@@ -138,6 +142,7 @@ class PoissonReport:
     seconds: dict[str, float] = field(default_factory=dict)
     stopped: str = ""
     kernels: list[ScreenedKernel] = field(default_factory=list)     # --screen: classes with a kernel; or no-poisson
+    nambu: list[NambuStructure] = field(default_factory=list)      # P W(grad I): from the integrals and a density
 
     @property
     def complete(self) -> bool:
@@ -172,6 +177,7 @@ class PoissonReport:
                          "no_poisson": None if k.no_poisson is None else {
                              "degree": self.degree, "status": label(k.no_poisson.status),
                              "statement": k.no_poisson.statement}} for k in self.kernels],
+            "nambu": [s.to_dict(label) for s in self.nambu],
             "costs": self.costs,
             "seconds": {k: round(v, 3) for k, v in self.seconds.items()},
             "notes": self.notes, "complete": self.complete, "stopped": self.stopped or None}
@@ -209,6 +215,12 @@ class PoissonReport:
             if k["no_poisson"] is not None:
                 lines.append(f"  [{k['no_poisson']['status']}] D = {k['denominator_name']}: no invariant Q/D with deg Q "
                              f"<= {self.degree} is Poisson (no member of its kernel mod p satisfies Jacobi)")
+        for nb in d["nambu"]:
+            la = "; with the further integral " + ", ".join(nb["hamiltonians"]) + ": Liouville-Arnold integrable " \
+                "(r = 1)" if nb["liouville_arnold"] else ""
+            lines.append(f"  [{nb['status']}] Nambu structure {nb['formula']}, P = {nb['density'][3:-1]}"[:160])
+            lines.append(f"      invariant and Poisson, rank {nb['rank']}, Casimirs {', '.join(nb['casimirs'])} "
+                         f"(degree {nb['degree']}, {nb['terms']} terms){la}")
         for c in self.costs:
             lines.append(f"  cost: D = {c['denominator']}, degree {c['degree']}: {c['columns']} unknowns in "
                          f"{c['blocks']} block(s), {c['rows']} rows, kernel {c['kernel']}, {c['seconds']:.2f} s")
@@ -773,6 +785,7 @@ def with_integrals(kmap: KahanMap, degree: int, denominators: Sequence[Frac] = (
     if integrals_degree > 0:
         rep = discover(kmap.field, integrals_degree, seed=seed, budget=budget, progress=progress)
         found = [(i.name, i.frac) for i in rep.integrals if i.frac is not None and i.status.is_verified]
+    densities: list[tuple[str, flint.fmpz_mpoly, Status]] = []
     sources = []
     for k, d in enumerate(denominators):
         if not d.is_polynomial() or d.num.is_zero():
@@ -784,6 +797,7 @@ def with_integrals(kmap: KahanMap, degree: int, denominators: Sequence[Frac] = (
             search = search_darboux(kmap, darboux_degree, seed=seed, fixed=fixed)
         if search.symbolic:         # at fixed values otherwise: not a candidate for every parameter value
             sources += [(f"P{k + 1} of measure", p.poly) for k, p in enumerate(search.darboux)]
+            densities = nambu_densities(kmap, search)
     candidates = candidate_denominators(kmap.ring.constant(1), kmap.variables, sources)
     if only:
         unknown = [name for name in only if name not in {d.name for d in candidates}]
@@ -791,5 +805,21 @@ def with_integrals(kmap: KahanMap, degree: int, denominators: Sequence[Frac] = (
             raise HKProofError(f"no candidate class {', '.join(unknown)}: the candidates are "
                                + ", ".join(d.name for d in candidates))
         candidates = [d for d in candidates if d.name in only]
-    return search_poisson(kmap, degree, denominators=candidates, seed=seed, integrals=lambda _: found,
-                          progress=progress, fixed=fixed, budget=budget, screen=screen)
+    report = search_poisson(kmap, degree, denominators=candidates, seed=seed, integrals=lambda _: found,
+                            progress=progress, fixed=fixed, budget=budget, screen=screen)
+    n = len(kmap.variables)
+    if densities and n >= 3 and len(found) >= n - 2:
+        started = time.perf_counter()
+        with budget.active():
+            report.nambu.append(prove_nambu(kmap, [(a, h, Status.VERIFIED) for a, h in found], densities[0], fixed))
+        report.seconds["nambu"] = time.perf_counter() - started
+    return report
+
+
+def nambu_densities(kmap: KahanMap, search: DarbouxSearch) -> list[tuple[str, flint.fmpz_mpoly, Status]]:
+    """The invariant densities 1/P of `measure`'s search (P = 1 when det Df = 1), fewest terms first."""
+    out = [("1", kmap.ring.constant(1), Status.VERIFIED if search.jacobian_lemma else Status.UNKNOWN)
+           ] if not any(search.jacobian.exponents) else []
+    out += sorted(((poly_str(d.poly), d.poly, d.status) for d in search.darboux if d.cofactor == search.jacobian),
+                  key=lambda d: len(d[1]))
+    return out

@@ -8,6 +8,7 @@ is also what a negative result ("no further integral of this degree") rests on. 
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Mapping
@@ -19,13 +20,16 @@ from hkproof.hk.certified_integrals import jacobian_points
 from hkproof.hk.independence import max_jacobian_rank
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.pipelines.discover import DiscoveryReport, discover
-from hkproof.pipelines.poisson import with_integrals
+from hkproof.hk.nambu import prove_nambu
+from hkproof.pipelines.darboux import search_darboux
+from hkproof.pipelines.poisson import nambu_densities, with_integrals
 from hkproof.pipelines.poisson_certificate import poisson_steps
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import recall
 
-__all__ = ["Entry", "GROUP", "prove_integrals", "prove_kernels", "prove_liouville_arnold", "run"]
+__all__ = ["ENTRIES", "Entry", "GROUP", "prove_integrals", "prove_kernels", "prove_liouville_arnold",
+           "prove_nambu_liouville_arnold", "run"]
 
 GROUP = "atlas"
 
@@ -39,6 +43,10 @@ class Entry:
     params: tuple[tuple[str, str], ...]
     liouville: int          # Casimirs + half the rank of the Poisson structure (docs/atlas.md)
     seconds: float = 240.0
+
+
+ENTRIES: dict[str, Entry] = {}
+"""The registered entries by system name."""
 
 
 @lru_cache(maxsize=None)
@@ -107,6 +115,7 @@ def _register(entry: Entry, title: str, statement: str, independent: int, new_di
               claimed={"independent": str(independent)}, slow=slow, shares=f"discover {key}",
               expected=Status.VERIFIED_SPECIALIZED if entry.params else Status.VERIFIED)(
             lambda cert, claimed: prove_integrals(cert, claimed, entry))
+    ENTRIES[key] = entry
     kernels = (f"New kernel dimensions by degree 1..{entry.degree}: {new_dimensions}; the kernel coordinates carry "
                f"{gradient_rank} independent integrals (evidence(exact))")
     claim(f"atlas-{key}-kernels", GROUP, f"{title}: kernels of all monomials of degree <= {entry.degree}",
@@ -251,3 +260,40 @@ def _euler_top_liouville_arnold(cert: Certificate, claimed: Mapping[str, str]) -
        claimed={"structures": "4", "rank": "2"}, slow=True)
 def _zhukovsky_volterra_liouville_arnold(cert: Certificate, claimed: Mapping[str, str]) -> None:
     prove_liouville_arnold(cert, claimed, "zhukovsky-volterra-1", 5, darboux_degree=0)
+
+
+def prove_nambu_liouville_arnold(cert: Certificate, claimed: Mapping[str, str], system: str, darboux_degree: int
+                                 ) -> None:
+    """Liouville-Arnold integrability by a Nambu structure (docs/poisson.md): the integrals of the atlas entry, the
+    densities of measure, Pi = P W(grad I_1, ..., grad I_(n-2)) proven by hkproof.hk.nambu (rank 2, the n - 2 Casimirs),
+    and one further independent integral (r = 1: involution holds for one)."""
+    entry = ENTRIES[system]
+    kmap = kahan_map(system)
+    with cert.step("integrals and densities", f"discover at degree {entry.degree} (each integral by exact "
+                   f"substitution); measure at degree {darboux_degree} (P o f = det Df P exact)", kmap.ring) as s:
+        found = [(i.name, i.frac, i.status) for i in run(entry).integrals if i.frac is not None]
+        densities = nambu_densities(kmap, search_darboux(kmap, darboux_degree))
+        s.require(bool(densities), f"measure finds no density of degree <= {darboux_degree}")
+        s.note(f"integrals {', '.join(n for n, _, _ in found)}; density 1/({densities[0][0]})")
+    for name, h, _ in found:
+        cert.formula(name, h)
+    out = prove_nambu(kmap, found, densities[0], cert=cert)
+    integrable = out.liouville_arnold       # read before the next step opens (an open step is not yet verified)
+    with cert.step("Liouville-Arnold: rank 2, n - 2 Casimirs, one further integral", "the steps above; functional "
+                   "independence of the Casimirs and the further integral by an exact Jacobian rank", kmap.ring) as s:
+        s.require(str(out.rank) == claimed["rank"].strip() and str(len(out.casimirs)) == claimed["casimirs"].strip(),
+                  f"rank {out.rank} with {len(out.casimirs)} Casimirs, the claim says rank {claimed['rank']} with "
+                  f"{claimed['casimirs']}")
+        s.require(integrable, "no proven integral is independent of the Casimirs")
+        s.note(f"Casimirs {', '.join(n for n, _ in out.casimirs)}; further integral {out.hamiltonians[0][0]}")
+
+
+for _system, _n, _casimirs in (("volterra-3", 3, 1), ("volterra-4", 4, 2)):
+    claim(f"atlas-{_system}-liouville-arnold", GROUP,
+          f"{_system}: the Kahan map is Liouville-Arnold integrable (a Nambu structure)",
+          "issue 38; docs/atlas.md, docs/poisson.md (Nambu structures); Byrnes-Haggar-Quispel 1999",
+          f"With {_casimirs} of its integrals I_k and an invariant density 1/P of measure, Pi = P W(grad I) is an "
+          f"invariant Poisson structure of rank 2 in dimension {_n} whose Casimirs are those integrals, and a further "
+          "proven integral is independent of them (r = 1, involution trivial): Liouville-Arnold integrable",
+          claimed={"rank": "2", "casimirs": str(_casimirs)}, shares=f"discover {_system}")(
+        functools.partial(prove_nambu_liouville_arnold, system=_system, darboux_degree=4))

@@ -13,16 +13,18 @@ from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.integrals import lie_derivative
 from hkproof.hk.jacobian import matrix_identity_holds
 from hkproof.hk.matrix_form import require_matrix_form
-from hkproof.orchestration.registry import claim
+from hkproof.hk.nambu import prove_nambu
+from hkproof.orchestration.registry import claim, require_proven
 from hkproof.pipelines.darboux import search_darboux
+from hkproof.pipelines.discover import discover
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.export import darboux_step
 from hkproof.proof.status import Status
-from hkproof.theorems._clebsch import SYSTEM, H, X, cycled, named, number, shift
+from hkproof.theorems._clebsch import SYSTEM, H, X, cycled, named, number, recall, shift
 from hkproof.theorems._common import parse, parse_matrix
 
 __all__ = ["GROUP", "MATRIX", "prove_complexity", "prove_continuous", "prove_equations", "prove_explicit",
-           "prove_invariant_measures", "prove_reversibility", "prove_symmetries", "TILDE_EQUATIONS"]
+           "prove_invariant_measures", "prove_nambu_poisson", "prove_reversibility", "prove_symmetries", "TILDE_EQUATIONS"]
 
 GROUP = "clebsch-map"
 TILDE_EQUATIONS = {
@@ -246,3 +248,32 @@ def prove_invariant_measures(cert: Certificate, claimed: Mapping[str, str]) -> N
         cert.formula(name, value)
     cert.checks.append(darboux_step(f.field, [f"P{k + 1}" for k in range(len(polys))], polys, DET_DF, ratios,
                                     [(f"rho{k + 1}", 1 / p, f"1/(P{k + 1})") for k, p in enumerate(polys)]))
+
+
+@claim("dc-nambu-poisson", GROUP, "An invariant Poisson structure of the discrete Clebsch map (rank 2, beyond the paper)",
+       "sec. 7 names invariant Poisson structures of the discrete Clebsch system as unknown; issue 38; docs/clebsch.md, "
+       "docs/poisson.md (Nambu structures); Byrnes-Haggar-Quispel 1999",
+       "With the four functionally independent integrals I1..I4 that `discover clebsch` proves and the invariant "
+       "density 1/P1 of dc-invariant-measures, Pi = P1 W(grad I1, ..., grad I4) (W the dual of dI1 ^ ... ^ dI4 "
+       "against dm dp) is an invariant Poisson structure of the discrete Clebsch map, eps and w symbolic, of rank 2 "
+       "with the Casimirs I1..I4. It does not make the map Liouville-Arnold integrable: that needs a fifth "
+       "independent integral (rank 2) or a structure of rank 4",
+       claimed={"rank": "2", "casimirs": "4"}, slow=True, uses=["dc-invariant-measures"])
+def prove_nambu_poisson(cert: Certificate, claimed: Mapping[str, str]) -> None:
+    f = kahan_map(SYSTEM)
+    measures = require_proven(cert, "dc-invariant-measures")
+    density = recall(measures, "P1", f.ring)
+    with cert.step("the integrals of discover", "discover clebsch at degree 2: kernels mod p, sparse reconstruction "
+                   "with eps and w symbolic, I o f = I by exact substitution", f.ring) as s:
+        found = [(i.name, i.frac, i.status) for i in discover(f.field, 2).integrals if i.frac is not None]
+        s.require(all(st.is_verified for _, _, st in found), "an integral of discover is not verified")
+        s.note(", ".join(f"{name}: {len(h.num)} + {len(h.den)} terms" for name, h, _ in found))
+    for name, h, _ in found:
+        cert.formula(name, h)
+    out = prove_nambu(f, found, ("P1", density.num, Status.VERIFIED), cert=cert)
+    with cert.step("the claim's rank and Casimirs", "read from the steps above", f.ring) as s:
+        s.require(str(out.rank) == claimed["rank"].strip() and str(len(out.casimirs)) == claimed["casimirs"].strip(),
+                  f"rank {out.rank} with {len(out.casimirs)} Casimirs, the claim says rank {claimed['rank']} with "
+                  f"{claimed['casimirs']}")
+        s.note(f"Casimirs {', '.join(n for n, _ in out.casimirs)}; further independent integrals: "
+               f"{', '.join(n for n, _ in out.hamiltonians) or 'none'}")
