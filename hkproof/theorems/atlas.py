@@ -8,10 +8,9 @@ is also what a negative result ("no further integral of this degree") rests on. 
 """
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Mapping
+from typing import Callable, Mapping
 
 from hkproof.dynamics.catalogue import SO4_SPLIT, get_system, kahan_map
 from hkproof.budget import Budget
@@ -288,6 +287,12 @@ def prove_nambu_liouville_arnold(cert: Certificate, claimed: Mapping[str, str], 
         s.note(f"Casimirs {', '.join(n for n, _ in out.casimirs)}; further integral {out.hamiltonians[0][0]}")
 
 
+def _nambu_prover(system: str) -> Callable[[Certificate, Mapping[str, str]], None]:
+    def prove(cert: Certificate, claimed: Mapping[str, str]) -> None:
+        prove_nambu_liouville_arnold(cert, claimed, system, 4)
+    return prove
+
+
 for _system, _n, _casimirs in (("volterra-3", 3, 1), ("volterra-4", 4, 2)):
     claim(f"atlas-{_system}-liouville-arnold", GROUP,
           f"{_system}: the Kahan map is Liouville-Arnold integrable (a Nambu structure)",
@@ -296,4 +301,4 @@ for _system, _n, _casimirs in (("volterra-3", 3, 1), ("volterra-4", 4, 2)):
           f"invariant Poisson structure of rank 2 in dimension {_n} whose Casimirs are those integrals, and a further "
           "proven integral is independent of them (r = 1, involution trivial): Liouville-Arnold integrable",
           claimed={"rank": "2", "casimirs": str(_casimirs)}, shares=f"discover {_system}")(
-        functools.partial(prove_nambu_liouville_arnold, system=_system, darboux_degree=4))
+        _nambu_prover(_system))
