@@ -62,7 +62,7 @@ def one(system: str, degree: int) -> dict[str, Any]:
         started = time.perf_counter()
         nambu_bivector(kmap.ring, kmap.variables, [h for _, h in out.casimirs], densities[0][1])
         row.update(expand_s=time.perf_counter() - started, terms=sum(len(q) for q in pi.upper) + len(pi.denominator),
-                   degree_pi=pi.degree())
+                   degree_pi=int(pi.degree()))
         if row["terms"] <= DIRECT_TERMS:
             started = time.perf_counter()
             row["direct"] = invariance_holds(kmap, pi) and is_poisson(pi)

@@ -219,8 +219,9 @@ class PoissonReport:
             la = "; with the further integral " + ", ".join(nb["hamiltonians"]) + ": Liouville-Arnold integrable " \
                 "(r = 1)" if nb["liouville_arnold"] else ""
             lines.append(f"  [{nb['status']}] Nambu structure {nb['formula']}, P = {nb['density'][3:-1]}"[:160])
+            size = "not expanded" if nb["terms"] is None else f"degree {nb['degree']}, {nb['terms']} terms"
             lines.append(f"      invariant and Poisson, rank {nb['rank']}, Casimirs {', '.join(nb['casimirs'])} "
-                         f"(degree {nb['degree']}, {nb['terms']} terms){la}")
+                         f"({size}){la}")
         for c in self.costs:
             lines.append(f"  cost: D = {c['denominator']}, degree {c['degree']}: {c['columns']} unknowns in "
                          f"{c['blocks']} block(s), {c['rows']} rows, kernel {c['kernel']}, {c['seconds']:.2f} s")
