@@ -196,7 +196,7 @@ class NambuStructure:
         return {"formula": f"P * W({', '.join(f'grad {n}' for n, _ in self.casimirs)})", "density": f"1/({self.density})",
                 "casimirs": [n for n, _ in self.casimirs], "hamiltonians": [n for n, _ in self.hamiltonians],
                 "rank": self.rank, "status": label(self.status), "liouville_arnold": self.liouville_arnold,
-                "degree": None if pi is None else pi.degree(), "terms": terms,
+                "degree": None if pi is None else int(pi.degree()), "terms": terms,
                 "matrix": pi.texts() if pi is not None and terms is not None and terms <= MATRIX_TERMS else None,
                 "certificate": self.certificate.to_dict()}
 
