@@ -158,3 +158,19 @@ def test_poisson_reports_the_nambu_structure() -> None:
     assert entry["status"] == "verified" and entry["rank"] == 2 and entry["liouville_arnold"]
     assert entry["casimirs"] == ["I1"] and entry["hamiltonians"] == ["I2"] and len(entry["matrix"]) == 3
     assert "Nambu structure P * W(grad I1)" in report.text()
+
+
+@pytest.mark.slow          # about 3 minutes: measure's Darboux search in a dense chart (0.1 s in the catalogue's)
+def test_euler_top_nambu_in_a_random_affine_chart() -> None:
+    """Metamorphic: in a random affine chart y = T x + c the Euler top's Kahan map is still Liouville-Arnold
+    integrable by a Nambu structure (the construction and its proof do not depend on the chart)."""
+    import random
+
+    from hkproof.dynamics.catalogue import get_system
+    from hkproof.hk.affine_chart import random_change, transformed
+
+    field = transformed(get_system("euler-top"), random_change(3, random.Random(3), "affine"), "euler-top-affine")
+    kmap = kahan_map(field)
+    ints = [(i.name, i.frac, i.status) for i in discover(field, 2).integrals if i.frac is not None]
+    out = prove_nambu(kmap, ints, nambu_densities(kmap, search_darboux(kmap, 4))[0])
+    assert out.status is Status.VERIFIED and out.rank == 2 and out.liouville_arnold
