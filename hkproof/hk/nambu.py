@@ -29,6 +29,7 @@ from typing import Any, Mapping, Sequence
 
 import flint
 
+from hkproof import budget
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import Element, lcm, maximal_minors
 from hkproof.algebra.ring import Rational, Ring, get_ring
@@ -36,12 +37,12 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ShapeError, SingularPointError
 from hkproof.hk.certified_integrals import jacobian_points
 from hkproof.hk.independence import gradient_at, max_jacobian_rank
-from hkproof.hk.poisson import Bivector, pairs, schouten
+from hkproof.hk.poisson import Bivector, antisymmetric, pairs, schouten
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 
 __all__ = ["NambuStructure", "UNIVERSAL_IDENTITIES", "independent_subset", "nambu_bivector", "nambu_dual",
-           "prove_nambu", "rank_at", "universal_identity"]
+           "prove_nambu", "rank_at", "require_claimed", "universal_identity"]
 
 UNIVERSAL_IDENTITIES = {
     "transformation": "A W(g A) A^T = det(A) W(g) in Z[A, g]",
@@ -99,11 +100,7 @@ def rank_at(ring: Ring, variables: Sequence[str], integrals: Sequence[Frac], den
     except SingularPointError:
         return 0
     p = flint.fmpq(ring.evaluate(density, point))
-    n = len(variables)
-    matrix = [[flint.fmpq(0)] * n for _ in range(n)]
-    for (i, j), w in zip(pairs(n), nambu_dual(rows), strict=True):
-        matrix[i][j], matrix[j][i] = p * w, -p * w
-    return int(flint.fmpq_mat(matrix).rank())
+    return int(flint.fmpq_mat(antisymmetric([p * w for w in nambu_dual(rows)], len(variables), flint.fmpq(0))).rank())
 
 
 @functools.lru_cache(maxsize=None)
@@ -121,10 +118,11 @@ def _transformation_holds(n: int) -> bool:
     a = [[ring.gen(f"a{p}_{q}") for q in range(n)] for p in range(n)]
     g = [[ring.gen(f"g{k}_{i}") for i in range(n)] for k in range(n - 2)]
     ga = [[sum((g[k][p] * a[p][q] for p in range(n)), ring.constant(0)) for q in range(n)] for k in range(n - 2)]
-    w = _full(nambu_dual(ga), n, ring)
+    w = antisymmetric(nambu_dual(ga), n, ring.constant(0))
     det_a = maximal_minors(a)[(1 << n) - 1]
     right = nambu_dual(g)
     for (p, q), r in zip(pairs(n), right, strict=True):
+        budget.check("the universal transformation identity of Nambu bivectors")
         left = sum((a[p][i] * a[q][j] * w[i][j] for i, j in itertools.product(range(n), repeat=2)
                     if not w[i][j].is_zero()), ring.constant(0))
         if left != det_a * r:
@@ -156,16 +154,9 @@ def _jacobi_holds(n: int) -> bool:
 def _casimir_holds(n: int) -> bool:
     ring = get_ring(tuple(f"g{k}_{i}" for k in range(n - 2) for i in range(n)))
     g = [[ring.gen(f"g{k}_{i}") for i in range(n)] for k in range(n - 2)]
-    w = _full(nambu_dual(g), n, ring)
+    w = antisymmetric(nambu_dual(g), n, ring.constant(0))
     return all(sum((w[i][j] * g[k][j] for j in range(n)), ring.constant(0)).is_zero()
                for k in range(n - 2) for i in range(n))
-
-
-def _full(upper: Sequence[flint.fmpz_mpoly], n: int, ring: Ring) -> list[list[flint.fmpz_mpoly]]:
-    out = [[ring.constant(0)] * n for _ in range(n)]
-    for (i, j), q in zip(pairs(n), upper, strict=True):
-        out[i][j], out[j][i] = q, -q
-    return out
 
 
 # ---- the proof ---------------------------------------------------------------------------------------------------------
@@ -271,3 +262,20 @@ def prove_nambu(kmap: KahanMap, integrals: Sequence[tuple[str, Frac, Status]], d
                             if c[0] not in names]
     return out
 
+
+def require_claimed(cert: Certificate, ring: Ring, out: NambuStructure, claimed: Mapping[str, str],
+                    liouville_arnold: bool = False) -> None:
+    """A claim's last step: the proven rank and number of Casimirs are the claimed `rank` and `casimirs`, and with
+    `liouville_arnold` a further proven integral is independent of them (r = 1)."""
+    integrable = out.liouville_arnold       # read before the step opens (an open step is not yet verified)
+    name, method = (("Liouville-Arnold: rank 2, n - 2 Casimirs, one further integral", "the steps above; functional "
+                     "independence of the Casimirs and the further integral by an exact Jacobian rank")
+                    if liouville_arnold else ("the claim's rank and Casimirs", "read from the steps above"))
+    with cert.step(name, method, ring) as s:
+        s.require(str(out.rank) == claimed["rank"].strip() and str(len(out.casimirs)) == claimed["casimirs"].strip(),
+                  f"rank {out.rank} with {len(out.casimirs)} Casimirs, the claim says rank {claimed['rank']} with "
+                  f"{claimed['casimirs']}")
+        if liouville_arnold:
+            s.require(integrable, "no proven integral is independent of the Casimirs")
+        s.note(f"Casimirs {', '.join(n for n, _ in out.casimirs)}; further independent integrals: "
+               f"{', '.join(n for n, _ in out.hamiltonians) or 'none'}")

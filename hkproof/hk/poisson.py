@@ -20,13 +20,13 @@ import flint
 
 from hkproof import budget
 from hkproof.algebra.fraction import Frac, homogenized_compose, poly_str
-from hkproof.algebra.linalg import lcm, rank_over_fraction_field
+from hkproof.algebra.linalg import Element as E, lcm, rank_over_fraction_field
 from hkproof.algebra.ring import Ring
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ShapeError
 from hkproof.hk.jacobian import pulled_matrix
 
-__all__ = ["Bivector", "bracket", "brackets_independent_mod", "casimir_combination", "compatible", "generic_rank",
+__all__ = ["antisymmetric", "Bivector", "bracket", "brackets_independent_mod", "casimir_combination", "compatible", "generic_rank",
            "invariance_holds", "is_casimir", "is_poisson", "pairs", "schouten"]
 
 
@@ -117,21 +117,20 @@ def invariance_holds(kmap: KahanMap, pi: Bivector) -> bool:
     dq = max((d for q, d in composed if not q.is_zero()), default=0)
     qt = [q * delta ** (dq - d) for q, d in composed]                   # Q(x~) Delta^dQ
     dt, dd = homogenized_compose(ring, pi.denominator, kmap.variables, nums, delta)   # D(x~) Delta^dD
-    full = lambda entries: [[_entry(entries, i, j, ring) for j in range(n)] for i in range(n)]  # noqa: E731
-    left = _congruence(m, full(qt), ring)
-    right = _congruence(mt, full(list(pi.upper)), ring)
+    left = _congruence(m, antisymmetric(qt, n, ring.constant(0)), ring)
+    right = _congruence(mt, antisymmetric(pi.upper, n, ring.constant(0)), ring)
     common = min(dd + 2, dq)                       # Delta^common cancels from both sides: smaller products
     scale_l = pi.denominator * delta ** (dd + 2 - common)
     scale_r = dt * delta ** (dq - common)
     return all(left[i][j] * scale_l == right[i][j] * scale_r for i, j in pairs(n))
 
 
-def _entry(upper: Sequence[flint.fmpz_mpoly], i: int, j: int, ring: Ring) -> flint.fmpz_mpoly:
-    if i == j:
-        return ring.constant(0)
-    n = int((1 + (1 + 8 * len(upper)) ** 0.5) / 2)
-    k = pairs(n).index((min(i, j), max(i, j)))
-    return upper[k] if i < j else -upper[k]
+def antisymmetric(upper: Sequence[E], n: int, zero: E) -> list[list[E]]:
+    """The n x n antisymmetric matrix with the entries `upper` above its diagonal (in the order of `pairs(n)`)."""
+    out = [[zero] * n for _ in range(n)]
+    for (i, j), q in zip(pairs(n), upper, strict=True):
+        out[i][j], out[j][i] = q, -q
+    return out
 
 
 def _congruence(a: Sequence[Sequence[flint.fmpz_mpoly]], q: Sequence[Sequence[flint.fmpz_mpoly]], ring: Ring
@@ -168,6 +167,7 @@ def schouten(a: Bivector, b: Bivector, derivation: Callable[[flint.fmpz_mpoly, i
                     if l != i), ring.constant(0))
     out = []
     for i, j, k in itertools.combinations(range(n), 3):
+        budget.check("a component of the Schouten bracket")
         total = ring.constant(0)
         for r, s, t in ((i, j, k), (j, k, i), (k, i, j)):
             total += half(a, b, da, db, grad_db, r, s, t) * da + half(b, a, db, da, grad_da, r, s, t) * db

@@ -19,7 +19,7 @@ from hkproof.hk.certified_integrals import jacobian_points
 from hkproof.hk.independence import max_jacobian_rank
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.pipelines.discover import DiscoveryReport, discover
-from hkproof.hk.nambu import prove_nambu
+from hkproof.hk.nambu import prove_nambu, require_claimed
 from hkproof.pipelines.darboux import search_darboux
 from hkproof.pipelines.poisson import nambu_densities, with_integrals
 from hkproof.pipelines.poisson_certificate import poisson_steps
@@ -276,15 +276,7 @@ def prove_nambu_liouville_arnold(cert: Certificate, claimed: Mapping[str, str], 
         s.note(f"integrals {', '.join(n for n, _, _ in found)}; density 1/({densities[0][0]})")
     for name, h, _ in found:
         cert.formula(name, h)
-    out = prove_nambu(kmap, found, densities[0], cert=cert)
-    integrable = out.liouville_arnold       # read before the next step opens (an open step is not yet verified)
-    with cert.step("Liouville-Arnold: rank 2, n - 2 Casimirs, one further integral", "the steps above; functional "
-                   "independence of the Casimirs and the further integral by an exact Jacobian rank", kmap.ring) as s:
-        s.require(str(out.rank) == claimed["rank"].strip() and str(len(out.casimirs)) == claimed["casimirs"].strip(),
-                  f"rank {out.rank} with {len(out.casimirs)} Casimirs, the claim says rank {claimed['rank']} with "
-                  f"{claimed['casimirs']}")
-        s.require(integrable, "no proven integral is independent of the Casimirs")
-        s.note(f"Casimirs {', '.join(n for n, _ in out.casimirs)}; further integral {out.hamiltonians[0][0]}")
+    require_claimed(cert, kmap.ring, prove_nambu(kmap, found, densities[0], cert=cert), claimed, liouville_arnold=True)
 
 
 def _nambu_prover(system: str) -> Callable[[Certificate, Mapping[str, str]], None]:

@@ -13,7 +13,7 @@ from hkproof.hk.independence import jacobian_rank_at, sample_point
 from hkproof.hk.integrals import lie_derivative
 from hkproof.hk.jacobian import matrix_identity_holds
 from hkproof.hk.matrix_form import require_matrix_form
-from hkproof.hk.nambu import prove_nambu
+from hkproof.hk.nambu import prove_nambu, require_claimed
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.pipelines.darboux import search_darboux
 from hkproof.pipelines.discover import discover
@@ -270,10 +270,4 @@ def prove_nambu_poisson(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.note(", ".join(f"{name}: {len(h.num)} + {len(h.den)} terms" for name, h, _ in found))
     for name, h, _ in found:
         cert.formula(name, h)
-    out = prove_nambu(f, found, ("P1", density.num, Status.VERIFIED), cert=cert)
-    with cert.step("the claim's rank and Casimirs", "read from the steps above", f.ring) as s:
-        s.require(str(out.rank) == claimed["rank"].strip() and str(len(out.casimirs)) == claimed["casimirs"].strip(),
-                  f"rank {out.rank} with {len(out.casimirs)} Casimirs, the claim says rank {claimed['rank']} with "
-                  f"{claimed['casimirs']}")
-        s.note(f"Casimirs {', '.join(n for n, _ in out.casimirs)}; further independent integrals: "
-               f"{', '.join(n for n, _ in out.hamiltonians) or 'none'}")
+    require_claimed(cert, f.ring, prove_nambu(f, found, ("P1", density.num, Status.VERIFIED), cert=cert), claimed)
