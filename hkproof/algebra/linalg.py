@@ -94,6 +94,7 @@ def cramer_polynomials(a: PolyMatrix, b: Sequence[flint.fmpz_mpoly], columns: Se
     for i in range(n):
         if i and b[i].is_zero():
             continue
+        budget.check(f"Cramer's rule: the cofactors of row {i + 1} of a {n} x {n} polynomial matrix")
         minors = maximal_minors([row for k, row in enumerate(a) if k != i])
         for j in range(n):
             minor = minors.get(full & ~(1 << j))

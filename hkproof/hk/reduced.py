@@ -21,6 +21,7 @@ __all__ = ["block_rows_at", "check_solution", "det_at_point", "even_components",
            "SolutionCheck", "solve_reduced_system", "system_at", "verify_by_evenness"]
 
 SolutionCheck = Callable[..., bool]
+SUBSTITUTION = "substitution back into every equation"
 
 
 @dataclass
@@ -115,11 +116,11 @@ def even_components(cert: Certificate, names: Sequence[str], solution: Sequence[
 
 def _prop_even_checks(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], target: Frac, names: Sequence[str],
                       iterates: Sequence[int], relations: Sequence[Relation], solution: Sequence[Frac],
-                      check: SolutionCheck | None = None) -> None:
-    """Checks (2)-(4) of Prop. "prop: even": hypotheses on the rows, evenness, substitution back."""
+                      check: SolutionCheck | None = None, check_method: str = SUBSTITUTION) -> None:
+    """Checks (2)-(4) of Prop. "prop: even": hypotheses on the rows, evenness, substitution back (or `check`)."""
     prop_even_hypotheses(cert, kmap, iterates, relations)
     even_components(cert, names, solution)
-    with cert.step("solution satisfies the system", "substitution back into every equation", kmap.ring) as s:
+    with cert.step("solution satisfies the system", check_method, kmap.ring) as s:
         s.require((check or check_solution)(kmap, basis, target, iterates, relations, solution),
                   "the computed solution does not satisfy the system")
 
@@ -127,12 +128,12 @@ def _prop_even_checks(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], 
 def verify_by_evenness(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac], target: Frac,
                        names: Sequence[str], candidate: Sequence[Frac], point: Mapping[str, Rational],
                        iterates: Sequence[int] = (0, 1), relations: Sequence[Relation] = (),
-                       check: SolutionCheck | None = None) -> list[Frac]:
+                       check: SolutionCheck | None = None, check_method: str = SUBSTITUTION) -> list[Frac]:
     """Prop. "prop: even" for a candidate solution found by any means (e.g. one Cramer component and symmetry).
 
     Uniqueness is proven by a non-zero value of the system's determinant at one rational point (so the
     determinant is not identically 0); then the same checks as `prove_by_evenness`, including substitution,
-    make the candidate the unique solution and its components integrals.
+    make the candidate the unique solution and its components integrals (`check_method` says how `check` decides).
     """
     ring = kmap.ring
     with cert.step("reduced system: unique solution (det not identically 0)",
@@ -143,7 +144,7 @@ def verify_by_evenness(cert: Certificate, kmap: KahanMap, basis: Sequence[Frac],
         s.note(f"det = {value} != 0 at the point, so the system has at most one solution")
         for n, a in zip(names, candidate, strict=True):
             cert.formula(n, a)
-    _prop_even_checks(cert, kmap, basis, target, names, iterates, relations, list(candidate), check)
+    _prop_even_checks(cert, kmap, basis, target, names, iterates, relations, candidate, check, check_method)
     _record(cert, kmap, basis, target, names, candidate, iterates, relations, point)
     return list(candidate)
 

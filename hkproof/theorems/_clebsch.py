@@ -12,6 +12,7 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Ring
 from hkproof.dynamics.catalogue import CLEBSCH_VARS
 from hkproof.dynamics.kahan import KahanMap
+from hkproof.hk.symmetries import SignedPermutation
 from hkproof.hk.translation import ParameterTranslation
 from hkproof.proof.certificate import Certificate
 
@@ -37,6 +38,12 @@ _CYCLE = {"m1": "m2", "m2": "m3", "m3": "m1", "p1": "p2", "p2": "p3", "p3": "p1"
           "w3": "w1", "d7": "d8", "d8": "d9", "d9": "d7", "g1": "g2", "g2": "g3", "g3": "g1"}
 
 
+CYCLIC_SHIFT = SignedPermutation(tuple((f"{x}{k}", f"{x}{k % 3 + 1}", 1) for x in "mp" for k in (1, 2, 3)),
+                                 tuple((f"w{k}", f"w{k % 3 + 1}") for k in (1, 2, 3)))
+"""The index shift 1 -> 2 -> 3 -> 1 on m, p and w, as a signed permutation (`hk.symmetries`): its `commutes` checks
+that it is a symmetry of a Kahan map exactly (tau(f_v) = f_(tau v) for every component)."""
+
+
 def cycled(text: str, times: int = 1) -> str:
     """The formula with every index shifted cyclically 1 -> 2 -> 3 -> 1, `times` times.
 
@@ -49,12 +56,6 @@ def cycled(text: str, times: int = 1) -> str:
 def shift(ring: Ring, p: flint.fmpz_mpoly) -> flint.fmpz_mpoly:
     """p with every index shifted cyclically (the renaming of `cycled`, done by one compose)."""
     return ring.substitute(p, {n: ring.gen(_CYCLE[n]) for n in ring.names if n in _CYCLE})
-
-
-def commutes_with_shift(kmap: KahanMap) -> bool:
-    """The index shift tau is a symmetry of the map: tau(f_v) = f_(tau v) for every component (exact)."""
-    comps = dict(zip(kmap.variables, kmap.components(), strict=True))
-    return all(shift_frac(comps[v]) == comps[_CYCLE[v]] for v in kmap.variables)
 
 
 def record(cert: Certificate, name: str, value: Frac) -> None:

@@ -27,20 +27,18 @@ from hkproof.hk.reduced import (
     Relation,
     block_rows_at,
     det_at_point,
-    hk_row,
     kernel_coordinates,
     linear_combination_equals,
     system_at,
-    verify_by_evenness,
 )
-from hkproof.hk.row_check import check_solution_by_rows
+from hkproof.hk.equivariant_solution import prove_by_symmetry
 from hkproof.hk.translation import ParameterTranslation
 from hkproof.hk.transport import Substitution, map_mismatches
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate, StepRecorder
 from hkproof.proof.export import substitution_step
 from hkproof.proof.status import Status
-from hkproof.theorems._clebsch import H, named, recall, record, shift_frac
+from hkproof.theorems._clebsch import CYCLIC_SHIFT, H, named, recall, record
 from hkproof.theorems._common import parse_matrix
 from hkproof.theorems.clebsch_flows.data import (
     B_OF_YZ,
@@ -603,15 +601,8 @@ def prove_second_theta(cert: Certificate, claimed: Mapping[str, str]) -> None:
     big_l = _cite_l(cert, f, "flow-second-theorem")
     rel = _theta_relation(cert, f, ("w1", "w2", "w3"), big_l, claimed["relation"])
     basis, h4 = _theta_basis(f)
-    with cert.step("candidate: g1 by Cramer's rule, g2, g3 by the cyclic symmetry", "one Cramer component over "
-                   "Q(m, p, eps, w); index shift 1 -> 2 -> 3 (the system is cyclically symmetric)", f.ring) as s:
-        rows, rhs = zip(*(hk_row(f, basis, h4, i) for i in (0, 1)), strict=True)
-        (g1,), _ = cramer([*rows, rel.coefficients], [*rhs, rel.rhs], columns=[0])
-        candidate = [g1, shift_frac(g1), shift_frac(shift_frac(g1))]
-        s.note("only a candidate: the next steps prove it is the unique solution (substitution into every row)")
     point = {k: v for k, v in RANK_POINT.items() if k in f.ring.names}
-    sol = verify_by_evenness(cert, f, basis, h4, THETA_NAMES, candidate, point, (0, 1), [rel],
-                             check=check_solution_by_rows)
+    sol = prove_by_symmetry(cert, f, basis, h4, THETA_NAMES, CYCLIC_SHIFT, point, (0, 1), [rel])
     for k, v in zip(THETA_NAMES, sol, strict=True):
         record(cert, k, v)
     _theta_kernel(cert, f, basis, h4)

@@ -26,7 +26,7 @@ from hkproof.hk.reduced import Relation, kernel_coordinates, system_at
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate, Refuted, StepRecorder
 from hkproof.proof.status import Status
-from hkproof.theorems._clebsch import commutes_with_shift, recall, record, shift_frac
+from hkproof.theorems._clebsch import CYCLIC_SHIFT, recall, record, shift_frac
 from hkproof.theorems.clebsch_bases_345.data import UNKNOWNS, bases
 from hkproof.theorems.clebsch_flows.general import (
     FLOW2,
@@ -165,7 +165,7 @@ def prove_l_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> No
 # ---------------------------------------------------------------- Phi1, Phi2, Phi3 with w symbolic: Prop. "prop: even" ---
 # The index shift tau (1 -> 2 -> 3 in m, p, w) carries Phi1 to Phi2 and Phi2 to Phi3: tau(Phi_k[PERM[j]]) = Phi_k+1[j]
 PERM = (2, 0, 1, 5, 3, 4, 6)
-INDEX_SHIFT = BlockSymmetry(shift_frac, commutes_with_shift, ((0, 1, PERM), (1, 2, PERM)))
+INDEX_SHIFT = BlockSymmetry(shift_frac, CYCLIC_SHIFT.commutes, ((0, 1, PERM), (1, 2, PERM)))
 
 
 def lifted_relations(claimed: Mapping[str, str], ring: Ring) -> list[Relation]:
