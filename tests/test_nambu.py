@@ -174,3 +174,18 @@ def test_euler_top_nambu_in_a_random_affine_chart() -> None:
     ints = [(i.name, i.frac, i.status) for i in discover(field, 2).integrals if i.frac is not None]
     out = prove_nambu(kmap, ints, nambu_densities(kmap, search_darboux(kmap, 4))[0])
     assert out.status is Status.VERIFIED and out.rank == 2 and out.liouville_arnold
+
+
+def test_the_volterra_liouville_arnold_claim_is_rechecked_by_the_checker() -> None:
+    """The claim's certificate carries its integrals and the expanded Nambu bivector (invariance, Jacobi, Casimirs):
+    `hkproof check` verifies them on its own; a Casimir that is not one is refuted."""
+    import copy
+    import json
+    from hkproof.checker import check_document
+    from hkproof.commands._certificates import theorem_document
+    doc = json.loads(json.dumps(theorem_document([proven("atlas-volterra-3-liouville-arnold")])))
+    assert check_document(doc).verdict == "verified"
+    assert [s["kind"] for s in doc["steps"]][-3:] == ["bivector-invariance", "jacobi", "casimir"]
+    wrong = copy.deepcopy(doc)
+    wrong["steps"][-1]["functions"] = ["I2"]
+    assert check_document(wrong).verdict == "refuted"

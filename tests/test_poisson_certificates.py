@@ -59,8 +59,8 @@ def test_a_changed_coefficient_is_refuted():
 def test_euler_top_pencil_casimirs_and_involution_round_trip():
     d = doc("euler-top", 3)
     kinds = [s["kind"] for s in d["steps"]]
-    assert kinds.count("bivector-invariance") == 3 and kinds.count("jacobi") == 6 and "involution" in kinds
-    assert "exclusion" in kinds and len(d["claim"]["bivectors"]) == 3
+    assert kinds.count("bivector-invariance") == 4 and kinds.count("jacobi") == 7 and "involution" in kinds
+    assert "exclusion" in kinds and len(d["claim"]["bivectors"]) == 4            # the pencil's three, the Nambu one
     assert verdict(d) == "verified"
 
 
@@ -150,9 +150,10 @@ def test_the_euler_top_liouville_arnold_claim_and_its_perturbation():
     from hkproof.proof.status import Status
     c = get_claim("atlas-euler-top-liouville-arnold")
     cert = c.prove()
-    # 2 integrals, 3 structures (invariance, Jacobi, Casimir), 3 compatible pairs, 2 involutions, and the 9 classes
-    # D != 1 of the factors of den(I1), den(I2) and of measure's Darboux polynomials excluded at degree 3
-    assert cert.status is Status.VERIFIED and len(cert.checks) == 25
+    # 2 integrals, 3 structures (invariance, Jacobi, Casimir), 3 compatible pairs, 2 involutions, the Nambu structure
+    # (invariance, Jacobi, Casimir), and the 9 classes D != 1 of the factors of den(I1), den(I2) and of measure's
+    # Darboux polynomials excluded at degree 3
+    assert cert.status is Status.VERIFIED and len(cert.checks) == 28
     assert sum(s["kind"] == "exclusion" for s in cert.checks) == 9
     assert c.prove({"rank": "4"}).status is Status.REFUTED
     assert c.prove({"structures": "2"}).status is Status.REFUTED
@@ -179,3 +180,16 @@ def test_the_zhukovsky_volterra_liouville_arnold_claim_checked_by_sympy_and_pert
     changed[0][1], changed[1][0] = f"2*({changed[0][1]})", f"2*({changed[1][0]})"
     assert sympy_check("zhukovsky-volterra-1", SimpleNamespace(texts=lambda: changed))[0] is False
     assert c.prove({"rank": "4"}).status is Status.REFUTED
+
+
+def test_a_small_nambu_structure_is_written_out_and_rechecked():
+    """The Nambu structure of the Euler top (its matrix small) goes into the file as bivector-invariance, jacobi and
+    casimir steps that the checker verifies by substitution into its own map; a changed entry is refuted."""
+    d = doc("euler-top", 1)
+    nambu = [s for s in d["steps"] if s.get("bivector") == "Nambu1" or s.get("name") == "Nambu1"
+             or s.get("bivectors") == ["Nambu1"]]
+    assert [s["kind"] for s in nambu] == ["bivector-invariance", "jacobi", "casimir"]
+    assert verdict(d) == "verified"
+    m = nambu[0]["matrix"]
+    m[0][2], m[2][0] = f"({m[0][2]}) + x1", f"-({m[0][2]}) - x1"      # antisymmetric still, not invariant
+    assert verdict(d) == "refuted"

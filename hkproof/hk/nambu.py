@@ -33,15 +33,17 @@ from hkproof import budget
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import Element, lcm, maximal_minors
 from hkproof.algebra.ring import Rational, Ring, get_ring
+from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ShapeError, SingularPointError
 from hkproof.hk.certified_integrals import jacobian_points
 from hkproof.hk.independence import gradient_at, max_jacobian_rank
 from hkproof.hk.poisson import Bivector, antisymmetric, pairs, schouten
 from hkproof.proof.certificate import Certificate, ProofStopped
+from hkproof.proof.export import bivector_invariance_step, casimir_step, jacobi_step
 from hkproof.proof.status import Status
 
-__all__ = ["NambuStructure", "UNIVERSAL_IDENTITIES", "independent_subset", "nambu_bivector", "nambu_dual",
+__all__ = ["bivector_steps", "NambuStructure", "UNIVERSAL_IDENTITIES", "independent_subset", "nambu_bivector", "nambu_dual",
            "prove_nambu", "rank_at", "require_claimed", "universal_identity"]
 
 UNIVERSAL_IDENTITIES = {
@@ -261,6 +263,19 @@ def prove_nambu(kmap: KahanMap, integrals: Sequence[tuple[str, Frac, Status]], d
         out.hamiltonians = [c for c in independent_subset(chosen + others, kmap.variables, n - 1)
                             if c[0] not in names]
     return out
+
+
+def bivector_steps(field: QuadraticField, structure: NambuStructure, name: str) -> list[dict]:
+    """The checker's steps for a proven Nambu structure whose matrix is written out (at most MATRIX_TERMS terms):
+    invariance by substitution into the checker's own map, Jacobi, and its Casimirs named as integrals (the caller
+    exports their substitution steps first); none otherwise. The checker has no Nambu step kind: it never takes the
+    construction on trust."""
+    pi = structure.bivector
+    if pi is None or not structure.status.is_verified or \
+            sum(len(q) for q in pi.upper) + len(pi.denominator) > MATRIX_TERMS:
+        return []
+    return [bivector_invariance_step(field, name, pi.texts()), jacobi_step(field, [name]),
+            casimir_step(field, name, [c for c, _ in structure.casimirs])]
 
 
 def require_claimed(cert: Certificate, ring: Ring, out: NambuStructure, claimed: Mapping[str, str],

@@ -1,10 +1,12 @@
 """The certificate file of `hkproof poisson` (docs/certificates.md, version 7): the integrals it uses, each verified
-bivector's invariance, Jacobi, Casimir, compatibility and involution steps, and each excluded class."""
+bivector's invariance, Jacobi, Casimir, compatibility and involution steps (the Nambu structure too, when its matrix is
+written out: the checker substitutes it into its own map), and each excluded class."""
 from __future__ import annotations
 
 from hkproof.algebra.formula import tokens
 from hkproof.algebra.fraction import poly_str
 from hkproof.dynamics.kahan import KahanMap
+from hkproof.hk.nambu import bivector_steps
 from hkproof.hk.torus import torus_data
 from hkproof.pipelines.poisson import PoissonReport
 from hkproof.proof.export import (bivector_invariance_step, casimir_step, document, exclusion_step, involution_step,
@@ -17,7 +19,8 @@ def poisson_document(kmap: KahanMap, report: PoissonReport) -> dict:
     """The certificate file of what `poisson` verified (empty steps: nothing to write)."""
     statement = (f"invariant bivectors of the Kahan map of {report.system}: "
                  f"{sum(s.status.is_verified for s in report.structures)} proven invariant, "
-                 f"{len(report.excluded)} class(es) excluded, "
+                 f"{sum(s.bivector is not None for s in report.nambu if s.status.is_verified)} Nambu structure(s) "
+                 f"written out, {len(report.excluded)} class(es) excluded, "
                  f"{sum(k.no_poisson is not None for k in report.kernels)} without a Poisson member")
     return document(f"poisson {report.system}", statement, poisson_steps(kmap, report),
                     {k: str(v) for k, v in report.fixed.items()})
@@ -27,9 +30,12 @@ def poisson_steps(kmap: KahanMap, report: PoissonReport) -> list[dict]:
     """The re-checkable steps (proof.export) of what `poisson` verified, in the order the checker needs them."""
     field, steps = kmap.field, []
     proven = [(k, s) for k, s in enumerate(report.structures) if s.status.is_verified]
+    nambu = [(nb, bivector_steps(field, nb, f"Nambu{k + 1}")) for k, nb in enumerate(report.nambu)]
     names = {n for n, _ in report.integrals}
-    if proven:
-        steps += [substitution_step(field, n, h) for n, h in report.integrals]
+    exported = dict(report.integrals) if proven else {}
+    for nb, written in nambu:
+        exported.update({n: h for n, h in nb.casimirs if written and n not in exported})
+    steps += [substitution_step(field, n, h) for n, h in exported.items()]
     for k, s in proven:
         name = f"Pi{k + 1}"
         steps.append(bivector_invariance_step(field, name, s.bivector.texts()))
@@ -45,6 +51,7 @@ def poisson_steps(kmap: KahanMap, report: PoissonReport) -> list[dict]:
         used = [n for n, _ in report.integrals if n not in casimirs]          # as the pipeline's involution step
         if cert.status.is_verified and k in verified and len(used) >= 2:
             steps.append(involution_step(field, f"Pi{k + 1}", used))
+    steps += [step for _, written in nambu for step in written]
     for e in report.excluded:
         if e.certificate.status.is_verified:
             steps.append(exclusion_step(field, e.text, e.degree, e.prime, e.values,

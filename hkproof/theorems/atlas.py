@@ -19,11 +19,12 @@ from hkproof.hk.certified_integrals import jacobian_points
 from hkproof.hk.independence import max_jacobian_rank
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.pipelines.discover import DiscoveryReport, discover
-from hkproof.hk.nambu import prove_nambu, require_claimed
+from hkproof.hk.nambu import bivector_steps, prove_nambu, require_claimed
 from hkproof.pipelines.darboux import search_darboux
 from hkproof.pipelines.poisson import nambu_densities, with_integrals
 from hkproof.pipelines.poisson_certificate import poisson_steps
 from hkproof.proof.certificate import Certificate
+from hkproof.proof.export import substitution_step
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import recall
 
@@ -276,7 +277,12 @@ def prove_nambu_liouville_arnold(cert: Certificate, claimed: Mapping[str, str], 
         s.note(f"integrals {', '.join(n for n, _, _ in found)}; density 1/({densities[0][0]})")
     for name, h, _ in found:
         cert.formula(name, h)
-    require_claimed(cert, kmap.ring, prove_nambu(kmap, found, densities[0], cert=cert), claimed, liouville_arnold=True)
+    structure = prove_nambu(kmap, found, densities[0], cert=cert)
+    require_claimed(cert, kmap.ring, structure, claimed, liouville_arnold=True)
+    written = bivector_steps(kmap.field, structure, "Pi")
+    if written:             # re-checkable on its own: the integrals by substitution, then the bivector's steps
+        cert.checks += [substitution_step(kmap.field, n, h) for n, h in [*structure.casimirs, *structure.hamiltonians]]
+        cert.checks += written
 
 
 def _nambu_prover(system: str) -> Callable[[Certificate, Mapping[str, str]], None]:
