@@ -7,7 +7,7 @@ import pytest
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import get_ring
-from hkproof.hk.expansion import even_pieces, homogeneous_eps_pieces, weighted_degrees
+from hkproof.hk.expansion import even_pieces, homogeneous_eps_pieces, support_stats, weighted_degrees
 from hkproof.proof.certificate import Refuted
 
 
@@ -45,3 +45,16 @@ def test_homogeneous_eps_pieces_reads_the_form_and_refutes_a_broken_one():
                         ("x**2/(1 + eps)", "not a polynomial"), ("x**2 + eps**6*x**8", "eps^2 of degree 2")):
         with pytest.raises(Refuted, match=re.escape(why)):
             homogeneous_eps_pieces(Frac.parse(r, broken), "eps", ("x", "y"), 3, 2, "h")
+
+
+@pytest.mark.parametrize("names", [("x", "y"), ("x", "z"), ("z",)])
+def test_support_stats_reads_the_monomials_in_the_given_names(names):
+    """Degrees, distinct monomials in `names` and terms, read term by term, against the plain dictionary."""
+    ring = get_ring(("x", "y", "z", "eps"))
+    x, y, z, e = (ring.gen(v) for v in ring.names)
+    p = (x + y * e + z ** 2 + 3) ** 4 - x ** 4 * (1 + e)
+    idx = [ring.index(n) for n in names]
+    monomials = {tuple(m[i] for i in idx) for m in p.to_dict()}
+    stats = support_stats(ring, p, names)
+    assert stats == {"degree": max(sum(m) for m in monomials), "monomials": len(monomials), "terms": len(p),
+                     "degrees": {n: max(m[k] for m in monomials) for k, n in enumerate(names)}}

@@ -5,6 +5,7 @@ from typing import Any, Sequence
 
 import flint
 
+from hkproof import budget
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Ring
 from hkproof.proof.certificate import Refuted
@@ -51,9 +52,20 @@ def weighted_degrees(ring: Ring, p: flint.fmpz_mpoly, weights: dict[str, int]) -
 
 
 def support_stats(ring: Ring, p: flint.fmpz_mpoly, names: Sequence[str]) -> dict[str, Any]:
-    """Size of p as a polynomial in `names` (coefficients in the other variables): degrees, monomials, terms."""
+    """Size of p as a polynomial in `names` (coefficients in the other variables): degrees, monomials, terms.
+
+    The exponents are read one term at a time (`monomial(i)`): only the distinct monomials in `names` are kept, never
+    a list of every term's exponents (for the 6.3 million terms of the Clebsch f o f's m1-numerator that list took
+    2 GB)."""
     idx = [ring.index(n) for n in names]
-    monomials = {tuple(m[i] for i in idx) for m in p.monoms()}
+    first, last = min(idx), max(idx) + 1
+    window = idx == list(range(first, last))
+    monomial, monomials = p.monomial, set()
+    for i in range(len(p)):
+        if not i & 0xFFFFF:
+            budget.check("reading the monomials of a large polynomial")
+        m = monomial(i)
+        monomials.add(m[first:last] if window else tuple(m[k] for k in idx))
     return {"degree": max((sum(m) for m in monomials), default=0),
             "degrees": {n: max((m[k] for m in monomials), default=0) for k, n in enumerate(names)},
             "monomials": len(monomials), "terms": len(p)}
