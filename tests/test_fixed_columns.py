@@ -170,3 +170,27 @@ def test_jacobi_mod_p_of_a_screened_kernel_and_of_residue_bivectors() -> None:
         verdicts.append(brackets_independent_mod(members, p))
         assert verdicts[-1] == coefficients
     assert True in verdicts and False in verdicts
+
+
+def test_bracket_relations_give_the_poisson_members_mod_p():
+    """The relations among the brackets, as symmetric forms: c c^T lies in their span exactly for the members that
+    satisfy Jacobi mod p (two constant bivectors, Poisson and compatible: the whole pencil), not for one that fails."""
+    from hkproof.algebra.ring import get_ring
+    from hkproof.hk.poisson import Bivector, bracket_relations_mod
+    names = ("x", "y", "z")
+    ring = get_ring(names)
+    x, y, z = (ring.gen(v) for v in names)
+    one, zero = ring.constant(1), ring.constant(0)
+    p = 1000003
+    members = [Bivector(ring, names, (one, zero, zero), one), Bivector(ring, names, (zero, zero, one), one),
+               Bivector(ring, names, (y, zero, z), one)]                                       # the last: v.curl v = z
+    forms = bracket_relations_mod(members, p)
+
+    def in_span(c: list[int]) -> bool:
+        vec = [[w[a][b] for a in range(3) for b in range(a, 3)] for w in forms]
+        target = [c[a] * c[b] % p for a in range(3) for b in range(a, 3)]
+        return flint.nmod_mat(vec + [target], p).rank() == flint.nmod_mat(vec, p).rank()
+    assert len(forms) == 4                      # [v1, v1], [v2, v2], [v1, v2] and [v1, v3] vanish
+    assert in_span([1, 0, 0]) and in_span([0, 1, 0]) and in_span([1, 5, 0])
+    assert not in_span([0, 0, 1]) and not in_span([1, 0, 1])
+    assert bracket_relations_mod(members[2:], p) == []

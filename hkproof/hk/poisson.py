@@ -13,8 +13,9 @@ from __future__ import annotations
 
 import itertools
 import random
+from collections import deque
 from dataclasses import dataclass
-from typing import Callable, Sequence
+from typing import Callable, Iterator, Sequence
 
 import flint
 
@@ -26,7 +27,7 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ShapeError
 from hkproof.hk.jacobian import pulled_matrix
 
-__all__ = ["antisymmetric", "Bivector", "bracket", "brackets_independent_mod", "casimir_combination", "compatible", "generic_rank",
+__all__ = ["antisymmetric", "Bivector", "bracket", "bracket_relations_mod", "brackets_independent_mod", "casimir_combination", "compatible", "generic_rank",
            "invariance_holds", "is_casimir", "is_poisson", "pairs", "schouten"]
 
 
@@ -189,8 +190,37 @@ def brackets_independent_mod(members: Sequence[Bivector], p: int) -> bool:
     derivatives at the point, no bracket is expanded (the Gaudin magnet's 21 brackets at degree 7 have about a
     million terms). False when the values do not show it: then the brackets are dependent, but for a chance of
     about deg/p per point (the checker decides the same way)."""
+    values: list[list[int]] = []
+    for values in _bracket_values(members, p):
+        if int(flint.nmod_mat(values, p).rank()) == len(values):
+            return True
+    return False
+
+
+def bracket_relations_mod(members: Sequence[Bivector], p: int) -> list[list[list[int]]]:
+    """The linear relations mod p among the brackets [Pi_a, Pi_b] (a <= b), from their values at N + 2 random points
+    (as `brackets_independent_mod`), each as the symmetric matrix W with sum_ab W_ab [Pi_a, Pi_b] = 0: a member
+    sum c_a Pi_a satisfies Jacobi mod p iff c c^T is in their span, two such members c, d are compatible iff
+    c d^T + d c^T is."""
+    last = deque(_bracket_values(members, p), maxlen=1)
+    if not last:
+        return []
+    kernel, dim = flint.nmod_mat(last[0], p).transpose().nullspace()
+    r, half = len(members), pow(2, -1, p)
+    forms = []
+    for t in range(dim):
+        w = [[0] * r for _ in range(r)]
+        for k, (a, b) in enumerate(itertools.combinations_with_replacement(range(r), 2)):
+            w[a][b] = w[b][a] = int(kernel[k, t]) * (1 if a == b else half) % p
+        forms.append(w)
+    return forms
+
+
+def _bracket_values(members: Sequence[Bivector], p: int) -> Iterator[list[list[int]]]:
+    """The values mod p of every bracket [Pi_a, Pi_b] (a <= b; one row each, the components i < j < k at each point
+    side by side), after each of N + 2 random points (seeded by p)."""
     if not members or len(members[0].variables) < 3:        # no components (dimension < 3)
-        return False
+        return
     n, ring = len(members[0].variables), members[0].ring
     idx = [ring.index(v) for v in members[0].variables]
     polys = [[*m.upper, m.denominator] for m in members]                 # Q_ij (i < j), then D
@@ -217,9 +247,7 @@ def brackets_independent_mod(members: Sequence[Bivector], p: int) -> bool:
             row.extend(sum(half(a, b, r, s, t) * val[a][-1] + half(b, a, r, s, t) * val[b][-1]
                            for r, s, t in ((i, j, k), (j, k, i), (k, i, j))) % p
                        for i, j, k in itertools.combinations(range(n), 3))
-        if int(flint.nmod_mat(values, p).rank()) == len(brackets):
-            return True
-    return False
+        yield values
 
 
 def compatible(a: Bivector, b: Bivector) -> bool:
