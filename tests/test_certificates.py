@@ -136,7 +136,7 @@ MUTATIONS = {
     "a relation citing no proven integral": (lambda d: d["steps"][2]["relations"][0].__setitem__("uses", ["J"]),
                                              "malformed"),
     "a wrong step convention (eps = h)": (lambda d: d.__setitem__("convention", "eps = h"), "malformed"),
-    "another version": (lambda d: d.__setitem__("version", 10), "malformed"),
+    "another version": (lambda d: d.__setitem__("version", 11), "malformed"),
     "another format": (lambda d: d.__setitem__("format", "drat"), "malformed"),
     "a claimed integral no step concludes": (lambda d: d["claim"]["integrals"].append({"name": "c9", "field": "euler-top"}), "malformed"),
     "a symmetric range of rows": (lambda d: d["steps"][0].__setitem__("iterates", [-1, 1]), "malformed"),
@@ -183,7 +183,8 @@ def test_the_checker_is_small_and_trusts_only_the_parser():
         assert ours <= {"hkproof.algebra.formula", "hkproof.algebra.fraction", "hkproof.algebra.ring",
                         "hkproof.errors"}, module
         lines += len(module.read_text().splitlines())
-    assert lines < 1400          # 1 212 with the torus of exclusion steps (checker/torus.py), 1 387 with no-poisson
+    assert lines < 1420          # 1 212 with the torus of exclusion steps (checker/torus.py), 1 387 with no-poisson,
+    #                              1 416 with nambu (a trusted theorem, its rank checked: 24 lines)
 
 
 @pytest.mark.skipif(shutil.which("Singular") is None, reason="Singular is not installed")

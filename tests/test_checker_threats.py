@@ -200,9 +200,9 @@ def _corpus(base: dict) -> dict[str, str]:
     return {
         "empty": "", "not json": "certificate", "a list": "[1, 2]", "a string": '"x"', "null": "null",
         "truncated": text[: len(text) // 2], "nested 200000": "[" * 200_000 + "]" * 200_000,
-        "huge integer version": text.replace('"version": 9', '"version": 9' + "0" * 5000),
+        "huge integer version": text.replace('"version": 10', '"version": 10' + "0" * 5000),
         "version as string": m(lambda d: d.update(version="6")), "version true": m(lambda d: d.update(version=True)),
-        "version float": text.replace('"version": 9', '"version": 9.0'), "NaN": text.replace('"version": 9', '"version": NaN'),
+        "version float": text.replace('"version": 10', '"version": 10.0'), "NaN": text.replace('"version": 10', '"version": NaN'),
         "format missing": m(lambda d: d.pop("format")), "steps an object": m(lambda d: d.update(steps={})),
         "steps empty": m(lambda d: d.update(steps=[])), "step a string": m(lambda d: d.update(steps=["x"])),
         "fields a list": m(lambda d: d.update(fields=[])), "field a string": m(lambda d: d["fields"].update({"euler-top": "x"})),

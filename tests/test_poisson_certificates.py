@@ -42,7 +42,7 @@ def test_lotka_volterra_round_trip_through_the_command(tmp_path, capsys):
     assert main(["check", str(out)]) == 0
     assert "bivector Pi1 of field lotka-volterra: [[0, x*y], [-x*y, 0]]" in capsys.readouterr().out
     d = json.loads(out.read_text())
-    assert d["version"] == 9 and d["claim"]["bivectors"] == [{"name": "Pi1", "field": "lotka-volterra"}]
+    assert d["version"] == 10 and d["claim"]["bivectors"] == [{"name": "Pi1", "field": "lotka-volterra"}]
     assert [s["kind"] for s in d["steps"]] == ["bivector-invariance", "jacobi"] + ["exclusion"] * 3    # x^2, xy, y^2
     assert {s["denominator"] for s in d["steps"][2:]} == {"(x)**2", "(y)*(x)", "(y)**2"}     # as products of factors
 
@@ -193,3 +193,33 @@ def test_a_small_nambu_structure_is_written_out_and_rechecked():
     m = nambu[0]["matrix"]
     m[0][2], m[2][0] = f"({m[0][2]}) + x1", f"-({m[0][2]}) - x1"      # antisymmetric still, not invariant
     assert verdict(d) == "refuted"
+
+
+def test_a_nambu_step_is_checked_on_proven_integrals_and_a_proven_density():
+    """A Nambu structure too large to write out goes into the file as a darboux step (its density, K = det Df) and a
+    nambu step (version 10): the checker takes the construction as a theorem on what the steps before it proved, and
+    refuses it on an integral that is not proven, a 'density' that is an integral, or a point of dependent gradients."""
+    import dataclasses
+    from hkproof.hk.nambu import bivector_steps
+    from hkproof.proof.export import document, substitution_step
+    f = kahan_map("euler-top")
+    structure = dataclasses.replace(with_integrals(f, 1).nambu[0], bivector=None)       # as if it were too large
+    steps = [substitution_step(f.field, n, h) for n, h in [*structure.casimirs, *structure.hamiltonians]]
+    d = json.loads(json.dumps(document("t", "s", steps + bivector_steps(f.field, structure, "N"))))
+    assert [s["kind"] for s in d["steps"]][-2:] == ["darboux", "nambu"] and verdict(d) == "verified"
+    nambu = kind(d, "nambu")
+    for key, value in (("casimirs", ["I9"]), ("casimirs", ["I1", "I1"]), ("density", "I2"),
+                       ("point", {**nambu["point"], "x1": "0", "x2": "0", "x3": "0"})):
+        bad = copy.deepcopy(d)
+        kind(bad, "nambu")[key] = value
+        assert verdict(bad) == "malformed", (key, value)
+    old = copy.deepcopy(d)
+    old["version"] = 9
+    assert "feature of version" in check_document(old).lines[-1]
+
+
+@pytest.mark.slow           # about 40 s: the poisson run and the checker's substitutions and det Df
+def test_the_gaudin_nambu_structure_is_rechecked_as_a_nambu_step():
+    d = doc("gaudin-2", 1)
+    assert [s["kind"] for s in d["steps"]][:6] == ["substitution"] * 4 + ["darboux", "nambu"]
+    assert verdict(d) == "verified"

@@ -1,20 +1,15 @@
 """The certificate checker: re-verifies a certificate file (docs/certificates.md) from the file alone.
 
-It trusts python-flint (polynomial arithmetic, gcd, determinants over Q), hkproof's formula parser
-(hkproof.algebra.formula) and the fraction type it returns (hkproof.algebra.fraction.Frac: lowest terms by a gcd,
-parity in eps by eps -> -eps), and Prop. "prop: even" of the paper as a theorem. It imports nothing else of hkproof:
-it reads the file strictly (reading.py), rebuilds the Kahan map, its equations and det Df from the field's right-hand
-sides by its own Cramer's rule (kahan.py), and every identity it reports as verified is an exact identity it computed
-(steps.py). Step kinds: substitution (h o f = h), prop-even (Prop. "prop: even", one basis or several solved
-together), darboux (P o f = K P; integrals and invariant densities from Darboux polynomials; a cofactor "det Df" is
-computed here), recipe-g (D delta = sum lambda_i E_i, cofactors polynomial in x~), degrees (deg f^n by exact iterates)
-and reparametrization (integrals of another field carried by a substitution of its parameters that sends its
-right-hand sides to this field's); from version 7 the bivector steps of bivectors.py: bivector-invariance (Pi o f =
-Df Pi Df^T), jacobi (Schouten brackets), casimir, involution and exclusion (a full column rank mod p of rows the
-checker computes itself; the claim may name bivectors); from version 8 affine-change (integrals of the field in
-another chart y = T x + c carried back: G(T x + c) = T F(x) exactly, det T != 0). Every claimed integral and density names its field (version 6), and a step
-concludes for its own field only. What it cannot check, it refuses (malformed, exit 2); what is too large to check
-here, it refuses with a ResourceLimitError (exit 4).
+It trusts python-flint, hkproof's formula parser (hkproof.algebra.formula) and its fraction type (Frac: lowest terms
+by a gcd, parity in eps by eps -> -eps), and two theorems: Prop. "prop: even" of the paper and the Nambu structure of
+Byrnes, Haggar and Quispel (1999). It imports nothing else of hkproof: it reads the file strictly (reading.py),
+rebuilds the Kahan map, its equations and det Df from the field by its own Cramer's rule (kahan.py), and every identity
+it reports as verified is one it computed exactly. Step kinds (steps.py, bivectors.py): substitution, prop-even,
+darboux, recipe-g, degrees, reparametrization; from version 7 bivector-invariance, jacobi, casimir, involution and
+exclusion (rows the checker computes itself), from 8 affine-change, from 9 no-poisson, from 10 nambu (P W(grad I)
+for proven integrals and a proven density 1/P; rank 2 checked at a point). Every claimed quantity names its field
+(version 6), and a step concludes for its own field only. What it cannot check, it refuses (malformed, exit 2); what
+is too large to check here, it refuses with a ResourceLimitError (exit 4).
 
     verified   every step's identities hold exactly, and every claimed integral and density is concluded by a step on
                the field the claim names
@@ -126,7 +121,8 @@ def _check(doc: Any, report: CheckReport) -> None:
         if kind in BIVECTOR_STEPS:
             if step.get("integrals") or "densities" in step:
                 raise CertificateError(f"{where}: a {kind} step concludes no integral or density")
-            new, fact = BIVECTOR_STEPS[kind](f, step, _of(proven, key), _of(bivectors, key), where)
+            new, fact = BIVECTOR_STEPS[kind](f, step, _of(proven, key),
+                                             _of(densities if kind == "nambu" else bivectors, key), where)
             for name, m in new.items():
                 if name in {**proven, **densities, **bivectors}:
                     raise CertificateError(f"{where}: the name {name!r} is already taken")

@@ -1,7 +1,8 @@
 """Step kinds on bivectors (version 7, docs/certificates.md): invariance Pi(f(x)) = Df Pi(x) Df^T, Jacobi and
 compatibility (Schouten brackets), Casimirs, involution, and the exclusion of a class Q/D by a full column rank mod p
 of invariance rows that the checker computes itself from its own Kahan map (no row is ever read from the file); from
-version 9, no-poisson: the invariant Q/D of a class reduce mod p into a kernel none of whose members is Poisson."""
+version 9, no-poisson: the invariant Q/D of a class reduce mod p into a kernel none of whose members is Poisson; from
+version 10, nambu: P W(grad I) for proven integrals and a proven density 1/P (a theorem; rank 2 checked)."""
 from __future__ import annotations
 
 import itertools
@@ -16,7 +17,7 @@ from hkproof.algebra.fraction import Frac
 from hkproof.checker.kahan import EPS, KahanData, read
 from hkproof.checker.reading import entries, get, integers, strings
 from hkproof.checker.torus import CheckedTorus, read_torus
-from hkproof.errors import CertificateError, Refutation, ResourceLimitError
+from hkproof.errors import CertificateError, HKProofError, Refutation, ResourceLimitError
 
 __all__ = ["BIVECTOR_STEPS", "Matrix", "MAX_COLUMNS", "MAX_ROWS"]
 
@@ -139,6 +140,31 @@ def _involution(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mappin
         if not value.is_zero():
             raise Refutation(f"{where}: {{{s[:60]}, {t[:60]}}} != 0 for {name}")
     return {}, f"in involution for {name}: {', '.join(t for t, _ in found)}"
+
+
+def _nambu(f: KahanData, step: Any, known: Mapping[str, Frac], densities: Mapping[str, Any], where: str) -> Outcome:
+    """Pi = P W(grad I_1, ..., grad I_(n-2)) (W^ij = eps^(i j k_1 ...) d_k1 I_1 ...) for integrals I_k and a density
+    rho = 1/P proven before on this field: f preserves rho dx and the I_k, so it preserves the bivector dual to
+    dI_1 ^ ... ^ dI_(n-2) against rho dx (Byrnes, Haggar, Quispel 1999), a multiple of a Nambu bracket, hence Poisson,
+    with the I_k as Casimirs -- trusted as theorems, like Prop. "prop: even". Rank 2 (independent gradients, P != 0)
+    is checked at the stated point; the step concludes no matrix (it is never expanded)."""
+    n, names = len(f.variables), strings(step, "casimirs", where)
+    density = get(step, "density", str, where)
+    if n < 3 or len(set(names)) != n - 2 or len(names) != n - 2 or any(c not in known for c in names) \
+            or density not in densities:
+        raise CertificateError(f"{where}: a nambu step names {n - 2} distinct integrals and a density, each proven "
+                               "by an earlier step on this field (n >= 3)")
+    point = {v: parse_rational(get(get(step, "point", dict, where), v, str, where)) for v in f.ring.names}
+    try:
+        grads = flint.fmpq_mat([[known[c].derivative(v).evaluate(point) for v in f.variables] for c in names])
+        at = densities[density].evaluate(point)
+    except (HKProofError, ZeroDivisionError):
+        raise CertificateError(f"{where}: the stated point is a pole of an integral or of the density") from None
+    if at == 0 or grads.rank() != n - 2:
+        raise CertificateError(f"{where}: the gradients are dependent or P = 0 at the stated point: choose another")
+    name = check_name(get(step, "name", str, where), "bivector name")
+    return {}, (f"{name} = P W({', '.join(f'grad {c}' for c in names)}), P = 1/{density}: invariant, Poisson, rank 2, "
+                f"Casimirs {', '.join(names)}")
 
 
 # ---- exclusion by a full column rank mod p; no Poisson member ---------------------------------------------------------
@@ -454,18 +480,12 @@ class _Rows:
             df = [[sum(left[k][r] * t.inverse[k][c] for k in range(n)) % p for c in range(n)] for r in range(n)]
         pairs = _pairs(n)
         wedge = [[(df[a][c] * df[b][d] - df[a][d] * df[b][c]) * dfx % p for c, d in pairs] for a, b in pairs]
-        monos = {m: (_monomial(m, x, p), _monomial(m, fx, p)) for m in {m for _, m in cols}}   # once per point
+        monos = {m: tuple(math.prod(pow(u, e, p) for e, u in zip(m, y, strict=True)) % p for y in (x, fx))
+                 for m in {m for _, m in cols}}                                               # once per point
         return [[((dx * monos[m][1] if r == k else 0) - wedge[r][k] * monos[m][0]) % p for k, m in cols]
                 for r in range(len(pairs))]
 
 
-def _monomial(m: tuple, x: list[int], p: int) -> int:
-    out = 1
-    for e, u in zip(m, x, strict=True):
-        out = out * pow(u, e, p) % p
-    return out
-
-
 BIVECTOR_STEPS: dict[str, Callable[[KahanData, Any, Mapping[str, Frac], Mapping[str, Matrix], str], Outcome]] = {
     "bivector-invariance": _invariance, "jacobi": _jacobi, "casimir": _casimir, "involution": _involution,
-    "exclusion": _exclusion, "no-poisson": _no_poisson}
+    "exclusion": _exclusion, "no-poisson": _no_poisson, "nambu": _nambu}

@@ -21,12 +21,13 @@ __all__ = ["FORMAT", "VERSIONS", "CONVENTION", "SINCE", "MAX_BYTES", "load", "ge
            "integers", "entries", "field_key", "version_gate"]
 
 FORMAT, CONVENTION = "hkproof-certificate", "eps = h/2"
-VERSIONS = (1, 2, 3, 4, 5, 6, 7, 8, 9)    # 2: darboux, recipe-g; 3: degrees, cofactor "det Df"; 4: prop-even blocks;
+VERSIONS = (1, 2, 3, 4, 5, 6, 7, 8, 9, 10)    # 2: darboux, recipe-g; 3: degrees, cofactor "det Df"; 4: prop-even blocks;
 # 5: reparametrization; 6: every claimed integral and density names its field, field keys ASCII; 7: bivector steps
-# (bivector-invariance, jacobi, casimir, involution, exclusion) and the claim's bivectors; 8: affine-change; 9: no-poisson
+# (bivector-invariance, jacobi, casimir, involution, exclusion) and the claim's bivectors; 8: affine-change; 9: no-poisson;
+# 10: nambu
 SINCE = {"substitution": 1, "prop-even": 1, "darboux": 2, "recipe-g": 2, "densities": 2, "degrees": 3,
          "det Df": 3, "blocks": 4, "reparametrization": 5, "bivector-invariance": 7, "jacobi": 7, "casimir": 7,
-         "involution": 7, "exclusion": 7, "bivectors": 7, "affine-change": 8, "no-poisson": 9}
+         "involution": 7, "exclusion": 7, "bivectors": 7, "affine-change": 8, "no-poisson": 9, "nambu": 10}
 MAX_BYTES = 200_000_000
 MAX_INTEGER_DIGITS = 18          # JSON integers are versions, iterates and degrees: numbers are strings ('13/46')
 _KEY = re.compile(r"[A-Za-z][A-Za-z0-9_.-]{0,99}\Z")

@@ -31,6 +31,7 @@ import flint
 
 from hkproof import budget
 from hkproof.algebra.fraction import Frac
+from hkproof.checker import DET_DF
 from hkproof.algebra.linalg import Element, lcm, maximal_minors
 from hkproof.algebra.ring import Rational, Ring, get_ring
 from hkproof.dynamics.field import QuadraticField
@@ -40,7 +41,7 @@ from hkproof.hk.certified_integrals import jacobian_points
 from hkproof.hk.independence import gradient_at, max_jacobian_rank
 from hkproof.hk.poisson import Bivector, antisymmetric, pairs, schouten
 from hkproof.proof.certificate import Certificate, ProofStopped
-from hkproof.proof.export import bivector_invariance_step, casimir_step, jacobi_step
+from hkproof.proof.export import bivector_invariance_step, casimir_step, darboux_step, jacobi_step, nambu_step
 from hkproof.proof.status import Status
 
 __all__ = ["bivector_steps", "NambuStructure", "UNIVERSAL_IDENTITIES", "independent_subset", "nambu_bivector", "nambu_dual",
@@ -172,6 +173,8 @@ class NambuStructure:
     certificate: Certificate
     rank: int | None = None
     bivector: Bivector | None = None           # Pi expanded over one denominator: only for small integrals
+    density_poly: flint.fmpz_mpoly | None = None
+    point: Mapping[str, Rational] | None = None  # a rational point where the rank is 2 (for the checker's nambu step)
 
     @property
     def status(self) -> Status:
@@ -231,7 +234,7 @@ def prove_nambu(kmap: KahanMap, integrals: Sequence[tuple[str, Frac, Status]], d
                                f"Pi = P W({', '.join(f'grad {a}' for a in names)}) with P = {density[0]} is an "
                                f"invariant Poisson structure of rank 2 whose Casimirs are {', '.join(names) or 'none'}",
                                fixed={k: str(v) for k, v in (fixed or {}).items()})
-    out = NambuStructure(density[0], chosen, [], cert)
+    out = NambuStructure(density[0], chosen, [], cert, density_poly=density[1])
     with suppress(ProofStopped):
         with cert.step(f"{n - 2} functionally independent integrals", "exact Jacobian rank at rational points",
                        ring) as s:
@@ -254,8 +257,9 @@ def prove_nambu(kmap: KahanMap, integrals: Sequence[tuple[str, Frac, Status]], d
                 s.require(universal_identity(key, n), f"the {key} identity fails for n = {n}")
         with cert.step("rank 2", "rank <= 2: the n - 2 independent Casimirs; rank >= 2: the exact rank at a rational "
                        "point, from the gradients' values", ring) as s:
-            out.rank = max(rank_at(ring, kmap.variables, [h for _, h in chosen], density[1], x)
-                           for x in jacobian_points(list(ring.names)))
+            ranks = [(rank_at(ring, kmap.variables, [h for _, h in chosen], density[1], x), x)
+                     for x in jacobian_points(list(ring.names))]
+            out.rank, out.point = max(ranks, key=lambda r: r[0])
             s.require(out.rank == 2, f"Pi has rank {out.rank} at the points")
         if sum(len(h.num) + len(h.den) for _, h in chosen) <= EXPAND_TERMS:
             out.bivector = nambu_bivector(ring, kmap.variables, [h for _, h in chosen], density[1])
@@ -266,16 +270,22 @@ def prove_nambu(kmap: KahanMap, integrals: Sequence[tuple[str, Frac, Status]], d
 
 
 def bivector_steps(field: QuadraticField, structure: NambuStructure, name: str) -> list[dict]:
-    """The checker's steps for a proven Nambu structure whose matrix is written out (at most MATRIX_TERMS terms):
-    invariance by substitution into the checker's own map, Jacobi, and its Casimirs named as integrals (the caller
-    exports their substitution steps first); none otherwise. The checker has no Nambu step kind: it never takes the
-    construction on trust."""
+    """The checker's steps for a proven Nambu structure (the caller exports its Casimirs' substitution steps first):
+    written out when its matrix has at most MATRIX_TERMS terms (invariance by substitution into the checker's own
+    map, Jacobi, the Casimirs), else the density's Darboux identity with K = det Df and a nambu step (version 10: the
+    construction is a theorem the checker trusts; it checks the rank at the point)."""
     pi = structure.bivector
-    if pi is None or not structure.status.is_verified or \
-            sum(len(q) for q in pi.upper) + len(pi.denominator) > MATRIX_TERMS:
+    if not structure.status.is_verified:
         return []
-    return [bivector_invariance_step(field, name, pi.texts()), jacobi_step(field, [name]),
-            casimir_step(field, name, [c for c, _ in structure.casimirs])]
+    if pi is not None and sum(len(q) for q in pi.upper) + len(pi.denominator) <= MATRIX_TERMS:
+        return [bivector_invariance_step(field, name, pi.texts()), jacobi_step(field, [name]),
+                casimir_step(field, name, [c for c, _ in structure.casimirs])]
+    if structure.density_poly is None or structure.point is None:
+        return []
+    density = Frac(field.ring, structure.density_poly)
+    rho = f"rho_{name}"
+    return [darboux_step(field, ["P"], [density], DET_DF, densities=[(rho, 1 / density, "1/(P)")]),
+            nambu_step(field, name, [c for c, _ in structure.casimirs], rho, structure.point)]
 
 
 def require_claimed(cert: Certificate, ring: Ring, out: NambuStructure, claimed: Mapping[str, str],

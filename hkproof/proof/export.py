@@ -18,13 +18,13 @@ from hkproof.proof.certificate import Certificate
 
 __all__ = ["affine_change_step", "bivector_invariance_step", "casimir_step", "exclusion_step", "involution_step", "jacobi_step",
            "claimed", "CONVENTION", "Conclusion", "field_key", "darboux_step", "degrees_step", "document", "field_data", "FORMAT",
-           "no_poisson_step", "prop_even_blocks_step", "prop_even_step", "recipe_g_step", "relation_data", "substitution_step", "VERSION"]
+           "nambu_step", "no_poisson_step", "prop_even_blocks_step", "prop_even_step", "recipe_g_step", "relation_data", "substitution_step", "VERSION"]
 
 FORMAT = "hkproof-certificate"
-VERSION = 9                   # 2: darboux, recipe-g, densities; 3: degrees, cofactor "det Df"; 4: prop-even blocks;
+VERSION = 10                  # 2: darboux, recipe-g, densities; 3: degrees, cofactor "det Df"; 4: prop-even blocks;
 # 5: reparametrization; 6: the claim names the field of each integral and density, field keys ASCII; 7: the bivector
 # steps (bivector-invariance, jacobi, casimir, involution, exclusion) and the claim's bivectors; 8: affine-change;
-# 9: no-poisson
+# 9: no-poisson; 10: nambu
 Conclusion = tuple[str, Frac, str]      # (name, value, the value written in the step's own names)
 CONVENTION = "eps = h/2"      # x~ - x = 2 eps F(x, x~): hkproof's eps is half the time step h
 
@@ -143,6 +143,16 @@ def involution_step(field: QuadraticField, bivector: str, functions: Sequence[ob
     return {"kind": "involution", "field": field_data(field), "bivector": bivector,
             "functions": [str(c) for c in functions],
             "identity": f"grad I . {bivector} grad J = 0 for every pair", "integrals": []}
+
+
+def nambu_step(field: QuadraticField, name: str, casimirs: Sequence[str], density: str,
+               point: Mapping[str, Rational]) -> dict:
+    """The step "P W(grad I_1, ..., grad I_(n-2)) is an invariant Poisson structure of rank 2 with the Casimirs I_k"
+    (version 10) for integrals and a density 1/P concluded by earlier steps of the same field, by name; `point`: a
+    rational point where the gradients are independent and P != 0."""
+    return {"kind": "nambu", "field": field_data(field), "name": name, "casimirs": list(casimirs),
+            "density": density, "point": {k: str(v) for k, v in point.items()},
+            "identity": f"{name} = P W(grad {', grad '.join(casimirs)}) with 1/P = {density}", "integrals": []}
 
 
 def exclusion_step(field: QuadraticField, denominator: object, degree: int, prime: int,

@@ -274,7 +274,8 @@ _STEPS = {"substitution": _substitution, "darboux": _darboux, "recipe-g": _recip
           "bivector-invariance": _invariance, "jacobi": _jacobi, "casimir": _casimir, "involution": _involution}
 _MAPLESS = {"jacobi", "casimir", "involution"}      # identities of the bivectors alone: no Kahan map in the script
 _WHY = {"exclusion": "a rank mod p of many rows that hkproof check recomputes itself from the field",
-        "no-poisson": "a kernel mod p of many rows and its Schouten bracket, which hkproof check recomputes itself"}
+        "no-poisson": "a kernel mod p of many rows and its Schouten bracket, which hkproof check recomputes itself",
+        "nambu": "a theorem (Byrnes, Haggar, Quispel) on the integrals and the density proven by the steps before it"}
 
 
 def _text(ring: Ring, text: str) -> str:
