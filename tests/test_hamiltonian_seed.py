@@ -12,7 +12,7 @@ import pytest
 
 from hkproof.algebra.fraction import Frac
 from hkproof.checker import check_document
-from hkproof.commands._certificates import discover_document
+from hkproof.pipelines.discover.certificate import discover_document
 from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.field import QuadraticField
 from hkproof.experiments.scene import make_scene

@@ -12,7 +12,7 @@ import pytest
 import sympy
 
 from hkproof.checker import check_document
-from hkproof.commands._certificates import discover_document
+from hkproof.pipelines.discover.certificate import discover_document
 from hkproof.dynamics.catalogue import SYSTEMS, get_system
 from hkproof.dynamics.field import QuadraticField
 from hkproof.hk.translation import field_translations

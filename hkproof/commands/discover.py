@@ -6,13 +6,13 @@ import argparse
 from hkproof.budget import current
 from hkproof.commands import (Result, add_budget_option, add_command, add_progress_option, add_run_options,
                               add_system_argument, at_least, fixed_values, integer, progress_bar)
-from hkproof.commands._certificates import (add_certificate_option, certificate_target, discover_document,
-                                            write_certificate)
+from hkproof.commands._certificates import add_certificate_option, certificate_target, write_certificate
 from hkproof.dynamics.catalogue import get_system
 from hkproof.experiments.progress import message_bar
 from hkproof.orchestration.execution import map_executor
 from hkproof.pipelines.discover import discover
 from hkproof.pipelines.discover.run import MAX_SEARCH_DEGREE
+from hkproof.pipelines.discover.certificate import discover_document
 
 __all__ = ["register", "run_discover"]
 
