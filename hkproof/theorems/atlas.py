@@ -19,14 +19,14 @@ from hkproof.hk.certified_integrals import jacobian_points
 from hkproof.hk.independence import max_jacobian_rank
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.pipelines.discover import DiscoveryReport, discover
-from hkproof.hk.nambu import bivector_steps, prove_nambu, require_claimed
+from hkproof.hk.nambu import prove_nambu, require_claimed
 from hkproof.pipelines.darboux import search_darboux
 from hkproof.pipelines.poisson import nambu_densities, with_integrals
 from hkproof.pipelines.poisson_certificate import poisson_steps
 from hkproof.proof.certificate import Certificate
-from hkproof.proof.export import substitution_step
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import recall
+from hkproof.theorems._common import nambu_checks
 
 __all__ = ["ENTRIES", "Entry", "GROUP", "prove_integrals", "prove_kernels", "prove_liouville_arnold",
            "prove_nambu_liouville_arnold", "run"]
@@ -271,7 +271,8 @@ def prove_nambu_liouville_arnold(cert: Certificate, claimed: Mapping[str, str], 
     kmap = kahan_map(system)
     with cert.step("integrals and densities", f"discover at degree {entry.degree} (each integral by exact "
                    f"substitution); measure at degree {darboux_degree} (P o f = det Df P exact)", kmap.ring) as s:
-        found = [(i.name, i.frac, i.status) for i in run(entry).integrals if i.frac is not None]
+        report = run(entry)
+        found = [(i.name, i.frac, i.status) for i in report.integrals if i.frac is not None]
         densities = nambu_densities(kmap, search_darboux(kmap, darboux_degree))
         s.require(bool(densities), f"measure finds no density of degree <= {darboux_degree}")
         s.note(f"integrals {', '.join(n for n, _, _ in found)}; density 1/({densities[0][0]})")
@@ -279,10 +280,7 @@ def prove_nambu_liouville_arnold(cert: Certificate, claimed: Mapping[str, str], 
         cert.formula(name, h)
     structure = prove_nambu(kmap, found, densities[0], cert=cert)
     require_claimed(cert, kmap.ring, structure, claimed, liouville_arnold=True)
-    written = bivector_steps(kmap.field, structure, "Pi")
-    if written:             # re-checkable on its own: the integrals by substitution, then the bivector's steps
-        cert.checks += [substitution_step(kmap.field, n, h) for n, h in [*structure.casimirs, *structure.hamiltonians]]
-        cert.checks += written
+    cert.checks += nambu_checks(kmap, report, structure)
 
 
 def _nambu_prover(system: str) -> Callable[[Certificate, Mapping[str, str]], None]:

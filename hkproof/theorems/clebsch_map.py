@@ -21,7 +21,7 @@ from hkproof.proof.certificate import Certificate
 from hkproof.proof.export import darboux_step
 from hkproof.proof.status import Status
 from hkproof.theorems._clebsch import SYSTEM, H, X, cycled, named, number, recall, shift
-from hkproof.theorems._common import parse, parse_matrix
+from hkproof.theorems._common import nambu_checks, parse, parse_matrix
 
 __all__ = ["GROUP", "MATRIX", "prove_complexity", "prove_continuous", "prove_equations", "prove_explicit",
            "prove_invariant_measures", "prove_nambu_poisson", "prove_reversibility", "prove_symmetries", "TILDE_EQUATIONS"]
@@ -265,9 +265,12 @@ def prove_nambu_poisson(cert: Certificate, claimed: Mapping[str, str]) -> None:
     density = recall(measures, "P1", f.ring)
     with cert.step("the integrals of discover", "discover clebsch at degree 2: kernels mod p, sparse reconstruction "
                    "with eps and w symbolic, I o f = I by exact substitution", f.ring) as s:
-        found = [(i.name, i.frac, i.status) for i in discover(f.field, 2).integrals if i.frac is not None]
+        report = discover(f.field, 2)
+        found = [(i.name, i.frac, i.status) for i in report.integrals if i.frac is not None]
         s.require(all(st.is_verified for _, _, st in found), "an integral of discover is not verified")
         s.note(", ".join(f"{name}: {len(h.num)} + {len(h.den)} terms" for name, h, _ in found))
     for name, h, _ in found:
         cert.formula(name, h)
-    require_claimed(cert, f.ring, prove_nambu(f, found, ("P1", density.num, Status.VERIFIED), cert=cert), claimed)
+    structure = prove_nambu(f, found, ("P1", density.num, Status.VERIFIED), cert=cert)
+    require_claimed(cert, f.ring, structure, claimed)
+    cert.checks += nambu_checks(f, report, structure)
