@@ -66,3 +66,13 @@ def test_an_odd_solution_is_still_refuted():
     with pytest.raises(ProofStopped, match="not even"):
         prove_by_symmetry(cert, F, odd, Frac(R, 1), NAMES, CYCLE, POINT, (0, 1), [relation("1", "1", "1")])
     assert cert.status is Status.REFUTED
+
+
+def test_a_symmetry_with_two_orbits_takes_cramer_twice():
+    """x1 <-> x2 with a1 <-> a2 fixes x3**2: two orbits, {c1, c2} and {c3}, each with its own Cramer component."""
+    swap = SignedPermutation((("x1", "x2", 1), ("x2", "x1", 1)), (("a1", "a2"), ("a2", "a1")))
+    assert system_permutation(F, BASIS, Frac(R, 1), [relation("1", "1", "1")], swap) == (1, 0, 2)
+    cert, built = run(swap, relation("1", "1", "1"))
+    assert cert.status is Status.VERIFIED and built is not None
+    assert any("for c1, c3" in step.method for step in cert.steps)
+    assert built == run(CYCLE, relation("1", "1", "1"))[1]
