@@ -9,7 +9,7 @@ import random
 import pytest
 
 from hkproof.checker import check_document
-from hkproof.commands._certificates import discover_document
+from hkproof.pipelines.discover.certificate import discover_document
 from hkproof.dynamics.catalogue import get_system
 from hkproof.dynamics.field import QuadraticField
 from hkproof.errors import HKProofError
