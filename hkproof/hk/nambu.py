@@ -31,9 +31,9 @@ import flint
 
 from hkproof import budget
 from hkproof.algebra.fraction import Frac
-from hkproof.checker import DET_DF
 from hkproof.algebra.linalg import Element, lcm, maximal_minors
 from hkproof.algebra.ring import Rational, Ring, get_ring
+from hkproof.checker import DET_DF
 from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import ShapeError, SingularPointError

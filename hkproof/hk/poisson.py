@@ -190,11 +190,7 @@ def brackets_independent_mod(members: Sequence[Bivector], p: int) -> bool:
     derivatives at the point, no bracket is expanded (the Gaudin magnet's 21 brackets at degree 7 have about a
     million terms). False when the values do not show it: then the brackets are dependent, but for a chance of
     about deg/p per point (the checker decides the same way)."""
-    values: list[list[int]] = []
-    for values in _bracket_values(members, p):
-        if int(flint.nmod_mat(values, p).rank()) == len(values):
-            return True
-    return False
+    return any(int(flint.nmod_mat(values, p).rank()) == len(values) for values in _bracket_values(members, p))
 
 
 def bracket_relations_mod(members: Sequence[Bivector], p: int) -> list[list[list[int]]]:

@@ -19,8 +19,8 @@ def poisson_document(kmap: KahanMap, report: PoissonReport) -> dict:
     """The certificate file of what `poisson` verified (empty steps: nothing to write)."""
     statement = (f"invariant bivectors of the Kahan map of {report.system}: "
                  f"{sum(s.status.is_verified for s in report.structures)} proven invariant, "
-                 f"{sum(s.bivector is not None for s in report.nambu if s.status.is_verified)} Nambu structure(s) "
-                 f"written out, {len(report.excluded)} class(es) excluded, "
+                 f"{sum(s.status.is_verified for s in report.nambu)} Nambu structure(s), "
+                 f"{len(report.excluded)} class(es) excluded, "
                  f"{sum(k.no_poisson is not None for k in report.kernels)} without a Poisson member")
     return document(f"poisson {report.system}", statement, poisson_steps(kmap, report),
                     {k: str(v) for k, v in report.fixed.items()})
