@@ -3,11 +3,12 @@ from __future__ import annotations
 
 import random
 
+import flint
 import pytest
 import sympy
 
 from hkproof.algebra import Frac, Parity, Ring, cramer, det, homogenized_compose, nullspace_q, rank_mod_p, rank_q
-from hkproof.algebra.linalg import rank_over_fraction_field, solve_by_inverse
+from hkproof.algebra.linalg import rank_over_fraction_field, rank_q_grows, solve_by_inverse
 from hkproof.errors import ParseError, SingularPointError, SingularSystemError, UnknownSymbolError
 from tests.sympy_bridge import poly_from_sympy
 
@@ -196,3 +197,14 @@ def test_solve_by_inverse_agrees_with_cramer():
     assert sol == cramer(rows, rhs)[0]
     assert all(sum((a * v for a, v in zip(row, sol)), Frac(R, 0)) == b for row, b in zip(rows, rhs))
     assert solve_by_inverse(rows, [rhs[0] + 1, *rhs[1:]]) != sol
+
+
+def test_rank_q_grows_is_the_exact_rank_also_where_the_prime_divides_a_denominator():
+    """The screen mod p only ever confirms growth; a row with no image mod p falls back to the rank over Q."""
+    q = flint.fmpq
+    p = 2 ** 61 - 1
+    assert rank_q_grows([[q(1, 2), q(3, 5)], [q(1, 4), q(3, 10)]], 1) == 1
+    assert rank_q_grows([[q(1, 2), q(3, 5)], [q(1, 3), q(3, 10)]], 1) == 2
+    assert rank_q_grows([[q(1, p), q(3, 5)], [q(2, p), q(6, 5)]], 1) == 1
+    assert rank_q_grows([[q(1, p), q(3, 5)], [q(2, p), q(7, 5)]], 1) == 2
+    assert rank_q_grows([[q(p), q(0)], [q(0), q(p)]], 1) == 2   # zero mod p, not over Q

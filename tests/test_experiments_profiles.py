@@ -5,6 +5,7 @@ import json
 from concurrent.futures import ThreadPoolExecutor
 from fractions import Fraction
 
+import flint
 import pytest
 
 from hkproof.algebra.fraction import Frac
@@ -13,7 +14,7 @@ from hkproof.dynamics import kahan_map
 from hkproof.errors import DependentBasisError
 from hkproof.experiments import (ExactQ, Float64, KernelProfile, Modular, MPMath, ProfileProblem, ScanResult,
                                  fundamental_finite, make_scene, parse_basis, scan)
-from hkproof.experiments.profiles import AMBIGUOUS, HK_BASIS, IRREGULAR, NO_BASIS, kernel_vector
+from hkproof.experiments.profiles import AMBIGUOUS, HK_BASIS, IRREGULAR, NO_BASIS, BasisFamily, kernel_vector
 
 CLEBSCH = {"eps": "1/10", "w1": "1/10", "w2": "1/5", "w3": "3/10"}
 MAX_BASIS = "p1**2, p2**2, p3**2, m1**2, m2**2, m3**2, m1*p1, m2*p2, m3*p3, 1"
@@ -84,6 +85,24 @@ def test_clebsch_first_basis_kernel_is_one_over_j_plus_eps2_omega():
     at = dict(zip(f.variables, x)) | {k: Fraction(v) for k, v in CLEBSCH.items()}
     inv_j = Frac.parse(f.ring, "(1 - eps**2*(w1*p1**2 + w2*p2**2 + w3*p3**2))/(p1**2 + p2**2 + p3**2)").evaluate(at)
     assert c == [inv_j + Frac.parse(f.ring, f"eps**2*{w}").evaluate(at) for w in ("w1", "w2", "w3")] + [-1]
+
+
+def test_a_family_of_bases_shares_its_functions_and_centres_its_window():
+    """Phi1, Phi2, Phi3 of Th. "dC bases 345" share six functions: 9 distinct ones are evaluated, on the window
+    f^-3(x), ..., f^3(x); each kernel is that of the basis alone and satisfies the rows of the forward orbit."""
+    f = kahan_map("clebsch")
+    scene = make_scene(f, CLEBSCH)
+    problems = [ProfileProblem(scene, parse_basis(f.ring, b)) for b in ONE_DIM[1:]]
+    family = BasisFamily(problems)
+    assert len(family.functions) == 9 and (family.back, family.forward) == (3, 3)
+    x = [Fraction(1, 2), Fraction(-1, 3), Fraction(2, 5), Fraction(3, 4), Fraction(-2, 7), Fraction(1, 3)]
+    vectors = family.kernel_vectors(x)
+    assert vectors == [kernel_vector(p, x) for p in problems]
+    arithmetic = ExactQ()
+    for problem, c in zip(problems, vectors):
+        prep = arithmetic.prepare(scene, problem.compiled)
+        for y in arithmetic.orbit(prep, [flint.fmpq(v.numerator, v.denominator) for v in x], 6):
+            assert sum(a * b for a, b in zip(c, arithmetic.basis_row(prep, y))) == 0
 
 
 def test_orbits_through_delta_zero_are_skipped_and_counted():

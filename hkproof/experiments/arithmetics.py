@@ -93,7 +93,10 @@ class FieldArithmetic(Arithmetic):
                    orbit: Sequence[Sequence[Number]]) -> RawProfile:
         """`profile` on a given orbit of this scene (its first l points), so that several bases share one orbit."""
         prep = self.prepare(scene, basis)
-        rows = [self.basis_row(prep, x) for x in orbit]
+        return self.profile_rows([self.basis_row(prep, x) for x in orbit])
+
+    def profile_rows(self, rows: list[list[Number]]) -> RawProfile:
+        """The profile of given rows of X_[0,l-1] (eq. "balance"): the ranks of their top rows."""
         ranks, certainty = self.prefix_ranks(rows)
         return RawProfile(ranks, rows, {"arithmetic": self.name, **certainty})
 

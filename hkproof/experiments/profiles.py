@@ -12,13 +12,14 @@ from hkproof.algebra.sampling import random_rational
 from hkproof.algebra.formula import split_list
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
+from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.algebra.linalg import rank_q
 from hkproof.errors import DependentBasisError, HKProofError, ParseError, SingularPointError
 from hkproof.experiments.arithmetics import Arithmetic, ExactQ
 from hkproof.experiments.scene import Scene, make_scene, point_values
 
-__all__ = ["AMBIGUOUS", "exact_profiles", "fundamental_finite", "HK_BASIS", "IRREGULAR", "kernel_vector",
+__all__ = ["AMBIGUOUS", "BasisFamily", "exact_profiles", "fundamental_finite", "HK_BASIS", "IRREGULAR", "kernel_vector",
            "kernel_vectors", "KernelProfile", "NO_BASIS", "parse_basis", "ProfileProblem", "SINGULAR"]
 
 HK_BASIS = "hk-basis"          # condition "fundamental finite" holds with d >= 1
@@ -128,29 +129,55 @@ class ProfileProblem:
 
 
 def kernel_vector(problem: ProfileProblem, point: Sequence[Rational]) -> list[flint.fmpq] | None:
-    """K_Phi(x) exactly with the last coordinate -1 when dim K_Phi(x) = 1 (recipe (B)); None otherwise."""
+    """K_Phi exactly with the last coordinate -1 when its dimension is 1 (recipe (B)), on the orbit through x
+    (`BasisFamily.kernel_vectors`); None otherwise."""
     return kernel_vectors([problem], point)[0]
 
 
 def kernel_vectors(problems: Sequence[ProfileProblem], point: Sequence[Rational]) -> list[list[flint.fmpq] | None]:
     """`kernel_vector` for several bases of one scene at one point, the exact orbit computed once for all
     (None for every basis if the longest orbit meets a singular point)."""
-    scene = problems[0].scene
-    if any(p.scene is not scene for p in problems):
-        raise HKProofError("kernel_vectors: the bases must be profiled in one scene (the same eps and parameters)")
-    arithmetic = ExactQ()
-    values = point_values(scene, point)
-    longest = max(problems, key=lambda p: len(p.basis))
-    try:
-        orbit = arithmetic.orbit(arithmetic.prepare(scene, longest.compiled), values, len(longest.basis) - 1)
-    except SingularPointError:
-        return [None] * len(problems)
-    out: list[list[flint.fmpq] | None] = []
-    for problem in problems:
-        raw = arithmetic.profile_on(scene, problem.compiled, orbit[:len(problem.basis)])
-        verdict, d = fundamental_finite(raw.ranks)
-        out.append(arithmetic.kernel(raw, 1)[0] if verdict == HK_BASIS and d == 1 else None)
-    return out
+    return BasisFamily(problems).kernel_vectors(point)
+
+
+class BasisFamily:
+    """Several bases of one scene profiled on one exact orbit (recipe (B) for each), every function they share
+    evaluated once per orbit point: build it once and call `kernel_vectors` at many points."""
+
+    def __init__(self, problems: Sequence[ProfileProblem]):
+        self.scene = problems[0].scene
+        if any(p.scene is not self.scene for p in problems):
+            raise HKProofError("kernel_vectors: the bases must be profiled in one scene (the same eps and parameters)")
+        self.problems = list(problems)
+        index: dict[tuple, int] = {}
+        self.columns = [[index.setdefault(fn, len(index)) for fn in p.compiled] for p in problems]
+        self.functions = sorted(index, key=index.__getitem__)
+        self.arithmetic = ExactQ()
+        steps = max(len(cols) for cols in self.columns) - 1
+        kmap = self.scene.kmap
+        self.back = steps // 2 if kmap.equations_reversible() else 0
+        self.forward = steps - self.back
+        self.backward_scene = make_scene(kmap, {**self.scene.fixed, EPS: -self.scene.fixed[EPS]})
+
+    def kernel_vectors(self, point: Sequence[Rational]) -> list[list[flint.fmpq] | None]:
+        """K_Phi of each basis with last coordinate -1 where dim K_Phi = 1, else None, on the window
+        f^-m(x), ..., f^(l-1-m)(x) of the orbit through x, m = (l - 1) // 2 (f^-1(x, eps) = f(x, -eps)): an
+        HK-basis with d = 1 has the same kernel at every point of an orbit, and the heights of the window's
+        points (growing with |i|) are about those of half as many steps."""
+        prep = self.arithmetic.prepare(self.scene, self.functions)
+        x = point_values(self.scene, point)
+        try:
+            behind = self.arithmetic.orbit(self.arithmetic.prepare(self.backward_scene, self.functions), x, self.back)
+            orbit = behind[:0:-1] + self.arithmetic.orbit(prep, x, self.forward)
+        except SingularPointError:
+            return [None] * len(self.columns)
+        values = [self.arithmetic.basis_row(prep, y) for y in orbit]
+        out: list[list[flint.fmpq] | None] = []
+        for cols in self.columns:
+            raw = self.arithmetic.profile_rows([[row[c] for c in cols] for row in values[:len(cols)]])
+            verdict, d = fundamental_finite(raw.ranks)
+            out.append(self.arithmetic.kernel(raw, 1)[0] if verdict == HK_BASIS and d == 1 else None)
+        return out
 
 
 def exact_profiles(kmap: KahanMap, basis: Sequence[Frac],

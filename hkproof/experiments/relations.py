@@ -14,14 +14,14 @@ import sympy
 from hkproof import budget
 from hkproof.algebra.formula import check_new_names
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.linalg import nullspace_q, q_matrix
+from hkproof.algebra.linalg import nullspace_q, q_matrix, rank_q_grows
 from hkproof.algebra.monomials import exponents_upto, value as monomial_value
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, RelationSearchError
 from hkproof.algebra.sampling import random_rational, random_rationals
-from hkproof.experiments.profiles import ProfileProblem, kernel_vectors, parse_basis
+from hkproof.experiments.profiles import BasisFamily, ProfileProblem, parse_basis
 from hkproof.experiments.scene import make_scene
 from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.hk.reduced import Relation
@@ -90,11 +90,11 @@ class CoordinateSampler:
         """Columns: the first l_b - 1 coordinates of each kernel, then the constant 1."""
         return sum(len(b) - 1 for b in self.bases) + 1
 
-    def row(self, problems: Sequence[ProfileProblem]) -> list[flint.fmpq] | None:
+    def row(self, family: BasisFamily) -> list[flint.fmpq] | None:
         """(c^(1)_1, ..., c^(1)_(l1-1), c^(2)_1, ..., 1) at a random point, or None at a bad point."""
         point = random_rationals(self.rng, len(self.kmap.variables), 99)
         out = []
-        for problem, c in zip(problems, kernel_vectors(problems, point), strict=True):
+        for problem, c in zip(family.problems, family.kernel_vectors(point), strict=True):
             if c is None:
                 return None
             if c[-1] != -1:
@@ -107,17 +107,17 @@ class CoordinateSampler:
     def relation_space(self, values: Mapping[str, Rational], extra: int = 2) -> list[list[flint.fmpq]] | None:
         """Rows spanning the annihilator of the sampled coordinate vectors at these eps and parameter values."""
         scene = make_scene(self.kmap, values)
-        problems = [ProfileProblem(scene, b) for b in self.bases]
+        family = BasisFamily([ProfileProblem(scene, b) for b in self.bases])
         rows: list[list[flint.fmpq]] = []
         rank, stable, tries = 0, 0, 0
         while stable < extra and tries < 4 * self.width + 8:
             budget.check("sampling kernel vectors for recipe (E)")
             tries += 1
-            r = self.row(problems)
+            r = self.row(family)
             if r is None:
                 continue
             rows.append(r)
-            new = q_matrix(rows).rank()
+            new = rank_q_grows(rows, rank)
             stable = stable + 1 if new == rank else 0
             rank = new
         if stable < extra:
@@ -256,14 +256,14 @@ def _support_test(values: Sequence[Sequence[flint.fmpq]]) -> Callable[[Sequence[
         scale = math.lcm(*(int(c.q) for c in row))
         integral.append([int(c.p) * (scale // int(c.q)) for c in row])
     prime = 2 ** 61 - 1
+    columns_mod = [[v % prime for v in col] for col in zip(*integral)]
 
     def carries(support: Sequence[int]) -> bool:
         if not integral:
             return True
-        sub = [[row[j] for j in support] for row in integral]
-        if flint.nmod_mat(sub, prime).rank() == len(support):
+        if flint.nmod_mat([columns_mod[j] for j in support], prime).rank() == len(support):
             return False
-        return flint.fmpq_mat([[flint.fmpq(v) for v in r] for r in sub]).rank() < len(support)
+        return flint.fmpq_mat([[flint.fmpq(row[j]) for j in support] for row in integral]).rank() < len(support)
 
     return carries
 

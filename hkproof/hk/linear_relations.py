@@ -24,7 +24,7 @@ def parse_relation(ring: Ring, text: str, unknowns: Sequence[str]) -> Relation:
     coefficients = []
     for u in unknowns:
         d = expr.derivative(u)
-        if any(v in d.variables() for v in unknowns):
+        if not set(unknowns).isdisjoint(d.variables()):
             raise ParseError(f"the relation {text!r} is not linear in {list(unknowns)}")
         coefficients.append(d.specialize(zero, ring))
     constant = expr.specialize(zero, ring)
