@@ -2,9 +2,11 @@
 compatibility (Schouten brackets), Casimirs, involution, and the exclusion of a class Q/D by a full column rank mod p
 of invariance rows that the checker computes itself from its own Kahan map (no row is ever read from the file); from
 version 9, no-poisson: the invariant Q/D of a class reduce mod p into a kernel none of whose members is Poisson; from
-version 10, nambu: P W(grad I) for proven integrals and a proven density 1/P (a theorem; rank 2 checked)."""
+version 10, nambu: P W(grad I) for proven integrals and a proven density 1/P (the universal identities behind it
+expanded here; rank 2 checked at a point)."""
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 import random
@@ -14,7 +16,7 @@ import flint
 
 from hkproof.algebra.formula import check_name, parse_rational
 from hkproof.algebra.fraction import Frac
-from hkproof.checker.kahan import EPS, KahanData, read
+from hkproof.checker.kahan import EPS, KahanData, det, minors, read
 from hkproof.checker.reading import entries, get, integers, strings
 from hkproof.checker.torus import CheckedTorus, read_torus
 from hkproof.errors import CertificateError, HKProofError, Refutation, ResourceLimitError
@@ -142,12 +144,61 @@ def _involution(f: KahanData, step: Any, known: Mapping[str, Frac], have: Mappin
     return {}, f"in involution for {name}: {', '.join(t for t, _ in found)}"
 
 
+def _dual(rows: list[list[flint.fmpz_mpoly]]) -> list[list[flint.fmpz_mpoly]]:
+    """W(g)^ij = det(e_i; e_j; g_1; ...; g_(n-2)) for n - 2 rows g_k of length n: (-1)^(i + j - 1) (i < j) times the
+    minor of the rows on the other columns (Laplace expansion along e_i, then e_j)."""
+    n = len(rows[0])
+    m = minors(rows)
+    zero = rows[0][0] - rows[0][0]
+    w = [[zero] * n for _ in range(n)]
+    for i, j in _pairs(n):
+        w[i][j] = m[tuple(c for c in range(n) if c not in (i, j))] * (-1) ** (i + j - 1)
+        w[j][i] = -w[i][j]
+    return w
+
+
+@functools.lru_cache(maxsize=None)
+def _nambu_identities(n: int) -> bool:
+    """The universal identities behind a nambu step for n phase variables, expanded here once per n, in rings of
+    their own (nothing a file states enters them): (a) A W(g_1 A, ..., g_(n-2) A) A^T = det(A) W(g) in Z[A, g];
+    (b) W(g) g_k = 0; (c) [phi W, phi W] = 0 in the ring of the 1-jet of phi and the 2-jets of the I_k (W built from
+    their first derivatives I_k,i), the derivatives d_l total: d_l phi = phi_l, d_l I_k,i = I_k,il."""
+    ctx = flint.fmpz_mpoly_ctx.get([f"a{p}_{q}" for p in range(n) for q in range(n)] +
+                                   [f"g{k}_{i}" for k in range(n - 2) for i in range(n)], "degrevlex")
+    gens = iter(ctx.gens())
+    a = [[next(gens) for _ in range(n)] for _ in range(n)]
+    g = [[next(gens) for _ in range(n)] for _ in range(n - 2)]
+    w, wga = _dual(g), _dual([[sum((r[p] * a[p][q] for p in range(n)), ctx.from_dict({})) for q in range(n)]
+                              for r in g])
+    det_a = det(a)
+    if any(sum((a[p][i] * a[q][j] * wga[i][j] for i in range(n) for j in range(n) if i != j), ctx.from_dict({}))
+           != det_a * w[p][q] for p, q in _pairs(n)):
+        return False
+    if any(not sum((w[i][j] * r[j] for j in range(n)), ctx.from_dict({})).is_zero() for r in g for i in range(n)):
+        return False
+    second = [(k, i, l) for k in range(n - 2) for i in range(n) for l in range(i, n)]
+    jets = flint.fmpz_mpoly_ctx.get(["phi"] + [f"phi_{l}" for l in range(n)] + [f"I{k}_{i}" for k in range(n - 2)
+                                    for i in range(n)] + [f"I{k}_{i}_{l}" for k, i, l in second], "degrevlex")
+    gen = dict(zip(jets.names(), jets.gens(), strict=True))
+    pi = [[gen["phi"] * e for e in row] for row in _dual([[gen[f"I{k}_{i}"] for i in range(n)]
+                                                            for k in range(n - 2)])]
+
+    def total(q: flint.fmpz_mpoly, l: int) -> flint.fmpz_mpoly:
+        out = q.derivative("phi") * gen[f"phi_{l}"]
+        for k, i in itertools.product(range(n - 2), range(n)):
+            out += q.derivative(f"I{k}_{i}") * gen[f"I{k}_{min(i, l)}_{max(i, l)}"]
+        return out
+    return all(sum((pi[r][l] * total(pi[s][t], l) for r, s, t in ((i, j, k), (j, k, i), (k, i, j)) for l in range(n)),
+                   jets.from_dict({})).is_zero() for i, j, k in itertools.combinations(range(n), 3))
+
+
 def _nambu(f: KahanData, step: Any, known: Mapping[str, Frac], densities: Mapping[str, Any], where: str) -> Outcome:
-    """Pi = P W(grad I_1, ..., grad I_(n-2)) (W^ij = eps^(i j k_1 ...) d_k1 I_1 ...) for integrals I_k and a density
-    rho = 1/P proven before on this field: f preserves rho dx and the I_k, so it preserves the bivector dual to
-    dI_1 ^ ... ^ dI_(n-2) against rho dx (Byrnes, Haggar, Quispel 1999), a multiple of a Nambu bracket, hence Poisson,
-    with the I_k as Casimirs -- trusted as theorems, like Prop. "prop: even". Rank 2 (independent gradients, P != 0)
-    is checked at the stated point; the step concludes no matrix (it is never expanded)."""
+    """Pi = P W(grad I_1, ..., grad I_(n-2)) (W^ij = det(e_i; e_j; grad I_1; ...)) for integrals I_k and a density
+    rho = 1/P proven before on this field is invariant, Poisson, of rank <= 2 with the I_k as Casimirs (the
+    construction of Byrnes, Haggar and Quispel 1999), from identities expanded here (`_nambu_identities`): the chain
+    rule on I_k o f = I_k gives grad I_k(x) = grad I_k(f(x)) Df(x), so (a) with A = Df and P o f = det Df P carries
+    Pi(x) to Pi(f(x)); (b) gives the Casimirs; (c) Jacobi, whatever the functions. Rank 2 (independent gradients,
+    P != 0) is checked at the stated point; the step concludes no matrix (it is never expanded)."""
     n, names = len(f.variables), strings(step, "casimirs", where)
     density = get(step, "density", str, where)
     if n < 3 or len(set(names)) != n - 2 or len(names) != n - 2 or any(c not in known for c in names) \
@@ -163,6 +214,9 @@ def _nambu(f: KahanData, step: Any, known: Mapping[str, Frac], densities: Mappin
     if at == 0 or grads.rank() != n - 2:
         raise CertificateError(f"{where}: the gradients are dependent or P = 0 at the stated point: choose another")
     name = check_name(get(step, "name", str, where), "bivector name")
+    if not _nambu_identities(n):
+        raise RuntimeError(f"{where}: a universal identity of Nambu bivectors fails for n = {n}: the checker's own "
+                           "arithmetic is wrong (an internal error, not a verdict on the file)")
     return {}, (f"{name} = P W({', '.join(f'grad {c}' for c in names)}), P = 1/{density}: invariant, Poisson, rank 2, "
                 f"Casimirs {', '.join(names)}")
 

@@ -15,7 +15,7 @@ from hkproof.algebra.ring import Ring
 from hkproof.checker.reading import get, strings
 from hkproof.errors import CertificateError, HKProofError, Refutation, ResourceLimitError
 
-__all__ = ["EPS", "KahanData", "MAX_DEGREE", "MAX_VARIABLES", "read", "det"]
+__all__ = ["EPS", "KahanData", "MAX_DEGREE", "MAX_VARIABLES", "read", "det", "minors"]
 
 EPS = "eps"
 MAX_VARIABLES = 12         # phase variables: the Laplace determinants keep at most 2^12 minors
@@ -180,21 +180,25 @@ def _homogenize(p: Poly, idx: list[int], d: int, ctx: flint.fmpz_mpoly_ctx) -> P
 
 
 def det(matrix: list[list[Poly]]) -> Poly:
-    """The determinant of a square polynomial matrix by Laplace expansion, row by row from the bottom, each minor of
-    the last rows (keyed by its columns) computed once: no division, products of the matrix's own entries."""
-    n = len(matrix)
+    """The determinant of a square polynomial matrix by Laplace expansion (`minors`)."""
     zero = matrix[0][0] - matrix[0][0]
-    minors: dict[tuple[int, ...], Poly] = {(): zero + 1}
-    for row in reversed(matrix):
+    return minors(matrix).get(tuple(range(len(matrix))), zero)
+
+
+def minors(rows: list[list[Poly]]) -> dict[tuple[int, ...], Poly]:
+    """The maximal minors of k rows of length n, keyed by their columns (sorted): Laplace expansion row by row from
+    the bottom, each minor of the last rows computed once; no division, products of the rows' own entries."""
+    n = len(rows[0])
+    zero = rows[0][0] - rows[0][0]
+    out: dict[tuple[int, ...], Poly] = {(): zero + 1}
+    for row in reversed(rows):
         grown: dict[tuple[int, ...], Poly] = {}
-        for cols, sub in minors.items():
+        for cols, sub in out.items():
             for j in range(n):
                 if j in cols or row[j].is_zero():
                     continue
                 key = tuple(sorted((*cols, j)))
                 term = row[j] * sub
                 grown[key] = grown.get(key, zero) + (-term if sum(c < j for c in cols) % 2 else term)
-        minors = grown
-    return minors.get(tuple(range(n)), zero)
-
-
+        out = grown
+    return out

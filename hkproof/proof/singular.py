@@ -275,7 +275,8 @@ _STEPS = {"substitution": _substitution, "darboux": _darboux, "recipe-g": _recip
 _MAPLESS = {"jacobi", "casimir", "involution"}      # identities of the bivectors alone: no Kahan map in the script
 _WHY = {"exclusion": "a rank mod p of many rows that hkproof check recomputes itself from the field",
         "no-poisson": "a kernel mod p of many rows and its Schouten bracket, which hkproof check recomputes itself",
-        "nambu": "a theorem (Byrnes, Haggar, Quispel) on the integrals and the density proven by the steps before it"}
+        "nambu": "universal identities hkproof check expands itself, applied by the chain rule to the integrals and the "
+                 "density proven by the steps before it (Byrnes, Haggar, Quispel)"}
 
 
 def _text(ring: Ring, text: str) -> str:
