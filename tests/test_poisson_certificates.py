@@ -9,6 +9,7 @@ from functools import lru_cache
 
 import pytest
 
+from hkproof.algebra.fraction import Frac
 from hkproof.checker import check_document
 from hkproof.cli import main
 from hkproof.dynamics.catalogue import kahan_map
@@ -216,6 +217,42 @@ def test_a_nambu_step_is_checked_on_proven_integrals_and_a_proven_density():
     old = copy.deepcopy(d)
     old["version"] = 9
     assert "feature of version" in check_document(old).lines[-1]
+
+
+@pytest.mark.parametrize("written_out", [True, False])
+def test_nambu_file_steps_hold_in_a_random_affine_chart(written_out):
+    """Metamorphic: the Euler top's integrals and density carried to a random affine chart y = T x + c (I o C^-1,
+    P o C^-1 over its constant denominator) make a Nambu structure there that the checker verifies from its own map
+    of the transformed field, written out (bivector steps) or as a darboux and a nambu step; a density off by a
+    constant term is refuted at its darboux step."""
+    import dataclasses
+    import random
+
+    from hkproof.dynamics.catalogue import get_system
+    from hkproof.hk.affine_chart import _substitution, random_change, transformed
+    from hkproof.hk.nambu import bivector_steps, prove_nambu
+    from hkproof.proof.export import document, substitution_step
+    from hkproof.proof.status import Status
+    base = with_integrals(kahan_map("euler-top"), 1).nambu[0]
+    change = random_change(3, random.Random(5), "affine")
+    field = transformed(get_system("euler-top"), change, "euler-top-affine")
+    f = kahan_map(field)
+    moved = _substitution(f.ring, change.inverse_images(field))
+    integrals = [(n, moved.apply(h.to_ring(f.ring)), Status.VERIFIED) for n, h in [*base.casimirs, *base.hamiltonians]]
+    density = moved.apply(Frac(f.ring, base.density_poly.project_to_context(f.ring.ctx))).num
+    structure = prove_nambu(f, integrals, ("P", density, Status.VERIFIED))
+    assert structure.status is Status.VERIFIED and structure.rank == 2
+    if not written_out:
+        structure = dataclasses.replace(structure, bivector=None)
+    steps = [substitution_step(field, n, h) for n, h, _ in integrals] + bivector_steps(field, structure, "N")
+    d = json.loads(json.dumps(document("t", "s", steps)))
+    assert [s["kind"] for s in d["steps"]][2:] == (["bivector-invariance", "jacobi", "casimir"] if written_out
+                                                   else ["darboux", "nambu"])
+    assert verdict(d) == "verified"
+    if not written_out:
+        wrong = copy.deepcopy(d)
+        kind(wrong, "darboux")["polynomials"] = [f"({kind(d, 'darboux')['polynomials'][0]}) + 1"]
+        assert verdict(wrong) == "refuted"
 
 
 def test_the_checker_expands_the_universal_nambu_identities_itself(monkeypatch):

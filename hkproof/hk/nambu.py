@@ -273,7 +273,7 @@ def bivector_steps(field: QuadraticField, structure: NambuStructure, name: str) 
     """The checker's steps for a proven Nambu structure (the caller exports its Casimirs' substitution steps first):
     written out when its matrix has at most MATRIX_TERMS terms (invariance by substitution into the checker's own
     map, Jacobi, the Casimirs), else the density's Darboux identity with K = det Df and a nambu step (version 10: the
-    construction is a theorem the checker trusts; it checks the rank at the point)."""
+    checker expands the universal identities itself and checks the rank at the point)."""
     pi = structure.bivector
     if not structure.status.is_verified:
         return []
