@@ -291,6 +291,37 @@ def test_certificate_travels_with_its_exact_values():
     assert all(again.values[k] == v for k, v in cert.values.items())
 
 
+def test_the_longest_chain_of_citations_starts_first():
+    """In `prove --all` the short flow-second-theorem, on which the chain of the two slowest claims waits, comes
+    before a slow claim that nothing cites; dependencies still come first."""
+    from hkproof.orchestration.execution import SLOW_WEIGHT
+    from hkproof.orchestration.graph import critical_path_first
+    load_all()
+    order = critical_path_first(in_dependency_order(list(REGISTRY), REGISTRY), REGISTRY,
+                                lambda c: SLOW_WEIGHT if c.slow else 1)
+    position = {cid: k for k, cid in enumerate(order)}
+    assert position["flow-second-theorem"] < position["atlas-so4-euler-top-split-integrals"]
+    assert position["flow-second-bases-345"] < position["flow-conjecture"]
+    assert all(position[u] < position[cid] for cid in order for u in REGISTRY[cid].uses)
+
+
+def test_a_formula_with_its_value_is_written_out_only_when_read():
+    """A certificate's formula recorded with its exact value stays unwritten through pickling (a worker's certificate
+    on its way to the scheduler) and is the value's text when read."""
+    import pickle
+    from hkproof.algebra.fraction import Frac
+    from hkproof.algebra.ring import get_ring
+    h = Frac.parse(get_ring(("x", "eps")), "(x**2 - eps)/(1 + x)")
+    cert = Certificate("c", "t", "p", "s")
+    cert.formula("h", h)
+    cert.formula("n", "3")
+    assert cert.formulas.unwritten() == {"h": None, "n": "3"}
+    copy = pickle.loads(pickle.dumps(cert))
+    assert copy.formulas.unwritten() == {"h": None, "n": "3"} and copy.values["h"] == h
+    assert copy.formulas["h"] == str(h) and Frac.parse(h.ring, copy.formulas["h"]) == h
+    assert dict(copy.formulas) == {"h": str(h), "n": "3"} == copy.to_dict()["formulas"]
+
+
 # -- heavy steps over the same executors: kernel profiles of `scan` ------------------------------------------------
 SCAN = ["scan", "euler-top", "--basis", "x1**2, x2**2, x3**2, 1", "--points", "16", "--eps", "1/3", "--json",
         "--no-progress"]

@@ -5,7 +5,7 @@ import time
 from array import array
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Iterator, Mapping
+from typing import Iterator, Mapping, MutableMapping
 
 import sympy
 
@@ -15,9 +15,45 @@ from hkproof.algebra.ring import Ring
 from hkproof.errors import BudgetExhausted, ProofStopped, Refuted
 from hkproof.proof.status import Status
 
-__all__ = ["Certificate", "describe_ring", "ProofStopped", "Refuted", "Step", "StepRecorder"]
+__all__ = ["Certificate", "describe_ring", "Formulas", "ProofStopped", "Refuted", "Step", "StepRecorder"]
 
 
+class Formulas(MutableMapping[str, str]):
+    """A certificate's formulas by name: a text recorded with its exact value is written out from that value when
+    first read (the text of a big solution costs seconds, and a run that prints no formulas never reads it)."""
+
+    def __init__(self, values: Mapping[str, Frac], texts: Mapping[str, str | None] | None = None):
+        self._values = values
+        self._texts: dict[str, str | None] = texts.unwritten() if isinstance(texts, Formulas) else dict(texts or {})
+
+    def __getitem__(self, name: str) -> str:
+        text = self._texts[name]
+        if text is None:
+            text = self._texts[name] = str(self._values[name])
+        return text
+
+    def __setitem__(self, name: str, text: str) -> None:
+        self._texts[name] = text
+
+    def __delitem__(self, name: str) -> None:
+        del self._texts[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._texts)
+
+    def __len__(self) -> int:
+        return len(self._texts)
+
+    def from_value(self, name: str) -> None:
+        """The formula `name` is the text of the exact value kept under that name (written out when read)."""
+        self._texts[name] = None
+
+    def unwritten(self) -> dict[str, str | None]:
+        """The texts as recorded (None: not yet written out from its value), for pickling."""
+        return dict(self._texts)
+
+    def __repr__(self) -> str:
+        return repr(dict(self))
 
 
 def describe_ring(ring: Ring | str, fixed: Mapping[str, object] | None = None) -> str:
@@ -88,7 +124,7 @@ class Certificate:
     paper_ref: str
     statement: str
     steps: list[Step] = field(default_factory=list)
-    formulas: dict[str, str] = field(default_factory=dict)
+    formulas: MutableMapping[str, str] = field(default_factory=dict)
     corrections: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     error: str = ""
@@ -145,11 +181,17 @@ class Certificate:
         finally:
             record.seconds = time.perf_counter() - start
 
+    def __post_init__(self) -> None:
+        self.formulas = Formulas(self.values, self.formulas)
+
     def formula(self, name: str, value: Frac | str) -> None:
-        """Record a formula found (sympy-parsable, in the system's own names), and its exact value if given one."""
-        self.formulas[name] = str(value)
+        """Record a formula found (sympy-parsable, in the system's own names), and its exact value if given one
+        (the text is then written out from the value when first read)."""
         if isinstance(value, Frac):
             self.values[name] = value
+            self.formulas.from_value(name)   # type: ignore[attr-defined]  # a Formulas since __post_init__
+        else:
+            self.formulas[name] = str(value)
 
     def correction(self, text: str) -> None:
         """Record a place where the paper is wrong or imprecise, with the corrected statement."""
@@ -167,6 +209,7 @@ class Certificate:
         """Pickled (for a worker process or a Dask worker) with its exact values packed as exponent bytes and
         integer coefficients; a certificate that arrived pickled is passed on without packing it again."""
         state = {k: v for k, v in self.__dict__.items() if k != "_packed"}
+        state["formulas"] = self.formulas.unwritten()     # type: ignore[attr-defined]  # see __post_init__
         packed = self.__dict__.get("_packed")
         fresh = packed is not None and packed.keys() == self.values.keys()
         state["values"] = packed if fresh else {k: _pack(v) for k, v in self.values.items()}
@@ -176,6 +219,7 @@ class Certificate:
         rings: dict[tuple[str, ...], Ring] = {}
         self.__dict__.update(state)
         self.values = {k: _unpack(v, rings) for k, v in state["values"].items()}
+        self.formulas = Formulas(self.values, state["formulas"])
         self._packed = state["values"]
 
     def to_sympy(self) -> dict[str, sympy.Expr]:
