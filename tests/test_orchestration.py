@@ -134,6 +134,35 @@ def test_claims_sharing_an_intermediate_run_on_one_worker_which_computes_it_once
     assert pids["t-shared-a"] == pids["t-shared-b"]
 
 
+def test_a_claim_sharing_an_intermediate_goes_to_the_free_worker_that_holds_it(fresh_run, tmp_path):
+    """When the worker that computed an intermediate is free again, the claim reading it goes there before an
+    unrelated claim takes that worker (else it would wait for the other worker and compute it a second time)."""
+    import functools
+    import os
+    import time
+    log = tmp_path / "warm.log"
+
+    @functools.lru_cache(maxsize=1)
+    def intermediate() -> int:
+        with open(log, "a") as out:
+            out.write(f"computed {os.getpid()}\n")
+        return 1
+
+    def make(claim_id: str, shares: str, seconds: float) -> None:
+        @claim(claim_id, "test", claim_id, "-", "-", claimed={"x": "1"}, shares=shares)
+        def prove(cert: Certificate, given) -> None:
+            with cert.step("reads the intermediate or waits", "comparison", "-") as s:
+                s.require(not shares or intermediate() == 1, "wrong intermediate")
+                time.sleep(seconds)
+    for claim_id, shares, seconds in (("t-warm-a", "t-x", 0), ("t-busy-1", "", 0.3), ("t-busy-2", "", 1.2),
+                                      ("t-warm-b", "t-x", 0)):
+        make(claim_id, shares, seconds)
+    with ProcessPoolExecutor(2) as executor:
+        certs = run_graph(["t-warm-a", "t-busy-1", "t-busy-2", "t-warm-b"], executor)
+    assert all(c.status is Status.VERIFIED for c in certs.values())
+    assert len(log.read_text().splitlines()) == 1
+
+
 # -- total provers ----------------------------------------------------------------------------------------------------
 def _recursion():
     return _recursion()
@@ -294,14 +323,15 @@ def test_certificate_travels_with_its_exact_values():
 def test_the_longest_chain_of_citations_starts_first():
     """In `prove --all` the short flow-second-theorem, on which the chain of the two slowest claims waits, comes
     before a slow claim that nothing cites; dependencies still come first."""
-    from hkproof.orchestration.execution import SLOW_WEIGHT
+    from hkproof.orchestration.execution import EXPECTED_SECONDS, expected_seconds
     from hkproof.orchestration.graph import critical_path_first
     load_all()
-    order = critical_path_first(in_dependency_order(list(REGISTRY), REGISTRY), REGISTRY,
-                                lambda c: SLOW_WEIGHT if c.slow else 1)
+    assert set(EXPECTED_SECONDS) <= set(REGISTRY)       # the scheduling table names registered claims only
+    order = critical_path_first(in_dependency_order(list(REGISTRY), REGISTRY), REGISTRY, expected_seconds)
     position = {cid: k for k, cid in enumerate(order)}
     assert position["flow-second-theorem"] < position["atlas-so4-euler-top-split-integrals"]
     assert position["flow-second-bases-345"] < position["flow-conjecture"]
+    assert position["flow-second-l-relations-found"] < position["dc-basis1-even"]
     assert all(position[u] < position[cid] for cid in order for u in REGISTRY[cid].uses)
 
 

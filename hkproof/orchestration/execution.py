@@ -22,14 +22,31 @@ from hkproof.budget import Budget, Spread, spread_on
 from hkproof.errors import HKProofError
 from hkproof.orchestration.graph import critical_path_first, in_dependency_order
 from hkproof.orchestration.interrupts import as_worker, interrupts_blocked, interrupts_deferred
-from hkproof.orchestration.registry import REGISTRY, cached, get_claim, load_all, remember
+from hkproof.orchestration.registry import REGISTRY, Claim, cached, get_claim, load_all, remember
 from hkproof.proof.certificate import Certificate
 
 __all__ = ["dask_client", "DaskExecutor", "DaskSpread", "Executor", "EXECUTORS", "InProcessExecutor", "make_executor",
            "map_executor", "ProcessPoolExecutor", "prove_citing", "run_graph", "worker_failed"]
 
 EXECUTORS = ("process", "dask")
-SLOW_WEIGHT = 30    # a claim marked slow takes about 30 times an unmarked one (prove --all: 37 s against 1.1 s a claim)
+# Seconds a claim took in one `prove --all --jobs 2` (2 cores, 2026-11-29), for the order of a parallel run only (never a
+# result): the longest chains start first. A claim not listed weighs 1 s, or SLOW_SECONDS when marked slow.
+EXPECTED_SECONDS = {
+    "flow-second-bases-345": 170, "atlas-so4-euler-top-split-integrals": 85, "flow-conjecture": 57,
+    "atlas-so4-euler-top-flow2-integrals": 55, "dc-f2-plain": 52, "dc-invariant-measures": 46, "dc-f2-reduced": 43,
+    "atlas-zhukovsky-volterra-1-liouville-arnold": 37, "dc-nambu-poisson": 21, "atlas-kirchhoff-integrals": 20,
+    "flow-second-l-relations-found": 8, "flow-second-theta": 7, "atlas-lagrange-top-integrals": 6,
+    "flow-theta-all": 6, "atlas-so4-euler-top-chart": 5, "atlas-gaudin-2-integrals": 5, "flow-second-recipe-g": 5,
+    "flow-general-map": 4, "dc345-step5": 4, "dc345-relations-found": 3, "flow-second-relations-found": 3,
+    "dc345-alpha": 3, "atlas-volterra-4-liouville-arnold": 3, "dc-theta": 2}
+SLOW_SECONDS = 30
+
+
+def expected_seconds(claim: Claim) -> float:
+    """The scheduling weight of a claim (EXPECTED_SECONDS)."""
+    return EXPECTED_SECONDS.get(claim.id, SLOW_SECONDS if claim.slow else 1)
+
+
 T = TypeVar("T")
 
 
@@ -105,6 +122,11 @@ class Executor:
     def wait(self, handles: Sequence[Hashable]) -> list[tuple[Hashable, Certificate]]:
         """Block until at least one of `handles` is done; their certificates."""
         raise NotImplementedError
+
+    def holder(self, shares: str) -> str | None:
+        """Which workers have computed the intermediate `shares` (Claim.shares): "idle" (one is free), "busy" (only
+        workers proving other claims), None (none, or an executor that does not say)."""
+        return None
 
     def close(self, interrupted: bool = False) -> None:
         """Release the workers; after an interrupt, stop running proofs at once."""
@@ -247,6 +269,11 @@ class ProcessPoolExecutor(Executor):
                 self._idle.append(task.worker)
             done.append((task, cert))
         return done
+
+    def holder(self, shares: str) -> str | None:
+        if any(shares in w.shared for w in self._idle):
+            return "idle"
+        return "busy" if any(shares in w.shared for w in self._busy) else None
 
     def _discard(self, worker: _Worker) -> None:
         worker.stop(getattr(signal, "SIGKILL", signal.SIGTERM))
@@ -396,12 +423,16 @@ def run_graph(claim_ids: Iterable[str], executor: Executor,
             if cid in wanted:
                 on_done(cert)
     pending = [cid for cid in order if cid not in done]
-    if executor.slots > 1:       # the longest chains start first (a slow claim weighs SLOW_WEIGHT others)
-        pending = critical_path_first(pending, REGISTRY, lambda c: SLOW_WEIGHT if c.slow else 1)
+    if executor.slots > 1:       # the longest chains of expected seconds start first
+        pending = critical_path_first(pending, REGISTRY, expected_seconds)
     running: dict[Hashable, str] = {}
     while pending or running:
         held = {REGISTRY[cid].shares for cid in running.values()}     # one claim at a time per shared intermediate
-        for cid in [cid for cid in pending if all(u in done for u in REGISTRY[cid].uses)]:
+        ready = [cid for cid in pending if all(u in done for u in REGISTRY[cid].uses)]
+        # a claim whose intermediate a free worker holds goes first (to that worker); one whose intermediate only a
+        # busy worker holds comes last, so that another claim takes the free slot while it waits for that worker
+        where = {cid: executor.holder(REGISTRY[cid].shares) if REGISTRY[cid].shares else None for cid in ready}
+        for cid in sorted(ready, key=lambda c: {"idle": 0, None: 1, "busy": 2}[where[c]]):
             shares = REGISTRY[cid].shares
             if len(running) >= executor.slots or (shares and shares in held):
                 continue
