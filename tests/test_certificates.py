@@ -171,6 +171,18 @@ def test_certificate_targets_are_checked_first(capsys, tmp_path):
     assert run(capsys, "integral", "euler-top", C1, "--certificate", str(tmp_path))[0] == 2
 
 
+def test_prove_with_nothing_to_write_says_so(capsys, tmp_path):
+    """`prove ID --certificate F` for a claim whose steps a file cannot record prints its report, writes nothing and
+    exits 2 with the reason (it exited 0 silently), as the other commands do; with --json the reason is in the
+    document."""
+    target = tmp_path / "none.json"
+    assert main(["prove", "lv-explicit-map", "--jobs", "1", "--certificate", str(target)]) == 2
+    out = capsys.readouterr()
+    assert "1 of 1 theorems verified" in out.out and "no certificate written" in out.err and not target.exists()
+    assert main(["prove", "lv-explicit-map", "--jobs", "1", "--json", "--certificate", str(target)]) == 2
+    assert "no certificate written" in json.loads(capsys.readouterr().out)["certificate_error"]
+
+
 def test_the_checker_is_small_and_trusts_only_the_parser():
     """The checker package imports of hkproof only the parser, Frac, Ring, the error classes and its own modules, and
     stays short enough to read in an afternoon."""

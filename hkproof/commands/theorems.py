@@ -53,9 +53,7 @@ def run_prove(args: argparse.Namespace) -> Result:
     claims = select(ids=args.ids, groups=args.group, include_slow=not args.no_slow)
     done: list[Certificate] = []
     payload, closing, code = prove_claims(claims, args, done.append)  # certificates are printed as they complete
-    if target is not None:
-        summary: dict = {}
-        closing += write_certificate(target, theorem_document(done), summary)
+    closing += write_certificate(target, theorem_document(done), payload)
     return Result(payload, closing, code)
 
 
@@ -71,9 +69,10 @@ def streaming(args: argparse.Namespace) -> Callable[[Certificate], None]:
 
 def prove_claims(claims: Sequence[Claim], args: argparse.Namespace,
                  keep: Callable[[Certificate], None] | None = None) -> tuple[dict, str, int]:
-    """Prove, streaming each certificate (and handing it to `keep`); the JSON document (`Run.document`: the summary
-    record and the certificates, one shape whether interrupted or not), the closing text (summary; with --jsonl a
-    JSON line), and the exit code (0 all succeeded, 1 some did not, 4 a budget ran out, 130 interrupted)."""
+    """Prove, streaming each certificate (and handing it to `keep`); with --json the JSON document (`Run.document`:
+    the summary record and the certificates, one shape whether interrupted or not; else an empty payload, so that
+    the formulas of a text run are never written out), the closing text (summary; with --jsonl a JSON line), and
+    the exit code (0 all succeeded, 1 some did not, 4 a budget ran out, 130 interrupted)."""
     if args.json and getattr(args, "jsonl", False):
         raise HKProofError("--json (one JSON document at the end) and --jsonl (one JSON object per line) exclude each "
                            "other: choose one")
@@ -87,7 +86,7 @@ def prove_claims(claims: Sequence[Claim], args: argparse.Namespace,
     if run.interrupted and args.json:
         print(run.summary().strip(), file=sys.stderr)
     closing = to_json(run.summary_record()) if getattr(args, "jsonl", False) else run.summary()
-    return run.document(), closing, run.exit_code
+    return (run.document() if args.json else {}), closing, run.exit_code
 
 
 def run_script(groups: Sequence[str], argv: Sequence[str] | None = None) -> int:
