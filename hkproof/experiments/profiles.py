@@ -157,7 +157,8 @@ class BasisFamily:
         kmap = self.scene.kmap
         self.back = steps // 2 if kmap.equations_reversible() else 0
         self.forward = steps - self.back
-        self.backward_scene = make_scene(kmap, {**self.scene.fixed, EPS: -self.scene.fixed[EPS]})
+        self.backward_scene = make_scene(kmap, {**self.scene.fixed, EPS: -self.scene.fixed[EPS]}) if self.back \
+            else self.scene
 
     def kernel_vectors(self, point: Sequence[Rational]) -> list[list[flint.fmpq] | None]:
         """K_Phi of each basis with last coordinate -1 where dim K_Phi = 1, else None, on the window
