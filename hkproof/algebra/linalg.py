@@ -7,8 +7,9 @@ import flint
 
 from hkproof import budget
 from hkproof.algebra.fraction import Frac
+from hkproof.algebra.modular import rank_mod_p, residue
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
-from hkproof.errors import ShapeError, SingularSystemError
+from hkproof.errors import ShapeError, SingularSystemError, UnluckyPrimeError
 
 __all__ = ["clear_row_denominators", "cleared_system", "cramer", "cramer_polynomials", "det", "Element", "LAPLACE_MAX", "lcm",
            "maximal_minors", "nullspace_q", "pivots_at", "PolyMatrix", "primitive_vector", "q_matrix", "rank_over_fraction_field", "rank_q", "rank_q_grows",
@@ -280,9 +281,9 @@ def rank_q_grows(rows: Sequence[Sequence[flint.fmpq]], rank: int, prime: int = 2
     """rank over Q of `rows` whose top len(rows) - 1 rows have rank `rank`: a rank mod `prime` above `rank`
     settles it (a rank mod p never exceeds the rank over Q, which grows by at most one); otherwise exactly."""
     try:
-        if flint.nmod_mat([[flint.nmod(v.p, prime) / v.q for v in r] for r in rows], prime).rank() > rank:
+        if rank_mod_p([[residue(v, prime) for v in r] for r in rows], prime) > rank:
             return rank + 1
-    except ZeroDivisionError:
+    except UnluckyPrimeError:
         pass  # a denominator divisible by the prime: no image mod p
     return rank_q(rows)
 

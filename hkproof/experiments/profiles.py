@@ -157,22 +157,23 @@ class BasisFamily:
         kmap = self.scene.kmap
         self.back = steps // 2 if kmap.equations_reversible() else 0
         self.forward = steps - self.back
-        self.backward_scene = make_scene(kmap, {**self.scene.fixed, EPS: -self.scene.fixed[EPS]}) if self.back \
+        backward_scene = make_scene(kmap, {**self.scene.fixed, EPS: -self.scene.fixed[EPS]}) if self.back \
             else self.scene
+        self.prep = self.arithmetic.prepare(self.scene, self.functions)
+        self.backward_prep = self.arithmetic.prepare(backward_scene, self.functions)
 
     def kernel_vectors(self, point: Sequence[Rational]) -> list[list[flint.fmpq] | None]:
         """K_Phi of each basis with last coordinate -1 where dim K_Phi = 1, else None, on the window
         f^-m(x), ..., f^(l-1-m)(x) of the orbit through x, m = (l - 1) // 2 (f^-1(x, eps) = f(x, -eps)): an
         HK-basis with d = 1 has the same kernel at every point of an orbit, and the heights of the window's
         points (growing with |i|) are about those of half as many steps."""
-        prep = self.arithmetic.prepare(self.scene, self.functions)
         x = point_values(self.scene, point)
         try:
-            behind = self.arithmetic.orbit(self.arithmetic.prepare(self.backward_scene, self.functions), x, self.back)
-            orbit = behind[:0:-1] + self.arithmetic.orbit(prep, x, self.forward)
+            behind = self.arithmetic.orbit(self.backward_prep, x, self.back)
+            orbit = behind[:0:-1] + self.arithmetic.orbit(self.prep, x, self.forward)
         except SingularPointError:
             return [None] * len(self.columns)
-        values = [self.arithmetic.basis_row(prep, y) for y in orbit]
+        values = [self.arithmetic.basis_row(self.prep, y) for y in orbit]
         out: list[list[flint.fmpq] | None] = []
         for cols in self.columns:
             raw = self.arithmetic.profile_rows([[row[c] for c in cols] for row in values[:len(cols)]])
