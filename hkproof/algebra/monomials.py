@@ -13,7 +13,7 @@ import math
 from typing import Any, Sequence
 
 __all__ = ["Exponents", "columns_mod_p", "count_upto", "exponents_of_degree", "exponents_upto", "text", "value",
-           "value_mod_p", "values_mod_p"]
+           "value_mod_p"]
 
 Exponents = tuple[int, ...]
 
@@ -62,11 +62,6 @@ def value_mod_p(e: Exponents, point: Sequence[int], p: int) -> int:
         if k:
             v = v * pow(x, k, p) % p
     return v
-
-
-def values_mod_p(monomials: Sequence[Exponents], point: Sequence[int], p: int) -> list[int]:
-    """The values mod p of several monomials at one point."""
-    return [column[0] for column in columns_mod_p(monomials, [point], p)]
 
 
 def columns_mod_p(monomials: Sequence[Exponents], points: Sequence[Sequence[int]], p: int) -> list[list[int]]:

@@ -22,7 +22,7 @@ from hkproof.algebra.sampling import random_point
 from hkproof.algebra.fraction import Frac, poly_str
 from hkproof.algebra.linalg import lcm
 from hkproof.algebra.modular import free_kernel_mod_p, random_prime
-from hkproof.algebra.monomials import Exponents, exponents_upto, value, values_mod_p
+from hkproof.algebra.monomials import Exponents, columns_mod_p, exponents_upto, value
 from hkproof.algebra.ring import Rational, Ring, get_ring
 from hkproof.algebra.rational_lifting import CoefficientLifter
 from hkproof.algebra.reconstruction import reconstruct as rebuild
@@ -174,28 +174,46 @@ def atoms_mod_p(kmap: KahanMap, atoms: Sequence[Atom], p: int) -> list[flint.nmo
 def modular_kernels(scene: ModularScene, cofactors: Sequence[Cofactor], monos: Sequence[Exponents],
                     rng: random.Random, extra: int = 8) -> dict[int, list[tuple[int, list[int]]]]:
     """For each cofactor (by index), the rref kernel basis of P -> P o f - K P on the monomials, mod p."""
-    p = scene.prime
     samples: list = []
     while len(samples) < len(monos) + extra:
         s = scene.sample(rng)
         if s is not None:
-            x, fx, vals = s
-            samples.append((values_mod_p(monos, x, p), values_mod_p(monos, fx, p), vals))
+            samples.append(s)
+    values = _monomial_values(monos, samples, scene.prime)
     out = {}
     for k, cof in enumerate(cofactors):
-        kernel = free_kernel_mod_p([_row(mx, mf, vals, cof, p) for mx, mf, vals in samples], p, free_value=1)
+        kernel = free_kernel_mod_p(_rows(values, samples, cof, scene.prime), scene.prime, free_value=1)
         if kernel:
             out[k] = kernel
     return out
 
 
-def _row(mx: Sequence[int], mf: Sequence[int], atoms: Sequence[int], cofactor: Cofactor, p: int) -> list[int]:
-    """m(f(x)) - K(x) m(x) mod p for the monomials m, from their values at x and f(x) and the atoms' values."""
-    k = 1
-    for v, e in zip(atoms, cofactor.exponents, strict=True):
-        if e:
-            k = k * pow(v, e % (p - 1), p) % p
-    return [(b - k * a) % p for a, b in zip(mx, mf, strict=True)]
+MonomialValues = list[tuple[tuple[int, ...], tuple[int, ...]]]
+
+
+def _monomial_values(monos: Sequence[Exponents], samples: Sequence[tuple[list[int], list[int], list[int]]], p: int
+                     ) -> MonomialValues:
+    """For each sample (x, f(x), atoms), the values mod p of the monomials at x and at f(x): one product per
+    monomial and point, over all the samples at once (per point, the bookkeeping cost as much as the products)."""
+    if not samples:
+        return []
+    at_x = columns_mod_p(monos, [x for x, _, _ in samples], p)
+    at_fx = columns_mod_p(monos, [fx for _, fx, _ in samples], p)
+    return list(zip(zip(*at_x), zip(*at_fx)))
+
+
+def _rows(values: MonomialValues, samples: Sequence[tuple[list[int], list[int], list[int]]], cofactor: Cofactor,
+          p: int) -> list[list[int]]:
+    """The rows m(f(x)) - K(x) m(x) mod p for the monomials m, one per sample, from the monomials' values at x and
+    f(x) and the atoms' values (K is a product of atoms)."""
+    rows = []
+    for (mx, mf), (_, _, atoms) in zip(values, samples, strict=True):
+        k = 1
+        for v, e in zip(atoms, cofactor.exponents, strict=True):
+            if e:
+                k = k * pow(v, e % (p - 1), p) % p
+        rows.append([(b - k * a) % p for a, b in zip(mx, mf, strict=True)])
+    return rows
 
 
 # ---- reconstruction with eps and parameters symbolic ---------------------------------------------------------
@@ -206,16 +224,14 @@ def _support_vector_mod_p(kmap: KahanMap, atoms: Sequence[Atom], reduced: Sequen
     parameters, its coefficient at `support[free]` set to 1 (the others in order); None when that kernel is not a
     line there (a special value or an unlucky prime)."""
     scene = ModularScene(kmap, atoms, controls, p, reduced)
-    rows: list[list[int]] = []
+    samples = []
     for _ in range(4 * len(support) + 20):
-        if len(rows) == len(support) + 3:
+        if len(samples) == len(support) + 3:
             break
         s = scene.sample(rng)
-        if s is None:
-            continue
-        x, fx, vals = s
-        rows.append(_row(values_mod_p(support, x, p), values_mod_p(support, fx, p), vals, cofactor, p))
-    kernel = free_kernel_mod_p(rows, p, free_value=1)
+        if s is not None:
+            samples.append(s)
+    kernel = free_kernel_mod_p(_rows(_monomial_values(support, samples, p), samples, cofactor, p), p, free_value=1)
     if len(kernel) != 1 or kernel[0][0] != free:
         return None
     vector = kernel[0][1]
