@@ -7,7 +7,7 @@ import pytest
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import get_ring
-from hkproof.hk.expansion import even_pieces, homogeneous_eps_pieces, support_stats, weighted_degrees
+from hkproof.hk.expansion import even_pieces, homogeneous_eps_pieces, support_degrees, support_stats, weighted_degrees
 from hkproof.proof.certificate import Refuted
 
 
@@ -58,3 +58,16 @@ def test_support_stats_reads_the_monomials_in_the_given_names(names):
     stats = support_stats(ring, p, names)
     assert stats == {"degree": max(sum(m) for m in monomials), "monomials": len(monomials), "terms": len(p),
                      "degrees": {n: max(m[k] for m in monomials) for k, n in enumerate(names)}}
+    without = {k: v for k, v in stats.items() if k != "monomials"}
+    assert support_degrees(ring, p, names) == without          # no loop over the terms, the same degrees
+
+
+def test_support_degrees_reads_the_total_degree_where_no_variable_peaks():
+    """The total degree in the names is not the sum of their separate degrees (x^3 + y^3: 3, not 6), a name
+    called t does not clash with the compose's new variable, and the zero polynomial has degree 0."""
+    ring = get_ring(("x", "y", "t"))
+    x, y, t = (ring.gen(v) for v in ring.names)
+    assert support_degrees(ring, x ** 3 * t ** 5 + y ** 3 - x * y, ("x", "y")) == \
+        {"degree": 3, "degrees": {"x": 3, "y": 3}, "terms": 3}
+    assert support_degrees(ring, x ** 2 * t ** 7 + x * y * t, ("x", "t"))["degree"] == 9
+    assert support_degrees(ring, x - x, ("x",)) == {"degree": 0, "degrees": {"x": 0}, "terms": 0}

@@ -10,7 +10,8 @@ from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Ring
 from hkproof.proof.certificate import Refuted
 
-__all__ = ["coefficients_in", "even_pieces", "homogeneous_eps_pieces", "support_stats", "taylor", "weighted_degrees"]
+__all__ = ["coefficients_in", "even_pieces", "homogeneous_eps_pieces", "support_degrees", "support_stats", "taylor",
+           "weighted_degrees"]
 
 
 def coefficients_in(ring: Ring, p: flint.fmpz_mpoly, name: str) -> list[flint.fmpz_mpoly]:
@@ -51,12 +52,30 @@ def weighted_degrees(ring: Ring, p: flint.fmpz_mpoly, weights: dict[str, int]) -
     return {sum(m[i] * w for i, w in idx) for m in p.monoms()}
 
 
-def support_stats(ring: Ring, p: flint.fmpz_mpoly, names: Sequence[str]) -> dict[str, Any]:
-    """Size of p as a polynomial in `names` (coefficients in the other variables): degrees, monomials, terms.
+def support_degrees(ring: Ring, p: flint.fmpz_mpoly, names: Sequence[str]) -> dict[str, Any]:
+    """Degrees of p as a polynomial in `names` (coefficients in the other variables) and its number of terms, read
+    without a loop over the terms: the degree in each name is FLINT's, the total degree is the degree in a new
+    variable t of p(names -> t * names) (one compose with monomial images, injective on monomials, so nothing
+    cancels)."""
+    if p.is_zero():
+        return {"degree": 0, "degrees": dict.fromkeys(names, 0), "terms": 0}
+    degrees = p.degrees()
+    t = "t"
+    while t in ring.names:
+        t += "_"
+    ctx = flint.fmpz_mpoly_ctx.get((*ring.names, t), ring.ctx.ordering().name)
+    gens = ctx.gens()
+    images = [gens[k] * gens[-1] if n in names else gens[k] for k, n in enumerate(ring.names)]
+    return {"degree": int(p.compose(*images, ctx=ctx).degrees()[-1]),
+            "degrees": {n: int(degrees[ring.index(n)]) for n in names}, "terms": len(p)}
 
-    The exponents are read one term at a time (`monomial(i)`): only the distinct monomials in `names` are kept, never
-    a list of every term's exponents (for the 6.3 million terms of the Clebsch f o f's m1-numerator that list took
-    2 GB)."""
+
+def support_stats(ring: Ring, p: flint.fmpz_mpoly, names: Sequence[str]) -> dict[str, Any]:
+    """`support_degrees` and the number of distinct monomials in `names`.
+
+    Those are read one term at a time (`monomial(i)`, about 3 microseconds a term): only the distinct monomials in
+    `names` are kept, never a list of every term's exponents (for the 6.3 million terms of the Clebsch f o f's
+    m1-numerator that list took 2 GB)."""
     idx = [ring.index(n) for n in names]
     first, last = min(idx), max(idx) + 1
     window = idx == list(range(first, last))
@@ -66,9 +85,7 @@ def support_stats(ring: Ring, p: flint.fmpz_mpoly, names: Sequence[str]) -> dict
             budget.check("reading the monomials of a large polynomial")
         m = monomial(i)
         monomials.add(m[first:last] if window else tuple(m[k] for k in idx))
-    return {"degree": max((sum(m) for m in monomials), default=0),
-            "degrees": {n: max((m[k] for m in monomials), default=0) for k, n in enumerate(names)},
-            "monomials": len(monomials), "terms": len(p)}
+    return {**support_degrees(ring, p, names), "monomials": len(monomials)}
 
 
 def even_pieces(ring: Ring, p: flint.fmpz_mpoly, name: str, max_degree: int) -> list[flint.fmpz_mpoly] | None:

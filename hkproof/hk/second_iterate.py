@@ -12,7 +12,7 @@ from hkproof.algebra.ring import Rational, get_ring, to_fmpq
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
-from hkproof.hk.expansion import support_stats
+from hkproof.hk.expansion import support_degrees
 
 __all__ = ["interpolated_gcd", "plain_composition"]
 
@@ -43,7 +43,7 @@ def interpolated_gcd(kmap: KahanMap, a: flint.fmpz_mpoly, b: flint.fmpz_mpoly,
     r, phase, params = kmap.ring, kmap.variables, kmap.field.parameters
     small = get_ring(tuple(phase))
     nums, delta = kmap.explicit
-    generic = [support_stats(r, q, phase)["degree"] for q in (delta, a, b)]
+    generic = [support_degrees(r, q, phase)["degree"] for q in (delta, a, b)]
     samples = []
     for w in points:
         values = {EPS: 1, **dict(zip(params, w, strict=True))}
