@@ -8,7 +8,7 @@ import pytest
 import sympy
 
 from hkproof.algebra import Frac, Ring
-from hkproof.algebra.factored import sum_of_products
+from hkproof.algebra.factored import factor, sum_of_products
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.errors import HKProofError
 from hkproof.hk.completion import complete_coordinates
@@ -54,6 +54,21 @@ def _product(factors):
     for f in factors:
         out = out * f
     return out
+
+
+def test_factor_divides_out_known_factors_and_agrees_with_flint():
+    """A denominator that is a known one times new factors is factored by dividing out the known irreducibles and
+    factoring the rest: the same content and irreducible factors with multiplicities as FLINT's own factorization,
+    whether the known factors come first or not, with a repeated factor and a negative content."""
+    x, y, e = (R.gen(v) for v in R.names)
+    known = (x + y * e + 3) * (x ** 2 - y) ** 2 * e
+    bigger = -6 * known * (x + y * e + 3) * (y ** 3 + x * e - 1) * (x - 2)
+    factor(known)
+    for p in (bigger, known * (x - 2), -known):
+        content, factors = factor(p)
+        want_content, want = p.factor()
+        assert content == want_content
+        assert sorted((str(q), k) for q, k in factors) == sorted((str(q), k) for q, k in want)
 
 
 def test_completion_refuses_relations_that_leave_the_wrong_number_of_unknowns():

@@ -14,16 +14,30 @@ __all__ = ["factor", "sum_of_products"]
 
 
 _FACTORED: dict[tuple[int, str], tuple[flint.fmpz, list[tuple[flint.fmpz_mpoly, int]]]] = {}
+_IRREDUCIBLE: dict[int, dict[str, flint.fmpz_mpoly]] = {}    # per context: the irreducible factors seen so far
 
 
 def factor(p: flint.fmpz_mpoly) -> tuple[flint.fmpz, list[tuple[flint.fmpz_mpoly, int]]]:
     """FLINT's factorization (content, [(irreducible, multiplicity)]), remembered for the denominators that many
-    components of one solution share (a 30 000-term denominator takes seconds to factor)."""
+    components of one solution share (a 30 000-term denominator takes seconds to factor); the irreducible factors
+    already seen are divided out first, so FLINT factors only what is new (a denominator that is a known one times
+    a small factor costs a few exact divisions)."""
     key = (id(p.context()), str(p))
     if key not in _FACTORED:
         if len(_FACTORED) > 64:
             _FACTORED.clear()
-        _FACTORED[key] = p.factor()
+            _IRREDUCIBLE.clear()
+        known = _IRREDUCIBLE.setdefault(key[0], {})
+        rest, found = p, []
+        for q in known.values():
+            e = 0
+            while (quotient := _divides(q, rest)) is not None:
+                rest, e = quotient, e + 1
+            if e:
+                found.append((q, e))
+        content, new = rest.factor()
+        known.update((str(q), q) for q, _ in new)
+        _FACTORED[key] = (content, found + list(new))
     return _FACTORED[key]
 
 
@@ -53,6 +67,8 @@ def sum_of_products(terms: Sequence[Sequence[Frac]]) -> Frac:
     """
     ring = terms[0][0].ring
     one = ring.constant(1)
+    for den in sorted({id(f.den): f.den for factors in terms for f in factors}.values(), key=len):
+        factor(den)           # the small denominators first: a big one is often a small one times a new factor
     contents, parts = [], []
     for factors in terms:
         num = one
