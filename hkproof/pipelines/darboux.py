@@ -135,6 +135,9 @@ class DarbouxSearch:
 
 
 # ---- modular search --------------------------------------------------------------------------------------------------
+Sample = tuple[list[int], list[int], list[int]]       # x, f(x), the atoms' values (ModularScene.sample)
+
+
 class ModularScene:
     """The modular map and the atoms, mod p at fixed eps and parameters: samples (x, f(x), atom values). The atoms
     may come reduced already (`atoms_mod_p`, once per prime for scenes that share it)."""
@@ -147,7 +150,7 @@ class ModularScene:
         self.slots = [kmap.ring.index(v) for v in kmap.variables]
         self.args = [self.modular.values.get(n, 0) for n in kmap.ring.names]
 
-    def sample(self, rng: random.Random) -> tuple[list[int], list[int], list[int]] | None:
+    def sample(self, rng: random.Random) -> Sample | None:
         """(x, f(x), atom values) at a random point, or None where Delta or an atom vanishes."""
         x = [rng.randrange(self.prime) for _ in self.kmap.variables]
         fx = self.modular.evaluate(x)
@@ -174,7 +177,7 @@ def atoms_mod_p(kmap: KahanMap, atoms: Sequence[Atom], p: int) -> list[flint.nmo
 def modular_kernels(scene: ModularScene, cofactors: Sequence[Cofactor], monos: Sequence[Exponents],
                     rng: random.Random, extra: int = 8) -> dict[int, list[tuple[int, list[int]]]]:
     """For each cofactor (by index), the rref kernel basis of P -> P o f - K P on the monomials, mod p."""
-    samples: list = []
+    samples: list[Sample] = []
     while len(samples) < len(monos) + extra:
         s = scene.sample(rng)
         if s is not None:
@@ -191,8 +194,7 @@ def modular_kernels(scene: ModularScene, cofactors: Sequence[Cofactor], monos: S
 MonomialValues = list[tuple[tuple[int, ...], tuple[int, ...]]]
 
 
-def _monomial_values(monos: Sequence[Exponents], samples: Sequence[tuple[list[int], list[int], list[int]]], p: int
-                     ) -> MonomialValues:
+def _monomial_values(monos: Sequence[Exponents], samples: Sequence[Sample], p: int) -> MonomialValues:
     """For each sample (x, f(x), atoms), the values mod p of the monomials at x and at f(x): one product per
     monomial and point, over all the samples at once (per point, the bookkeeping cost as much as the products)."""
     if not samples:
@@ -202,8 +204,7 @@ def _monomial_values(monos: Sequence[Exponents], samples: Sequence[tuple[list[in
     return list(zip(zip(*at_x), zip(*at_fx)))
 
 
-def _rows(values: MonomialValues, samples: Sequence[tuple[list[int], list[int], list[int]]], cofactor: Cofactor,
-          p: int) -> list[list[int]]:
+def _rows(values: MonomialValues, samples: Sequence[Sample], cofactor: Cofactor, p: int) -> list[list[int]]:
     """The rows m(f(x)) - K(x) m(x) mod p for the monomials m, one per sample, from the monomials' values at x and
     f(x) and the atoms' values (K is a product of atoms)."""
     rows = []
@@ -224,7 +225,7 @@ def _support_vector_mod_p(kmap: KahanMap, atoms: Sequence[Atom], reduced: Sequen
     parameters, its coefficient at `support[free]` set to 1 (the others in order); None when that kernel is not a
     line there (a special value or an unlucky prime)."""
     scene = ModularScene(kmap, atoms, controls, p, reduced)
-    samples = []
+    samples: list[Sample] = []
     for _ in range(4 * len(support) + 20):
         if len(samples) == len(support) + 3:
             break
