@@ -62,6 +62,26 @@ def test_parity_exact():
     assert Frac.parse(R, "(1 + eps)/(1 - eps)").parity("eps") is Parity.NEITHER
     # even only after cancelling a non-even common factor (the paper's "miraculous cancellation")
     assert Frac.parse(R, "(1 + eps*x)*(1 + eps**2)/((1 + eps*x)*y)").is_even_in("eps")
+    assert Frac.parse(R, "eps/(eps**3 + x*eps)").parity("eps") is Parity.EVEN      # odd over odd
+    assert Frac(R, 0).parity("eps") is Parity.EVEN and Frac.parse(R, "eps**3").parity("eps") is Parity.ODD
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_parity_from_exponents_agrees_with_the_substitution_eps_to_minus_eps(seed):
+    """The parity read from the exponents of num and den against its definition h(-eps) = +-h(eps), computed by
+    sympy, on random functions built even, odd or neither."""
+    rng = random.Random(seed)
+    x, y, eps, a = sympy.symbols("x y eps a")
+    def part(power: int) -> sympy.Expr:
+        return sum(rng.randint(-3, 3) * x ** rng.randint(0, 2) * a ** rng.randint(0, 1) * eps ** (power + 2 * k)
+                   for k in range(3)) + y * eps ** power
+    for top, bottom in ((0, 0), (1, 1), (0, 1), (1, 0)):
+        for h in (part(top) / part(bottom), (part(top) + eps ** (5 + top)) / part(bottom)):
+            f = Frac.parse(R, str(h))
+            flipped = sympy.cancel(h.subs(eps, -eps))
+            want = Parity.EVEN if sympy.cancel(flipped - h) == 0 else \
+                Parity.ODD if sympy.cancel(flipped + h) == 0 else Parity.NEITHER
+            assert f.parity("eps") is want
 
 
 @pytest.mark.parametrize("seed", range(4))
