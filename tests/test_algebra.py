@@ -228,3 +228,14 @@ def test_rank_q_grows_is_the_exact_rank_also_where_the_prime_divides_a_denominat
     assert rank_q_grows([[q(1, p), q(3, 5)], [q(2, p), q(6, 5)]], 1) == 1
     assert rank_q_grows([[q(1, p), q(3, 5)], [q(2, p), q(7, 5)]], 1) == 2
     assert rank_q_grows([[q(p), q(0)], [q(0), q(p)]], 1) == 2   # zero mod p, not over Q
+
+
+def test_lcm_of_repeated_and_trivial_denominators():
+    """lcm skips repeated polynomials and 1 but not a multiple: the same result as the product over the gcds."""
+    from hkproof.algebra.linalg import lcm
+    x, y, eps = (R.gen(v) for v in ("x", "y", "eps"))
+    a, b, c = x + eps, y ** 2 - 3, x * y + 1
+    one = R.constant(1)
+    got = lcm([a * b, one, a * b, b * c, a * b, a ** 2])
+    assert got == a ** 2 * b * c or got == -(a ** 2 * b * c)
+    assert lcm([one, one]) == one
