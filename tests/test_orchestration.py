@@ -152,6 +152,26 @@ def test_a_claim_sharing_an_intermediate_goes_to_the_free_worker_that_holds_it(f
     assert sum(line.startswith("computed") for line in log.read_text().splitlines()) == 1
 
 
+def test_workers_share_the_cores(fresh_run, tmp_path, monkeypatch):
+    """Each of N workers uses at most cores // N cores (FLINT's threads, forked parts), at least one; the parent
+    and a single in-process run keep them all."""
+    from hkproof.algebra import ring
+    monkeypatch.setattr(ring.os, "sched_getaffinity", lambda pid: set(range(8)), raising=False)
+    log = tmp_path / "cores.log"
+
+    def register(claim_id: str) -> None:
+        @claim(claim_id, "test", claim_id, "-", "-", claimed={"x": "1"})
+        def prove(cert: Certificate, given) -> None:
+            with cert.step("reads its cores", "comparison", "-"):
+                log.write_text(str(ring.cores()))
+    for jobs, share in ((2, 4), (3, 2), (16, 1)):
+        register(f"t-cores-{jobs}")
+        with ProcessPoolExecutor(jobs) as executor:
+            run_graph([f"t-cores-{jobs}"], executor)
+        assert log.read_text() == str(share)
+    assert ring.cores() == 8
+
+
 # -- total provers ----------------------------------------------------------------------------------------------------
 def _recursion():
     return _recursion()

@@ -140,9 +140,20 @@ def get_ring(names: tuple[str, ...]) -> Ring:
     return Ring(names)
 
 
+_SHARE: list[int | None] = [None]     # the cores a worker of `prove --jobs N` may use (share_cores), None: all
+
+
+def share_cores(n: int | None) -> None:
+    """Let this process use at most n cores (None: every core it may run on): a worker of `prove --jobs N` on C
+    cores takes C // N, so that FLINT's threads and forked parts do not oversubscribe the machine (on two cores
+    with two workers, two threads each cost `prove --all` a tenth more CPU and wall time)."""
+    _SHARE[0] = n
+
+
 def cores() -> int:
-    """The cores this process may use."""
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    """The cores this process may use: those it may run on, at most its share (`share_cores`)."""
+    available = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    return min(available, _SHARE[0]) if _SHARE[0] else available
 
 
 @contextmanager

@@ -18,6 +18,7 @@ from contextlib import contextmanager, nullcontext
 from typing import Any, Callable, Hashable, Iterable, Iterator, Mapping, Sequence, TypeVar, cast
 
 import hkproof.algebra.pickling  # noqa: F401 -- FLINT polynomials travel to Dask workers as data
+from hkproof.algebra.ring import cores, share_cores
 from hkproof.budget import Budget, Spread, spread_on
 from hkproof.errors import HKProofError
 from hkproof.orchestration.graph import critical_path_first, in_dependency_order
@@ -154,8 +155,9 @@ class InProcessExecutor(Executor):
         return [(h, self._done.pop(h)) for h in handles]
 
 
-def _serve(conn: Connection, parent_end: Connection | None = None) -> None:
-    """A worker process: prove the claims the parent sends, one at a time, until it sends None or is gone. The
+def _serve(conn: Connection, parent_end: Connection | None = None, share: int | None = None) -> None:
+    """A worker process: prove the claims the parent sends, one at a time, until it sends None or is gone, on at
+    most `share` cores (`algebra.ring.share_cores`). The
     parent's end of the pipe, which a forked worker inherits, is closed first: open here, it would keep the pipe open
     after the parent's death, and the worker would wait for a task for ever. (A worker also inherits the parent's
     ends of the pipes of the workers started before it; it closes them by ending, and so on down to the first.)"""
@@ -163,6 +165,7 @@ def _serve(conn: Connection, parent_end: Connection | None = None) -> None:
         parent_end.close()
     _own_group(0)
     as_worker()
+    share_cores(share)
     while True:
         try:
             task = conn.recv()
@@ -193,9 +196,9 @@ def _own_group(pid: int) -> None:
 class _Worker:
     """One worker process and the pipe to it."""
 
-    def __init__(self) -> None:
+    def __init__(self, share: int | None = None) -> None:
         self.conn, child = multiprocessing.Pipe()
-        self.process = multiprocessing.Process(target=_serve, args=(child, self.conn), daemon=True)
+        self.process = multiprocessing.Process(target=_serve, args=(child, self.conn, share), daemon=True)
         with interrupts_blocked():       # until the worker has its own signal dispositions
             self.process.start()
         _own_group(cast(int, self.process.pid))
@@ -227,6 +230,7 @@ class ProcessPoolExecutor(Executor):
 
     def __init__(self, jobs: int) -> None:
         self.slots = jobs
+        self.share = max(1, cores() // jobs)     # each worker's cores
         self._idle: list[_Worker] = []
         self._busy: list[_Worker] = []
 
@@ -236,7 +240,7 @@ class ProcessPoolExecutor(Executor):
         shares = get_claim(claim_id).shares
         with interrupts_deferred():
             warm = [w for w in self._idle if shares and shares in w.shared]
-            worker = (warm[0] if warm else self._idle[-1]) if self._idle else _Worker()
+            worker = (warm[0] if warm else self._idle[-1]) if self._idle else _Worker(self.share)
             if worker in self._idle:
                 self._idle.remove(worker)
             self._busy.append(worker)
@@ -245,7 +249,7 @@ class ProcessPoolExecutor(Executor):
             except OSError:  # the worker died while idle
                 self._busy.remove(worker)
                 self._discard(worker)
-                worker = _Worker()
+                worker = _Worker(self.share)
                 self._busy.append(worker)
                 worker.conn.send((claim_id, dict(cited), self.seconds))
             if shares:
