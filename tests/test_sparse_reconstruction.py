@@ -127,6 +127,40 @@ def test_thiele_is_not_fooled_before_enough_points():
     assert thiele.terminated and thiele.fraction() == ([1], [1, 0, 0, 1])
 
 
+def test_thiele_nodes_and_values_follow_the_continued_fraction_by_definition():
+    """The interpolator's coefficients and values against Thiele's reciprocal differences and the continued fraction
+    written out with one modular inverse per level (the textbook definition), on random data over small primes,
+    where vanishing differences, poles of a partial fraction and repeated nodes are frequent."""
+    rng = random.Random(11)
+    for _ in range(400):
+        p = rng.choice([5, 7, 11, 13, 101])
+        thiele, nodes, coefficients = ThieleInterpolator(p), [], []
+        for _ in range(rng.randint(1, 9)):
+            t, y = rng.randrange(p), rng.randrange(p)
+            def value(u: int) -> int | None:
+                if not coefficients:
+                    return None
+                v = coefficients[-1]
+                for a, node in zip(reversed(coefficients[:-1]), reversed(nodes[:-1])):
+                    if v == 0:
+                        return None
+                    v = (a + (u - node) * pow(v, -1, p)) % p
+                return v
+            agreed = value(t) == y
+            thiele.add(t, y)
+            if not agreed:
+                r = y
+                for a, node in zip(coefficients, nodes):
+                    if r == a:
+                        break
+                    r = (t - node) * pow(r - a, -1, p) % p
+                else:
+                    nodes.append(t)
+                    coefficients.append(r)
+            assert (thiele.nodes, thiele.coefficients) == (nodes, coefficients)
+            assert all(thiele.value(u) == value(u) for u in range(p))
+
+
 def test_fit_lines_with_known_coefficients():
     p, rng = 1000003, random.Random(4)                   # f = (5 + 7t + 11t^2)/(1 + 3t)
     lines_nodes = [[rng.randrange(1, p) for _ in range(2)] for _ in range(3)]

@@ -39,31 +39,42 @@ class ThieleInterpolator:
 
     def value(self, t: int) -> int | None:
         """The interpolant at t (None at a pole of a partial fraction)."""
+        top = self._projective(t)
+        return None if top is None else top[0] * pow(top[1], -1, self.p) % self.p
+
+    def _projective(self, t: int) -> tuple[int, int] | None:
+        """The interpolant at t as (num, den) mod p, den != 0, evaluated bottom-up without a division: v = a +
+        (t - t_k)/v' is num = a num' + (t - t_k) den', den = num' (None where a partial fraction v' vanishes)."""
         p = self.p
         if not self.coefficients:
             return None
-        v = self.coefficients[-1]
+        num, den = self.coefficients[-1], 1
         for a, node in zip(reversed(self.coefficients[:-1]), reversed(self.nodes[:-1])):
-            if v == 0:
+            if num == 0:
                 return None
-            v = (a + (t - node) * pow(v, -1, p)) % p
-        return v
+            num, den = (a * num + (t - node) * den) % p, num
+        return num, den
 
     def add(self, t: int, y: int) -> None:
         """Take the value y at a new node t: count an agreement, or extend the continued fraction (a point where the
-        reciprocal differences divide by zero is skipped)."""
+        reciprocal differences divide by zero is skipped). The comparison and the reciprocal differences r <- (t -
+        t_k)/(r - a_k) are kept as fractions mod p, so that each new node costs one modular inverse, not one per
+        level (they were most of the time of sparse reconstruction's line solves)."""
         p = self.p
-        if self.value(t) == y % p:
+        r = y % p
+        top = self._projective(t)
+        if top is not None and top[0] == r * top[1] % p:
             self.agreements += 1
             return
         self.agreements = 0
-        r = y % p
+        num, den = r, 1
         for a, node in zip(self.coefficients, self.nodes):
-            if r == a:
+            difference = (num - a * den) % p
+            if difference == 0:
                 return
-            r = (t - node) * pow(r - a, -1, p) % p
+            num, den = (t - node) * den % p, difference
         self.nodes.append(t % p)
-        self.coefficients.append(r)
+        self.coefficients.append(num * pow(den, -1, p) % p)
 
     def fraction(self) -> tuple[list[int], list[int]]:
         """(numerator, denominator) coefficient lists, lowest degree first, coprime, the denominator normalized to
