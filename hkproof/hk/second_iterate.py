@@ -60,13 +60,17 @@ def interpolated_gcd(kmap: KahanMap, a: flint.fmpz_mpoly, b: flint.fmpz_mpoly,
             raise HKProofError(f"the gcd at the parameters {list(w)} has no constant term +-1: no normalization "
                                "g(x, 0) = 1")
         samples.append(g * constant)
-    monomials = {m for g in samples for m in g.monoms()}
+    coefficients = [g.to_dict() for g in samples]
+    monomials = {m for g in coefficients for m in g}
     data: dict[tuple[int, ...], int] = {}
+    systems: dict[int, flint.fmpq_mat] = {}          # one per form degree
     for m in monomials:
         k = form_degree(m)
         forms = _exponents(len(params), k)
-        system = flint.fmpq_mat([[_power(w, e) for e in forms] for w in points])
-        solution = solve_overdetermined(system, [int(g.to_dict().get(m, 0)) for g in samples])
+        if k not in systems:
+            systems[k] = flint.fmpq_mat([[_power(w, e) for e in forms] for w in points])
+        system = systems[k]
+        solution = solve_overdetermined(system, [int(g.get(m, 0)) for g in coefficients])
         for e, coefficient in zip(forms, solution, strict=True):
             if coefficient.q != 1:
                 raise HKProofError(f"interpolation of the gcd failed at the monomial {m} (unlucky points)")
