@@ -1,13 +1,15 @@
 """The certificate checker: re-verifies a certificate file (docs/certificates.md) from the file alone.
 
 It trusts python-flint, hkproof's formula parser (hkproof.algebra.formula) and its fraction type (Frac: lowest terms
-by a gcd, parity in eps by eps -> -eps), Prop. "prop: even" of the paper (a theorem) and the chain rule (the Nambu
-structure of Byrnes, Haggar and Quispel (1999) follows from it and identities the checker expands). It imports nothing else of hkproof: it reads the file strictly (reading.py),
-rebuilds the Kahan map, its equations and det Df from the field by its own Cramer's rule (kahan.py), and every identity
-it reports as verified is one it computed exactly. Step kinds (steps.py, bivectors.py): substitution, prop-even,
-darboux, recipe-g, degrees, reparametrization; from version 7 bivector-invariance, jacobi, casimir, involution and
-exclusion (rows the checker computes itself), from 8 affine-change, from 9 no-poisson, from 10 nambu (P W(grad I)
-for proven integrals and a proven density 1/P; its universal identities expanded, rank 2 checked at a point). Every claimed quantity names its field
+by a gcd, parity in eps read from the exponents of numerator and denominator), Prop. "prop: even" of the paper (a
+theorem) and the chain rule (the Nambu structure of Byrnes, Haggar and Quispel (1999) follows from it and identities
+the checker expands). It imports nothing else of hkproof: it reads the file strictly (reading.py), rebuilds the
+Kahan map, its equations and det Df from the field by its own Cramer's rule (kahan.py), and every identity it reports
+as verified is one it computed exactly. Step kinds (steps.py, bivectors.py): substitution, prop-even, darboux,
+recipe-g, degrees, reparametrization; from version 7 bivector-invariance, jacobi, casimir, involution and exclusion
+(rows the checker computes itself), from 8 affine-change, from 9 no-poisson, from 10 nambu (P W(grad I) for proven
+integrals and a proven density 1/P; its universal identities expanded, rank 2 checked at a point). Every claimed
+quantity names its field
 (version 6), and a step concludes for its own field only. What it cannot check, it refuses (malformed, exit 2); what
 is too large to check here, it refuses with a ResourceLimitError (exit 4).
 
