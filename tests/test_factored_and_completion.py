@@ -88,17 +88,32 @@ def test_completion_refuses_relations_that_leave_the_wrong_number_of_unknowns():
                              ((0,), Frac(f.ring, 1)), [0])
 
 
-def test_components_fixed_by_relations_from_found_ones():
-    from hkproof.hk.completion import _from_relations
+def test_components_fixed_by_the_found_ones():
+    """u = columns . t with t = (t0, t1): u2 = t0 + L t1 and u3 = t1 follow from u0 = t0, u1 = t1 (with L
+    substituted); from u0 alone neither does, but u0 fixes a component that is a multiple of it."""
+    from hkproof.hk.completion import _determined, generic_point
     from hkproof.hk.transport import Substitution
     lifted = R.extend(["L"])
-    one, big_l = Frac(lifted, 1), Frac.parse(lifted, "L")
-    rows = [[one, big_l, -one, Frac(lifted, 0)],            # a0 + L a1 - a2 = 0
-            [Frac(lifted, 0), one, Frac(lifted, 0), -one],   # a1 - a3 = 0
-            [one, -one, Frac(lifted, 0), Frac(lifted, 0)]]   # a0 = a1: not used (no unknown left in it)
+    one, zero, big_l = Frac(lifted, 1), Frac(lifted, 0), Frac.parse(lifted, "L")
+    columns = [[one, zero], [zero, one], [one, big_l], [zero, one], [big_l * 2, zero]]
     value_l = Frac.parse(R, "x/(1 + eps**2*y)")
     sigma = Substitution(lifted, R, {"L": value_l})
+    point = generic_point(lifted.names)
     found = {0: Frac.parse(R, "x*y/(x + 1)"), 1: Frac.parse(R, "1/(x + 1)")}
-    got = _from_relations(rows, found, [2, 3], sigma)
+    got = _determined(columns, found, [2, 3], sigma, point)
     assert got[2] == found[0] + value_l * found[1] and got[3] == found[1]
-    assert _from_relations(rows[:1], found, [2, 3], sigma) == {}       # one relation cannot fix two unknowns
+    assert _determined(columns, {0: found[0]}, [2, 3], sigma, point) == {}
+    assert _determined(columns, {0: found[0]}, [2, 3, 4], sigma, point) == {4: 2 * value_l * found[0]}
+
+
+def test_found_components_carried_block_to_block_by_the_symmetry():
+    """Images (0 -> 1, perm) then (1 -> 2, perm): target component k is tau(source component perm[k]); the
+    normalized last element is not an unknown, and components already found are kept."""
+    from hkproof.hk.block_system import BlockSymmetry
+    from hkproof.hk.completion import _carried
+    x = Frac.parse(R, "x")
+    tau = BlockSymmetry(lambda h: h * x, lambda kmap: True, ((0, 1, (1, 0, 2)), (1, 2, (1, 0, 2))))
+    a0 = Frac.parse(R, "y")
+    got = _carried({0: a0}, [2, 2, 2], tau)
+    assert got == {3: a0 * x, 4: a0 * x * x}
+    assert _carried({0: a0, 3: Frac(R, 5)}, [2, 2, 2], tau) == {4: Frac(R, 5) * x}

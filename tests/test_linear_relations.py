@@ -6,7 +6,7 @@ import pytest
 from hkproof.algebra import Frac
 from hkproof.algebra.ring import get_ring
 from hkproof.errors import ParseError
-from hkproof.hk.linear_relations import parse_relation_chain, relation_rank, same_relation
+from hkproof.hk.linear_relations import parse_relation, parse_relation_chain, relation_rank, same_relation
 
 R = get_ring(("x", "w"))
 
@@ -30,3 +30,15 @@ def test_same_relation_and_rank():
 def test_nonlinear_chain_is_refused():
     with pytest.raises(ParseError):
         parse_relation_chain(R, "a = b = a*b", ["a", "b"])
+
+
+@pytest.mark.parametrize("text", ["a/b = 1", "x/(a + 1) = b", "a**2 = w*b", "w*a*b = 0"])
+def test_unknowns_in_a_denominator_or_a_product_are_refused(text):
+    with pytest.raises(ParseError, match="not linear"):
+        parse_relation(R, text, ["a", "b"])
+
+
+def test_coefficients_with_a_denominator_and_absent_unknowns():
+    rel = parse_relation(R, "a/(w + 1) + x*b/w = x**2/(w + 1)", ["a", "b", "c"])
+    assert [str(c) for c in rel.coefficients] == ["(1)/(w + 1)", "(x)/(w)", "0"]
+    assert rel.rhs == Frac.parse(R, "x**2/(w + 1)")

@@ -18,6 +18,7 @@ from hkproof.algebra.linalg import cramer, pivots_at
 from hkproof.algebra.ring import flint_threads
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
+from hkproof.hk.block_system import BlockSymmetry
 from hkproof.hk.reduced import Relation
 from hkproof.hk.transport import Substitution
 
@@ -31,12 +32,15 @@ def generic_point(names: Sequence[str]) -> dict[str, flint.fmpq]:
 
 def complete_coordinates(kmap: KahanMap, bases: Sequence[Sequence[Frac]], relations: Sequence[Relation],
                          integrals: Mapping[str, Frac], known: tuple[Sequence[int], Frac],
-                         wanted: Sequence[int]) -> list[Frac]:
+                         wanted: Sequence[int], symmetry: BlockSymmetry | None = None) -> list[Frac]:
     """The components `wanted` of the unknowns (the bases' kernel coordinates, block after block, each basis with
     its last element normalized to -1) from: the homogeneous `relations` (coefficients over Q(eps, parameters, the
     symbols of `integrals`)), the rows i = 0 of every basis, and sum_{k in known[0]} a_k = known[1].
 
     The relations must leave exactly len(bases) + 1 unknowns free; the rows i = 0 and the known equation fix them.
+    Each wanted component is completed (the expensive step) only when the relations do not fix it from those found
+    so far; with `symmetry` (tau o f = f o tau carrying block to block, `BlockSymmetry`) the images of the found
+    components count as found too, assuming the solution is equivariant (the caller proves the candidate anyway).
     """
     if not relations:
         raise HKProofError("no relations: the rows i = 0 and one known integral cannot fix the coordinates")
@@ -68,6 +72,7 @@ def complete_coordinates(kmap: KahanMap, bases: Sequence[Sequence[Frac]], relati
     particular = cramer(system, [*targets, zero])[0]
     direction = cramer(system, [zero] * len(bases) + [Frac(lifted, 1)])[0]
     sigma = Substitution(lifted, kmap.ring, dict(integrals))
+    point = generic_point(lifted.names)
     found: dict[int, Frac] = {}
     with flint_threads():
         for j in wanted:
@@ -76,27 +81,43 @@ def complete_coordinates(kmap: KahanMap, bases: Sequence[Sequence[Frac]], relati
             a0 = sigma.apply(sum((x * u for x, u in zip(columns[j], particular, strict=True)), zero))
             a1 = sigma.apply(sum((x * u for x, u in zip(columns[j], direction, strict=True)), zero))
             found[j] = sum_of_products([[a0], [known[1], a1]])
-            found.update(_from_relations(rows, found, [k for k in wanted if k not in found], sigma))
+            if symmetry is not None:
+                found.update(_carried(found, [len(b) - 1 for b in bases], symmetry))
+            found.update(_determined(columns, found, [k for k in wanted if k not in found], sigma, point))
     return [found[j] for j in wanted]
 
 
-def _from_relations(rows: Sequence[Sequence[Frac]], found: Mapping[int, Frac], rest: Sequence[int],
-                    sigma: Substitution) -> dict[int, Frac]:
-    """The remaining components at once, when the relations that involve only found and remaining unknowns fix
-    them: rest = W found with W small (Cramer over Q(eps, parameters)[symbols]), then a few products with the big
-    found components over factored denominators -- much cheaper than the completion itself. {} if they do not."""
+def _carried(found: Mapping[int, Frac], sizes: Sequence[int], symmetry: BlockSymmetry) -> dict[int, Frac]:
+    """The images of the found components under the symmetry (block source -> target, in the order of its images),
+    those not found yet: more known components for `_determined`, each one substitution."""
+    starts = [sum(sizes[:b]) for b in range(len(sizes))]
+    out = dict(found)
+    for source, target, perm in symmetry.images:
+        for k, j in enumerate(perm[:-1]):
+            there, here = starts[source] + j, starts[target] + k
+            if j < sizes[source] and there in out and here not in out:
+                out[here] = symmetry.apply(out[there])
+    return {k: v for k, v in out.items() if k not in found}
+
+
+def _determined(columns: Sequence[Sequence[Frac]], found: Mapping[int, Frac], rest: Sequence[int],
+                sigma: Substitution, point: Mapping[str, flint.fmpq]) -> dict[int, Frac]:
+    """The components of `rest` that the found ones fix. Every solution of the relations is u_j = columns[j] . t
+    (t the free unknowns), so u_j is fixed when its row of `columns` lies in the span of the found components' rows
+    (ranks at a generic point); then u_j = sum_k W_k u_k over independent found rows, W by Cramer's rule over
+    Q(eps, parameters)[symbols] (small), and a few products with the big found components over factored
+    denominators -- much cheaper than the completion itself."""
     if not rest:
         return {}
-    inside = [row for row in rows if all(c.is_zero() or k in found or k in rest for k, c in enumerate(row))]
-    if not inside:
-        return {}
-    chosen, pivots = pivots_at([[row[k] for k in rest] for row in inside], generic_point(rows[0][0].ring.names))
-    if len(pivots) < len(rest):
-        return {}
-    square = [[inside[i][k] for k in rest] for i in chosen]
-    weights = {k: cramer(square, [-inside[i][k] for i in chosen])[0] for k in found}
+    known = list(found)
+    chosen, pivots = pivots_at([list(columns[k]) for k in known], point)
+    base = [known[i] for i in chosen]
+    square = [[columns[k][c] for k in base] for c in pivots]     # square W = columns[j] at the pivot columns
     out = {}
-    for n, r in enumerate(rest):
-        terms = [[sigma.apply(weights[k][n]), found[k]] for k in found if not weights[k][n].is_zero()]
-        out[r] = sum_of_products(terms) if terms else Frac(sigma.target, 0)
+    for j in rest:
+        if len(pivots_at([list(columns[k]) for k in (*base, j)], point)[0]) > len(base):
+            continue
+        weights = cramer(square, [columns[j][c] for c in pivots])[0]
+        terms = [[sigma.apply(w), found[k]] for w, k in zip(weights, base, strict=True) if not w.is_zero()]
+        out[j] = sum_of_products(terms) if terms else Frac(sigma.target, 0)
     return out

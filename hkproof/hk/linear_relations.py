@@ -20,10 +20,17 @@ def parse_relation(ring: Ring, text: str, unknowns: Sequence[str]) -> Relation:
     lhs, rhs = text.split("=")
     big = ring.extend(unknowns)
     expr = Frac.parse(big, f"({lhs}) - ({rhs})")
+    if expr.den_variables_in(unknowns):
+        raise ParseError(f"the relation {text!r} is not linear in {list(unknowns)}: an unknown in a denominator")
     zero = {u: 0 for u in unknowns}
+    degrees = expr.num.degrees()
     coefficients = []
-    for u in unknowns:
-        d = expr.derivative(u)
+    for u in unknowns:      # the numerator's derivative along u over the denominator (free of the unknowns)
+        i = big.index(u)
+        if degrees[i] == 0:
+            coefficients.append(Frac(ring, 0))
+            continue
+        d = Frac(big, expr.num.derivative(i), expr.den)
         if not set(unknowns).isdisjoint(d.variables()):
             raise ParseError(f"the relation {text!r} is not linear in {list(unknowns)}")
         coefficients.append(d.specialize(zero, ring))

@@ -79,7 +79,13 @@ def linear_combination_equals(coefficients: Sequence[Frac], values: Sequence[Fra
     extra = rhs.den / g
     total = -rhs.num * (common / g)
     for c, v in zip(coefficients, values, strict=True):
-        total += c.num * v.num * (lc / c.den) * (lv / v.den) * extra
+        if c.is_zero() or v.is_zero():
+            continue
+        scaled_c, scaled_v = c.num * (lc / c.den), v.num * (lv / v.den)   # each over its common denominator,
+        if len(scaled_c) <= len(scaled_v):                                 # then one big product
+            total += (scaled_c * extra) * scaled_v
+        else:
+            total += scaled_c * (scaled_v * extra)
     return total.is_zero()
 
 

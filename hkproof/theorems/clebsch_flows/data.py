@@ -4,6 +4,8 @@ from __future__ import annotations
 from functools import lru_cache
 from typing import Mapping, Sequence
 
+import flint
+
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.ring import Ring, get_ring
 from hkproof.dynamics.catalogue import CLEBSCH_VARS, get_system, kahan_map
@@ -42,9 +44,16 @@ def _under(source: Ring, functions: Sequence[Frac], images: Mapping[str, str], t
             raise HKProofError(f"{n} -> {text} is not a polynomial with integer coefficients")
         polys[n] = img.num
     zero_s = {n: p for n, p in polys.items() if n != "s"}
-    out = []
+    images_of: dict[int, flint.fmpz_mpoly] = {}     # a polynomial that several functions share (their
+    out = []                                          # denominator) is substituted once
+
+    def image(p: flint.fmpz_mpoly) -> flint.fmpz_mpoly:
+        if id(p) not in images_of:
+            images_of[id(p)] = source.substitute(p, zero_s, work)
+        return images_of[id(p)]
+
     for f in functions:
-        g = Frac(work, source.substitute(f.num, zero_s, work), source.substitute(f.den, zero_s, work))
+        g = Frac(work, image(f.num), image(f.den))
         out.append(g.specialize({"s": 0}, target) if "s" in polys else g.to_ring(target))
     return out
 

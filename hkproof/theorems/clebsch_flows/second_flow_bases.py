@@ -207,7 +207,7 @@ def prove_second_bases(cert: Certificate, claimed: Mapping[str, str]) -> None:
                    "cyclic symmetry", "hk.completion: Cramer over Q(eps, w)[L], L and g1 (flow-second-theta) "
                    "substituted last over factored denominators; index shift 1 -> 2 -> 3", r) as s:
         g1 = recall(require_proven(cert, "flow-second-theta"), "g1", r)
-        alpha = complete_coordinates(f, phis, lifted, {"L": big_l}, ((0, 6, 12), g1), range(6))
+        alpha = complete_coordinates(f, phis, lifted, {"L": big_l}, ((0, 6, 12), g1), range(6), INDEX_SHIFT)
         beta = INDEX_SHIFT.image(alpha, PERM)
         sol = [*alpha, *beta, *INDEX_SHIFT.image(beta, PERM)]
         s.note(f"numerators up to {max(len(h.num) for h in sol)} terms, denominators {max(len(h.den) for h in sol)}; "
