@@ -24,7 +24,7 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.reduced import Relation, hk_row
 from hkproof.hk.second_iterate import interpolated_gcd
 from hkproof.orchestration.registry import get_claim, proven, select
-from hkproof.theorems._clebsch import TRANSLATION, X, named, recall
+from hkproof.theorems._clebsch import CYCLIC_SHIFT, TRANSLATION, X, named, recall
 from hkproof.theorems.clebsch_bases import THETA_BASIS, THETA_TARGET, theta_relation
 from hkproof.theorems.clebsch_f2 import OMEGA_POINTS, w_form_degree
 
@@ -98,7 +98,7 @@ def stages(with_f2: bool) -> tuple[list[tuple[str, float, str]], dict]:
             q, t = timed(lambda: homogenized_compose(r, p, X, nums, delta)[0])
             rows.append((f"f^2 plain compose: {key}", t, f"{len(q)} terms"))
             polys[key] = q
-        g, t = timed(lambda: interpolated_gcd(kmap, delta, nums[3], OMEGA_POINTS, w_form_degree))
+        g, t = timed(lambda: interpolated_gcd(kmap, delta, nums[3], OMEGA_POINTS, w_form_degree, CYCLIC_SHIFT))
         rows.append(("f^2 common factor g (gcds at 16 numeric w, interpolation)", t, f"{len(g)} terms"))
         (_, rem), t = timed(lambda: divmod(polys["Delta_h(N, Delta)"], g))
         rows.append(("f^2: exact division Delta_h / g", t, "remainder 0" if rem.is_zero() else "NOT exact"))

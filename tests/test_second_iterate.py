@@ -10,6 +10,7 @@ from hkproof.algebra.linalg import solve_overdetermined
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.errors import HKProofError, SingularSystemError
 from hkproof.hk.second_iterate import interpolated_gcd, plain_composition
+from hkproof.hk.symmetries import SignedPermutation
 
 
 def _points(n: int, seed: int = 1) -> list[tuple[int, int, int]]:
@@ -24,6 +25,23 @@ def test_interpolated_gcd_recovers_delta_of_f_for_the_euler_top():
     nums, delta = f.explicit
     exact = plain_composition(f, {"d": delta})[0]["d"]
     assert interpolated_gcd(f, delta, delta, _points(60), sum) == exact
+
+
+def test_interpolated_gcd_with_the_cyclic_symmetry_needs_one_gcd_per_orbit():
+    """The Euler top commutes with the index shift (x, a) (checked); Delta_h(N, Delta) is invariant, so 20 points
+    and their orbits (60 points) fix it as 60 points do. A relabeling in the wrong direction (a 3-cycle against the
+    other, not a symmetry) gives samples that no forms fit, and is refused."""
+    f = kahan_map("euler-top")
+    _, delta = f.explicit
+    shift = SignedPermutation(tuple((f"x{k}", f"x{k % 3 + 1}", 1) for k in (1, 2, 3)),
+                              tuple((f"a{k}", f"a{k % 3 + 1}") for k in (1, 2, 3)))
+    assert shift.commutes(f)
+    exact = plain_composition(f, {"d": delta})[0]["d"]
+    assert interpolated_gcd(f, delta, delta, _points(20), sum, shift) == exact
+    wrong = SignedPermutation(tuple((f"x{k}", f"x{k % 3 + 1}", 1) for k in (1, 2, 3)),
+                              tuple((f"a{k % 3 + 1}", f"a{k}") for k in (1, 2, 3)))
+    with pytest.raises(HKProofError, match="unlucky"):
+        interpolated_gcd(f, delta, delta, _points(20), sum, wrong)
 
 
 def test_interpolated_gcd_refuses_unlucky_and_too_few_points():

@@ -150,7 +150,7 @@ class Frac:
     def inverse(self) -> "Frac":
         if self.num.is_zero():
             raise ZeroDivisionError("inverse of the zero rational function")
-        return Frac(self.ring, self.den, self.num)
+        return Frac(self.ring, *normalize_sign(self.den, self.num), reduced=True)   # still in lowest terms
 
     def __truediv__(self, other: "Operand") -> "Frac":
         o = self._coerce(other)

@@ -6,7 +6,7 @@ from typing import Mapping, Sequence, TypeVar
 import flint
 
 from hkproof import budget
-from hkproof.algebra.fraction import Frac
+from hkproof.algebra.fraction import Frac, normalize_sign
 from hkproof.algebra.modular import rank_mod_p, residue
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.errors import ShapeError, SingularSystemError, UnluckyPrimeError
@@ -168,13 +168,15 @@ def solve_cleared(ring: Ring, a: PolyMatrix, b: Sequence[flint.fmpz_mpoly], comm
     solution, factor = [], None
     for j in (range(len(a)) if columns is None else columns):
         num, den = nums[j], d
+        lowest = False
         if factor is None and not num.is_zero():
-            factor = num.gcd(d)
+            factor, lowest = num.gcd(d), True     # this component divided by it is in lowest terms
         if factor is not None and not factor.is_one():  # it usually divides the other components too
             q, rem = divmod(num, factor)
             if rem.is_zero():
                 num, den = q, d / factor
-        solution.append(Frac(ring, num, den) / Frac(ring, common))
+        h = Frac(ring, *normalize_sign(num, den), reduced=True) if lowest else Frac(ring, num, den)
+        solution.append(h / Frac(ring, common))
     return solution, d
 
 

@@ -8,13 +8,14 @@ import flint
 
 from hkproof.algebra.fraction import homogenized_compose
 from hkproof.algebra.linalg import solve_overdetermined
-from hkproof.algebra.ring import Rational, get_ring, to_fmpq
+from hkproof.algebra.ring import Rational, Ring, get_ring, to_fmpq
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
 from hkproof.hk.expansion import support_degrees
+from hkproof.hk.symmetries import SignedPermutation
 
-__all__ = ["interpolated_gcd", "plain_composition"]
+__all__ = ["interpolated_gcd", "orbit_samples", "plain_composition"]
 
 
 def plain_composition(kmap: KahanMap, polys: Mapping[str, flint.fmpz_mpoly]
@@ -31,14 +32,17 @@ def plain_composition(kmap: KahanMap, polys: Mapping[str, flint.fmpz_mpoly]
 
 
 def interpolated_gcd(kmap: KahanMap, a: flint.fmpz_mpoly, b: flint.fmpz_mpoly,
-                     points: Sequence[Sequence[Rational]], form_degree: Callable[[tuple[int, ...]], int]
-                     ) -> flint.fmpz_mpoly:
+                     points: Sequence[Sequence[Rational]], form_degree: Callable[[tuple[int, ...]], int],
+                     symmetry: SignedPermutation | None = None) -> flint.fmpz_mpoly:
     """A candidate for g = gcd(a_h(N, Delta), b_h(N, Delta)) normalized by g(x, 0) = 1 (sec. 6.2, Table "f2"),
     from gcds at eps = 1 and the parameters at `points`; the caller proves it by exact division.
 
     It rests on the weighted homogeneity of the Kahan map of a homogeneous quadratic field (x -> lambda x,
     eps -> eps/lambda: the eps-degree of a term of g equals its degree in x) and on `form_degree`: the coefficient
     of x^e in g is a form of degree form_degree(e) in the parameters, fixed by its values at the points.
+    With `symmetry` (a signed permutation sigma under which g is invariant, as the common factor of a map that
+    commutes with sigma is), each gcd at a point w also gives g at the points of w's orbit, x relabeled: one gcd
+    per orbit (`orbit_samples`).
     """
     r, phase, params = kmap.ring, kmap.variables, kmap.field.parameters
     small = get_ring(tuple(phase))
@@ -60,6 +64,8 @@ def interpolated_gcd(kmap: KahanMap, a: flint.fmpz_mpoly, b: flint.fmpz_mpoly,
             raise HKProofError(f"the gcd at the parameters {list(w)} has no constant term +-1: no normalization "
                                "g(x, 0) = 1")
         samples.append(g * constant)
+    if symmetry is not None:
+        points, samples = orbit_samples(symmetry, small, params, points, samples)
     coefficients = [g.to_dict() for g in samples]
     monomials = {m for g in coefficients for m in g}
     data: dict[tuple[int, ...], int] = {}
@@ -79,6 +85,27 @@ def interpolated_gcd(kmap: KahanMap, a: flint.fmpz_mpoly, b: flint.fmpz_mpoly,
     order = tuple(phase) + (EPS,) + tuple(params)
     place = [order.index(n) if n in order else None for n in r.names]
     return r.ctx.from_dict({tuple(0 if i is None else key[i] for i in place): c for key, c in data.items()})
+
+
+def orbit_samples(symmetry: SignedPermutation, small: Ring, params: Sequence[str],
+                  points: Sequence[Sequence[Rational]], samples: Sequence[flint.fmpz_mpoly]
+                  ) -> tuple[list[tuple[Rational, ...]], list[flint.fmpz_mpoly]]:
+    """The samples g(., w) of a sigma-invariant g and their images along each orbit: g(x, w) = g(sigma x, sigma w)
+    with sigma(x_v) = s x_v', sigma(a) = a' says that g at u (u_a = w_a') is g(., w) with x_v' -> s x_v. Points
+    met twice are kept once."""
+    moved = {a: b for a, b in symmetry.parameters}
+    relabel = {image: small.gen(v) * sign for v, image, sign in symmetry.variables}
+    out_points: list[tuple[Rational, ...]] = []
+    out_samples: list[flint.fmpz_mpoly] = []
+    for w, g in zip(points, samples, strict=True):
+        at = tuple(to_fmpq(v) for v in w)
+        while at not in out_points:
+            out_points.append(at)
+            out_samples.append(g)
+            value = dict(zip(params, at, strict=True))
+            at = tuple(value[moved.get(a, a)] for a in params)
+            g = small.substitute(g, relabel)
+    return out_points, out_samples
 
 
 def _exponents(n: int, k: int) -> list[tuple[int, ...]]:
