@@ -114,3 +114,54 @@ def test_parameters_with_denominators():
     step = f.step_exact(point)
     for v, comp in zip(f.variables, f.components()):
         assert comp.evaluate(point) == step[v]
+
+
+def test_batch_mulmod_is_exact_near_the_largest_prime_and_silent():
+    """mulmod against Python's integers on residues near p < 2^50 (the products wrap in int64), 1-d and 2-d arrays
+    and a Python int against an array, with numpy warnings as errors (no errstate is entered)."""
+    import random
+    import warnings
+
+    import numpy as np
+
+    from hkproof.dynamics.batch_map import mulmod
+    rng = random.Random(3)
+    p = 2**50 - 27
+    a = [rng.choice([p - 1 - rng.randrange(1000), rng.randrange(p)]) for _ in range(600)]
+    b = [rng.choice([p - 1 - rng.randrange(1000), rng.randrange(p)]) for _ in range(600)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        flat = mulmod(np.array(a, dtype=np.int64), np.array(b, dtype=np.int64), p)
+        square = mulmod(np.array(a, dtype=np.int64).reshape(20, 30), np.array(b, dtype=np.int64).reshape(20, 30), p)
+        scaled = mulmod(a[0], np.array(b, dtype=np.int64), p)
+    assert [int(v) for v in flat] == [x * y % p for x, y in zip(a, b)]
+    assert [int(v) for v in square.ravel()] == [x * y % p for x, y in zip(a, b)]
+    assert [int(v) for v in scaled] == [a[0] * y % p for y in b]
+
+
+def test_batch_solve_projective_satisfies_the_systems_and_flags_singular_ones():
+    """A N = D b mod p on random batches of sizes 1..7 (checked with Python's integers), D != 0 where A is
+    invertible mod p (flint's determinant), D = 0 on a batch member made singular (two equal rows)."""
+    import random
+
+    import flint
+    import numpy as np
+
+    from hkproof.dynamics.batch_map import solve_projective
+    rng = random.Random(5)
+    p = 2**50 - 27
+    for n in range(1, 8):
+        count = 6
+        a = np.array([[[rng.randrange(p) for _ in range(n)] for _ in range(n)] for _ in range(count)], dtype=np.int64)
+        b = np.array([[rng.randrange(p) for _ in range(n)] for _ in range(count)], dtype=np.int64)
+        if n > 1:
+            a[0, 1] = a[0, 0]
+        nums, den = solve_projective(a, b, p)
+        for t in range(count):
+            rows = [[int(v) for v in row] for row in a[t]]
+            for i in range(n):
+                assert sum(rows[i][k] * int(nums[t, k]) for k in range(n)) % p == int(den[t]) * int(b[t, i]) % p
+            singular = int(flint.nmod_mat(rows, p).det()) == 0
+            assert (int(den[t]) == 0) == singular     # no unlucky pivot at these random residues
+        if n > 1:
+            assert int(den[0]) == 0

@@ -27,15 +27,16 @@ Projective = tuple[list[Array], Array]      # (X_1..X_n, W): the points X / W of
 def mulmod(a: Array, b: Array, p: int) -> Array:
     """a * b mod p elementwise for residues in [0, p), p < 2^50: the quotient from float64 (off by at most one), so
     a * b - q p, exact in wrapping int64 arithmetic, lies in (-p, 2p) and one floor remainder finishes (for the short
-    arrays of sparse reconstruction every numpy call costs microseconds: four calls, not eight).
+    arrays of sparse reconstruction every numpy call costs microseconds: four calls, not eight). At least one of a, b
+    must be an array: numpy wraps integer arrays silently, and an errstate context around the product cost more
+    than the product on these arrays.
 
     >>> p = 2**50 - 27
     >>> int(mulmod(np.array([p - 1]), np.array([p - 2]), p)[0]) == (p - 1) * (p - 2) % p
     True
     """
-    with np.errstate(over="ignore"):
-        r = a * b
-        r -= (a * (1.0 / p) * b).astype(np.int64) * p
+    r = a * b
+    r -= (a * (1.0 / p) * b).astype(np.int64) * p
     return r % p
 
 
@@ -45,20 +46,20 @@ def solve_projective(a: Array, b: Array, p: int) -> tuple[Array, Array]:
     (or an unlucky pivot vanished)."""
     a, b = a.copy(), b.copy()
     count, n, _ = a.shape
-    for k in range(n):
-        budget.check("solving a batch of kernel systems mod p")       # n^2 array operations: long for a wide basis
+    for k in range(n):          # every row below the pivot at once: O(n) array operations, each on O(n^2) entries
+        budget.check("solving a batch of kernel systems mod p")
         pivot = a[:, k, k].copy()
-        for i in range(k + 1, n):
-            minus = (p - a[:, i, k]) % p
-            a[:, i, k:] = (mulmod(pivot[:, None], a[:, i, k:], p) + mulmod(minus[:, None], a[:, k, k:], p)) % p
-            b[:, i] = (mulmod(pivot, b[:, i], p) + mulmod(minus, b[:, k], p)) % p
+        minus = (p - a[:, k + 1:, k]) % p
+        a[:, k + 1:, k:] = (mulmod(pivot[:, None, None], a[:, k + 1:, k:], p)
+                            + mulmod(minus[:, :, None], a[:, k, None, k:], p)) % p
+        b[:, k + 1:] = (mulmod(pivot[:, None], b[:, k + 1:], p) + mulmod(minus, b[:, k, None], p)) % p
     nums = np.zeros((count, n), dtype=np.int64)
     den = np.ones(count, dtype=np.int64)
     for j in range(n - 1, -1, -1):
         budget.check("solving a batch of kernel systems mod p")
         acc = mulmod(b[:, j], den, p)
-        for k in range(j + 1, n):
-            acc = (acc + mulmod((p - a[:, j, k]) % p, nums[:, k], p)) % p
+        if j + 1 < n:       # n - j - 1 residues below 2^50 per point: their sum fits in int64
+            acc = (acc + mulmod((p - a[:, j, j + 1:]) % p, nums[:, j + 1:], p).sum(axis=1)) % p
         u = a[:, j, j]
         nums[:, j + 1:] = mulmod(nums[:, j + 1:], u[:, None], p)
         nums[:, j] = acc

@@ -60,6 +60,14 @@ class KernelBlackBox:
         terms = [t for phi in self.basis for t in phi]
         self.degree = max(sum(m[i] for i in self.phase) for _, m in terms)
         self.control_degree = max((m[i] for _, m in terms for i in self.controls), default=0)
+        # every term of every basis function as rows of exponent arrays: a row of the system is then a few products
+        # of (terms x points) arrays, one per variable, not a product per term and variable
+        self._phase_exponents = np.array([[m[q] for q in self.phase] for _, m in terms], dtype=np.int64)
+        self._control_exponents = np.array([[m[q] for q in self.controls] for _, m in terms], dtype=np.int64)
+        self._homogenizing = self.degree - self._phase_exponents.sum(axis=1)
+        self._coefficients = [c for c, _ in terms]
+        ends = np.cumsum([len(phi) for phi in self.basis])
+        self._slices = list(zip([0, *ends[:-1]], ends, strict=True))
         self._maps: dict[int, BatchKahanMap] = {}
         self.probes = 0
 
@@ -91,26 +99,23 @@ class KernelBlackBox:
         rows = np.empty((count, l - 1, l), dtype=np.int64)
         ok = np.ones(count, dtype=bool)
         names = self.kmap.ring.names
-        c_pow = {i: power_table(values[names[i]], self.control_degree, p) for i in self.controls}
+        c_pow = {i: np.stack(power_table(values[names[i]], self.control_degree, p)) for i in self.controls}
+        coefficients = np.array([c % p for c in self._coefficients], dtype=np.int64)[:, None]
         for i, (xs, w) in enumerate(orbit[:l - 1]):
             budget.check("evaluating the functions of a basis along orbits mod p")     # l - 1 rows of l functions
             ok &= w != 0
-            x_pow = [power_table(x, self.degree, p) for x in xs]
-            w_pow = power_table(w, self.degree, p)
-            for c, phi in enumerate(self.basis):
-                total = np.zeros(count, dtype=np.int64)
-                for coefficient, m in phi:
-                    v = w_pow[self.degree - sum(m[q] for q in self.phase)].copy()
-                    if coefficient != 1:
-                        v = mulmod(v, np.full(count, coefficient % p, dtype=np.int64), p)
-                    for table, q in zip(x_pow, self.phase, strict=True):
-                        if m[q]:
-                            v = mulmod(v, table[m[q]], p)
-                    for q in self.controls:
-                        if m[q]:
-                            v = mulmod(v, c_pow[q][m[q]], p)
-                    total = (total + v) % p
-                rows[:, i, c] = total
+            terms = np.stack(power_table(w, self.degree, p))[self._homogenizing]      # (terms, points)
+            if (coefficients != 1).any():
+                terms = mulmod(terms, coefficients, p)
+            for col, x in enumerate(xs):
+                if self._phase_exponents[:, col].any():
+                    powers = np.stack(power_table(x, self.degree, p))
+                    terms = mulmod(terms, powers[self._phase_exponents[:, col]], p)
+            for col, q in enumerate(self.controls):
+                if self._control_exponents[:, col].any():
+                    terms = mulmod(terms, c_pow[q][self._control_exponents[:, col]], p)
+            for c, (start, stop) in enumerate(self._slices):
+                rows[:, i, c] = _sum_mod(terms[start:stop], p)
         nums, den = solve_projective(rows[:, :, :l - 1], rows[:, :, l - 1], p)
         ok &= den != 0
         self.probes += count
@@ -125,6 +130,14 @@ class KernelBlackBox:
         inverse = _inverse(np.where(ok, bottom, 1), p)
         values = mulmod(top, inverse, p)
         return [[int(v)] if good else None for v, good in zip(values, ok, strict=True)]
+
+
+def _sum_mod(block: np.ndarray, p: int) -> np.ndarray:
+    """The column sums of residues mod p < 2^50, in chunks of 2^13 rows (each chunk's sum fits in int64)."""
+    total = np.zeros(block.shape[1], dtype=np.int64)
+    for start in range(0, len(block), 1 << 13):
+        total = (total + block[start:start + (1 << 13)].sum(axis=0) % p) % p
+    return total
 
 
 def _inverse(values: np.ndarray, p: int) -> np.ndarray:

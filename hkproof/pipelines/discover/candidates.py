@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import random
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, Sequence
 
 import flint
 
@@ -65,10 +65,12 @@ def _solve_recipe_b(values: list[list[int]], p: int) -> tuple[flint.nmod_mat, li
     return a, [int(c[k, 0]) for k in range(len(values[0]) - 1)]
 
 
-def recipe_b_gradients(values: list[list[int]], gradient: Callable[[int, int], list[int]], p: int
-                       ) -> list[list[int]] | None:
-    """Gradients mod p of the coordinates c_1..c_(l-1) of recipe (B), from the values phi_k(f^i x) and the gradients
-    d/dx phi_k(f^i x) (`gradient(k, i)`, through the orbit's tangent maps): A dc = d(rhs) - sum_k c_k d(row_k)."""
+def recipe_b_gradients(values: list[list[int]], point_gradient: Callable[[int, int], list[int]],
+                       tangents: Sequence[flint.nmod_mat], p: int) -> list[list[int]] | None:
+    """Gradients mod p of the coordinates c_1..c_(l-1) of recipe (B), from the values phi_k(f^i x), the gradients
+    grad phi_k at f^i x (`point_gradient(k, i)`) and the orbit's tangent maps D(f^i)(x): A dc = d(rhs) -
+    sum_k c_k d(row_k), where d(phi o f^i) = grad phi(f^i x) D(f^i)(x), so each row is combined first and meets its
+    tangent map once."""
     solved = _solve_recipe_b(values, p)
     if solved is None:
         return None
@@ -77,11 +79,12 @@ def recipe_b_gradients(values: list[list[int]], gradient: Callable[[int, int], l
     g = []
     for i in range(l - 1):              # l - 1 rows of up to l gradients each: long for a wide basis
         budget.check("computing the gradients of kernel coordinates mod p")
-        row = gradient(l - 1, i)
+        row = point_gradient(l - 1, i)
         for k, ck in enumerate(cs):
             if ck:
-                row = [(r - ck * q) % p for r, q in zip(row, gradient(k, i), strict=True)]
-        g.append(row)
+                row = [(r - ck * q) % p for r, q in zip(row, point_gradient(k, i), strict=True)]
+        moved = flint.nmod_mat([row], p) * tangents[i]
+        g.append([int(moved[0, j]) for j in range(moved.ncols())])
     dc = a.solve(flint.nmod_mat(g, p))
     return [[int(dc[k, j]) for j in range(dc.ncols())] for k in range(l - 1)]
 
@@ -89,7 +92,7 @@ def recipe_b_gradients(values: list[list[int]], gradient: Callable[[int, int], l
 def coordinate_gradients(orbit: TangentOrbit, basis: list[Exponents]) -> list[list[int]] | None:
     """Gradients mod p of the kernel coordinates c_1..c_(l-1) of recipe (B), by the orbit's tangent maps."""
     values = [[orbit.value(e, i) for e in basis] for i in range(len(basis) - 1)]
-    return recipe_b_gradients(values, lambda k, i: orbit.gradient(basis[k], i), orbit.p)
+    return recipe_b_gradients(values, lambda k, i: orbit.point_gradient(basis[k], i), orbit.jacobians, orbit.p)
 
 
 def ratio_candidates(orbit: TangentOrbit, basis: list[Exponents], j: int) -> list[Candidate]:

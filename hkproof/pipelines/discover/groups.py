@@ -144,11 +144,9 @@ def _coordinate_gradients(mod: ModularScene, basis: Sequence[Frac], orbit: Seque
     mods = [h.mod_p(p) for h in basis]
     values = [[int(mods[k](mod.ring_point(orbit[i])) or 0) for k in range(l)] for i in range(l - 1)]
 
-    def gradient(k: int, i: int) -> list[int]:
-        g = mods[k].gradient(mod.ring_point(orbit[i]), mod.phase) or [0] * nphase
-        row = flint.nmod_mat([g], p) * tangents[i]
-        return [int(row[0, c]) for c in range(nphase)]
-    return recipe_b_gradients(values, gradient, p)
+    def point_gradient(k: int, i: int) -> list[int]:
+        return mods[k].gradient(mod.ring_point(orbit[i]), mod.phase) or [0] * nphase
+    return recipe_b_gradients(values, point_gradient, tangents, p)
 
 
 Member = tuple[int, int]      # (basis index, the index of its normalized function)

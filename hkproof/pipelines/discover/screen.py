@@ -53,19 +53,17 @@ class TangentOrbit:
         """The monomial x^e at f^i(x), mod p."""
         return value_mod_p(e, self.points[i], self.p)
 
-    def gradient(self, e: Exponents, i: int) -> list[int]:
-        """d/dx of phi(f^i(x)) for the monomial phi = x^e: grad phi at f^i(x) times D(f^i)(x)."""
-        n = len(e)
+    def point_gradient(self, e: Exponents, i: int) -> list[int]:
+        """grad phi at f^i(x) for the monomial phi = x^e (d/dx of phi o f^i is this times D(f^i)(x))."""
         g = []
-        for j in range(n):
+        for j in range(len(e)):
             if not e[j]:
                 g.append(0)
                 continue
             lower = list(e)
             lower[j] -= 1
             g.append(e[j] * value_mod_p(tuple(lower), self.points[i], self.p) % self.p)
-        row = flint.nmod_mat([g], self.p) * self.jacobians[i]
-        return [int(row[0, j]) for j in range(n)]
+        return g
 
 
 @dataclass

@@ -71,7 +71,14 @@ def _carried(cert: Certificate, case: str, sigma: Substitution, target: KahanMap
     with cert.step(f"{case}the null-vectors carried by {sigma}: components even in eps, rows i = 0",
                    "the substitution of flow-reduction applied exactly (one homogenized compose each); exact parity; "
                    "row i = 0 by substitution", r) as s, flint_threads():
-        moved = [[sigma.apply(h) if not h.is_constant() else h.to_ring(r) for h in vec] for vec in vectors]
+        images: dict[int, Frac] = {}      # by identity: an integral that is also a component is carried once
+
+        def carry(h: Frac) -> Frac:
+            if id(h) not in images:
+                images[id(h)] = sigma.apply(h) if not h.is_constant() else h.to_ring(r)
+            return images[id(h)]
+
+        moved = [[carry(h) for h in vec] for vec in vectors]
         for k, vec in enumerate(moved):
             s.require(all(h.is_even_in(EPS) for h in vec), f"a component of the Phi{k} vector is not even in eps")
             s.require(linear_combination_equals(vec, monomials, Frac(r, 0)), f"the Phi{k} vector misses row i = 0")
@@ -79,4 +86,4 @@ def _carried(cert: Certificate, case: str, sigma: Substitution, target: KahanMap
                f"{max(len(h.den) for vec in moved for h in vec)}; sigma maps the source map to this one "
                "(flow-reduction) and is an injective homomorphism of fields fixing x, so the source's identities "
                "h o f = h carry over: the components are integrals and the vectors annihilate every row")
-    max_basis_facts(cert, target, moved, [sigma.apply(h) for h in integrals], names, case, claimed["dim"])
+    max_basis_facts(cert, target, moved, [carry(h) for h in integrals], names, case, claimed["dim"])
