@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import importlib
 import pkgutil
+import time
 from contextvars import ContextVar
 from dataclasses import dataclass, field
 from typing import Callable, Iterable, Mapping
@@ -72,6 +73,7 @@ class Claim:
                                     f"it has {sorted(self.claimed)}")
         cert = Certificate(self.id, self.title, self.paper_ref, self.statement)
         token = _PROVING.set(cert)
+        start = time.perf_counter()
         try:
             self.prover(cert, {**self.claimed, **(overrides or {})})
         except ProofStopped as exc:
@@ -80,6 +82,7 @@ class Claim:
             cert.error = f"{type(exc).__name__}: {exc}"
         finally:
             _PROVING.reset(token)
+            cert.elapsed = time.perf_counter() - start
         return cert
 
 

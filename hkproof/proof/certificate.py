@@ -132,6 +132,7 @@ class Certificate:
     values: dict[str, Frac] = field(default_factory=dict, compare=False, repr=False)  # exact values of `formulas`
     fixed: dict[str, str] = field(default_factory=dict)    # parameter values the whole proof holds at (specialized)
     checks: list[dict] = field(default_factory=list, compare=False, repr=False)  # re-checkable steps (proof.export)
+    elapsed: float | None = field(default=None, compare=False, repr=False)   # the prover's whole time, if measured
 
     @property
     def status(self) -> Status:
@@ -143,7 +144,10 @@ class Certificate:
 
     @property
     def seconds(self) -> float:
-        return sum(s.seconds for s in self.steps)
+        """The prover's whole wall time when it was measured (`Claim.certify`: the work between steps too, such as a
+        search whose result the steps then check, and a cited claim proven on the way outside a run), else the sum
+        of the steps' times."""
+        return self.elapsed if self.elapsed is not None else sum(s.seconds for s in self.steps)
 
     @property
     def stopped_by_budget(self) -> bool:
