@@ -65,7 +65,7 @@ def section(results: dict[str, dict[int, tuple[float, float, float, list[dict]]]
         certs = sorted(by_jobs[1][3][:-1], key=lambda r: -r["seconds"])
         in_pool = {r["id"]: r["seconds"] for r in by_jobs[2][3][:-1]}
         total = sum(r["seconds"] for r in certs)
-        lines += ["", f"Per-claim time of `hkproof {name}` (the certificates' step times; the ten longest of "
+        lines += ["", f"Per-claim time of `hkproof {name}` (each certificate's prover time; the ten longest of "
                   f"{len(certs)}, {total:.1f} s in all with --jobs 1):", "",
                   "| claim | status | --jobs 1 | --jobs 2 (in a worker) |", "|---|---|---|---|"]
         lines += [f"| `{r['id']}` | {r['status']} | {r['seconds']:.2f} s | {in_pool.get(r['id'], 0):.2f} s |"
