@@ -24,3 +24,34 @@ def test_names_replaced_by_fractions_agree_with_the_direct_formula():
 def test_a_kept_name_missing_from_the_target_is_refused():
     with pytest.raises(HKProofError):
         Substitution(BIG, R, {"A": Frac.parse(R, "x")})
+
+
+def test_a_triangular_substitution_cancels_by_units_exactly_as_a_gcd_would():
+    """w -> w + y/z, e -> z*e (the reduction of sec. 6) extends to an automorphism of Q[x, e, w, y][1/z]: its
+    `apply` cancels only a power of z and an integer, and gives the same lowest terms as Frac's gcd on random
+    functions built to share factors with z-powers and integers."""
+    import random
+
+    source, target = get_ring(("x", "e", "w")), get_ring(("x", "e", "w", "y", "z"))
+    sigma = Substitution(source, target, {"w": Frac.parse(target, "w + y/z"), "e": Frac.parse(target, "z*e")})
+    assert sigma.units == ("z",)
+    rng = random.Random(7)
+    names = ("x", "e", "w")
+    for _ in range(40):
+        def poly() -> str:
+            return " + ".join(f"{rng.randint(-5, 5)}*" + "*".join(f"{v}**{rng.randint(0, 3)}" for v in names)
+                              for _ in range(rng.randint(1, 4)))
+        shared = rng.choice(["1", "6", "e", "e**2*w", "(x + e*w)", "2*e*(w - x)"])
+        h = Frac.parse(source, f"({poly()})*{shared}/(({poly()} + 1)*{shared})")
+        num, den = sigma.apply_terms(h)
+        assert sigma.apply(h) == Frac(target, num, den)       # Frac takes the full gcd
+
+
+@pytest.mark.parametrize("images", [{"w": "w*e", "e": "e + 1"}, {"w": "w**2 + 1"}, {"w": "x + 1"}, {"w": "w/(w + 1)"},
+                                    {"w": "(w + e)/z", "e": "z*e"}, {"w": "w + y/(z + 1)"}])
+def test_substitutions_that_are_not_triangular_automorphisms_take_the_gcd(images):
+    """A leading term that is not a unit times the name itself, a name replaced by another, a denominator that is
+    not a monomial, or a remainder involving another moved name: no units, so `apply` takes the gcd."""
+    source, target = get_ring(("x", "e", "w")), get_ring(("x", "e", "w", "y", "z"))
+    sigma = Substitution(source, target, {k: Frac.parse(target, v) for k, v in images.items()})
+    assert sigma.units is None

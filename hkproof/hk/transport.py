@@ -3,12 +3,12 @@ fields sigma: Q(x, eps', params') -> Q(x, eps, params) that maps one Kahan map o
 identity about the first map (an integral, a kernel vector, an HK system and its solution) to the second."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
 import flint
 
-from hkproof.algebra.fraction import Frac
+from hkproof.algebra.fraction import Frac, normalize_sign
 from hkproof.algebra.linalg import lcm
 from hkproof.algebra.ring import Rational, Ring
 from hkproof.dynamics.kahan import KahanMap
@@ -28,6 +28,7 @@ class Substitution:
     source: Ring
     target: Ring
     images: Mapping[str, Frac]
+    units: tuple[str, ...] | None = field(init=False, default=None, compare=False, repr=False)  # _laurent_units
 
     def __post_init__(self) -> None:
         for n, img in self.images.items():
@@ -39,12 +40,20 @@ class Substitution:
         if kept:
             raise HKProofError(f"{kept} are neither substituted nor variables of {self.target}")
 
+        object.__setattr__(self, "units", _laurent_units(self.source, self.target, self.images))
+
     def __str__(self) -> str:
         return ", ".join(f"{n} -> {img}" for n, img in self.images.items())
 
     def apply(self, h: Frac) -> Frac:
-        """sigma(h) in lowest terms (SingularPointError if its denominator is sent to 0)."""
-        return Frac(self.target, *self.apply_terms(h))
+        """sigma(h) in lowest terms (SingularPointError if its denominator is sent to 0). Where sigma extends to an
+        automorphism of a Laurent ring (`units`), sigma(num) and sigma(den) are coprime up to monomials in the units
+        and an integer, so those are cancelled without a gcd of the two big polynomials."""
+        num, den = self.apply_terms(h)
+        if self.units is None:
+            return Frac(self.target, num, den)
+        return Frac(self.target, *normalize_sign(*_strip_units(num, den, [self.target.index(u) for u in self.units])),
+                    reduced=True)
 
     def apply_terms(self, h: Frac) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
         """(P, Q) with P/Q = sigma(h), not reduced."""
@@ -67,6 +76,51 @@ class Substitution:
         if kept & set(moved_onto) or any(kept & img.variables() for img in self.images.values()):
             return False
         return jacobian_rank_at(list(self.images.values()), moved_onto, point) == len(self.images)
+
+
+def _laurent_units(source: Ring, target: Ring, images: Mapping[str, Frac]) -> tuple[str, ...] | None:
+    """The units U when sigma is the inclusion Q[source] -> Q[target][U^-1] (each name to the same name) followed by
+    a triangular automorphism: every moved name v goes to (c M v + r) / Q with c a non-zero integer, M and Q
+    monomials in U and r free of the moved names, U free of them too. An automorphism and an inclusion keep
+    coprime polynomials coprime up to units, so gcd(sigma num, sigma den) in Z[target] is an integer times a monomial
+    in U. None when sigma is not of this form (then `apply` takes the gcd)."""
+    moved = set(images)
+    if not moved <= set(target.names):
+        return None
+    units: set[str] = set()
+    for v, img in images.items():
+        if len(img.den) != 1 or len(img.num) == 0:
+            return None
+        units |= _variables(img.den, target)
+        index = target.index(v)
+        leading = [(m, c) for m, c in img.num.to_dict().items() if m[index]]
+        if len(leading) != 1 or leading[0][0][index] != 1:
+            return None
+        units |= {target.names[i] for i, e in enumerate(leading[0][0]) if e and i != index}
+        rest = img.num - img.num.context().from_dict(dict(leading))
+        if _variables(rest, target) & moved:
+            return None
+    return tuple(sorted(units)) if not units & moved else None
+
+
+def _variables(p: flint.fmpz_mpoly, ring: Ring) -> set[str]:
+    return {ring.names[i] for i, d in enumerate(p.degrees()) if d > 0}
+
+
+def _strip_units(num: flint.fmpz_mpoly, den: flint.fmpz_mpoly, units: Sequence[int]
+                 ) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
+    """num and den divided by their common monomial in the unit variables and their common integer content."""
+    low_num, low_den = num.deflation_index()[1], den.deflation_index()[1]
+    exponents = [0] * len(num.context().names())
+    for i in units:
+        exponents[i] = min(low_num[i], low_den[i])
+    if any(exponents):
+        common = num.context().from_dict({tuple(exponents): 1})
+        num, den = num / common, den / common
+    g = num.content().gcd(den.content())  # type: ignore[attr-defined]  # in python-flint 0.9, missing from its stubs
+    if g != 1:
+        num, den = num / int(g), den / int(g)
+    return num, den
 
 
 def map_mismatches(sigma: Substitution, source: KahanMap, target: KahanMap) -> list[str]:
