@@ -99,7 +99,7 @@ def stages(with_f2: bool) -> tuple[list[tuple[str, float, str]], dict]:
             rows.append((f"f^2 plain compose: {key}", t, f"{len(q)} terms"))
             polys[key] = q
         g, t = timed(lambda: interpolated_gcd(kmap, delta, nums[3], OMEGA_POINTS, w_form_degree, CYCLIC_SHIFT))
-        rows.append(("f^2 common factor g (gcds at 16 numeric w, interpolation)", t, f"{len(g)} terms"))
+        rows.append(("f^2 common factor g (gcds at 6 numeric w and their index-shift orbits, interpolation)", t, f"{len(g)} terms"))
         (_, rem), t = timed(lambda: divmod(polys["Delta_h(N, Delta)"], g))
         rows.append(("f^2: exact division Delta_h / g", t, "remainder 0" if rem.is_zero() else "NOT exact"))
     return rows, polys
