@@ -104,6 +104,7 @@ def test_components_fixed_by_the_found_ones():
     assert got[2] == found[0] + value_l * found[1] and got[3] == found[1]
     assert _determined(columns, {0: found[0]}, [2, 3], sigma, point) == {}
     assert _determined(columns, {0: found[0]}, [2, 3, 4], sigma, point) == {4: 2 * value_l * found[0]}
+    assert _determined([[zero, zero], *columns[1:]], {0: Frac(R, 0)}, [2], sigma, point) == {}
 
 
 def test_found_components_carried_block_to_block_by_the_symmetry():

@@ -111,6 +111,8 @@ def _determined(columns: Sequence[Sequence[Frac]], found: Mapping[int, Frac], re
         return {}
     known = list(found)
     chosen, pivots = pivots_at([list(columns[k]) for k in known], point)
+    if not pivots:          # the found components vanish at the point: they fix nothing that can be solved for
+        return {}
     base = [known[i] for i in chosen]
     square = [[columns[k][c] for k in base] for c in pivots]     # square W = columns[j] at the pivot columns
     out = {}
