@@ -55,3 +55,14 @@ def test_substitutions_that_are_not_triangular_automorphisms_take_the_gcd(images
     source, target = get_ring(("x", "e", "w")), get_ring(("x", "e", "w", "y", "z"))
     sigma = Substitution(source, target, {k: Frac.parse(target, v) for k, v in images.items()})
     assert sigma.units is None
+
+
+def test_a_denominator_shared_by_several_functions_is_composed_once_with_the_same_result():
+    source, target = get_ring(("x", "e", "w")), get_ring(("x", "e", "w", "y", "z"))
+    images = {"w": Frac.parse(target, "w + y/z"), "e": Frac.parse(target, "z*e")}
+    sigma = Substitution(source, target, images)
+    den = "(x**2*e + w**3 - 2*e*w + 1)"
+    functions = [Frac.parse(source, f"({n})/{den}") for n in ("x", "e*w - x", "w**2 + 3")]
+    got = [sigma.apply(h) for h in functions]
+    assert got == [Substitution(source, target, images).apply(h) for h in functions]    # fresh: no cache
+    assert len(sigma._composed) == 1

@@ -263,11 +263,13 @@ class Frac:
         """self with moved[k] replaced by images[k]/den (a map with common denominator), in lowest terms."""
         return Frac(self.ring, *self.pullback_terms(images, den, moved))
 
-    def pullback_terms(self, images: Sequence[flint.fmpz_mpoly], den: flint.fmpz_mpoly,
-                       moved: Sequence[str]) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
-        """(P, Q) with P/Q = self(images/den), not reduced: two homogenized composes and no gcd."""
+    def pullback_terms(self, images: Sequence[flint.fmpz_mpoly], den: flint.fmpz_mpoly, moved: Sequence[str],
+                       den_image: tuple[flint.fmpz_mpoly, int] | None = None
+                       ) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
+        """(P, Q) with P/Q = self(images/den), not reduced: two homogenized composes and no gcd (one, when the
+        caller passes `den_image`, the compose of self.den it already has)."""
         pn, dn = homogenized_compose(self.ring, self.num, moved, images, den)
-        pd, dd = homogenized_compose(self.ring, self.den, moved, images, den)
+        pd, dd = den_image if den_image is not None else homogenized_compose(self.ring, self.den, moved, images, den)
         if dn > dd:
             pd = pd * den ** (dn - dd)
         elif dd > dn:

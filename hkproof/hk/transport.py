@@ -8,7 +8,7 @@ from typing import Mapping, Sequence
 
 import flint
 
-from hkproof.algebra.fraction import Frac, normalize_sign
+from hkproof.algebra.fraction import Frac, homogenized_compose, normalize_sign
 from hkproof.algebra.linalg import lcm
 from hkproof.algebra.ring import Rational, Ring
 from hkproof.dynamics.kahan import KahanMap
@@ -29,6 +29,7 @@ class Substitution:
     target: Ring
     images: Mapping[str, Frac]
     units: tuple[str, ...] | None = field(init=False, default=None, compare=False, repr=False)  # _laurent_units
+    _composed: list = field(init=False, default_factory=list, compare=False, repr=False)   # recent denominators
 
     def __post_init__(self) -> None:
         for n, img in self.images.items():
@@ -63,7 +64,12 @@ class Substitution:
         common = lcm([img.den for img in self.images.values()])
         images = [(img.num * (common / img.den)).project_to_context(both.ctx) for img in self.images.values()]
         lifted = Frac(both, h.num.project_to_context(both.ctx), h.den.project_to_context(both.ctx), reduced=True)
-        num, den = lifted.pullback_terms(images, common.project_to_context(both.ctx), list(self.images))
+        moved, cleared = list(self.images), common.project_to_context(both.ctx)
+        seen = next((image for den, image in self._composed if den == h.den), None)   # the components of one
+        if seen is None:                                                               # solution share theirs
+            seen = homogenized_compose(both, lifted.den, moved, images, cleared)
+            self._composed[:] = [*self._composed[-3:], (h.den, seen)]
+        num, den = lifted.pullback_terms(images, cleared, moved, seen)
         if den.is_zero():
             raise HKProofError(f"the substitution {self} sends the denominator of {h} to 0")
         return num.project_to_context(self.target.ctx), den.project_to_context(self.target.ctx)
