@@ -198,12 +198,7 @@ class Frac:
     # ---- structure ----------------------------------------------------------------------------
     def variables(self) -> set[str]:
         """Names of the variables that occur in num or den."""
-        used = set()
-        for p in (self.num, self.den):
-            for i, d in enumerate(p.degrees()):
-                if d > 0:
-                    used.add(self.ring.names[i])
-        return used
+        return self.ring.variables_of(self.num) | self.ring.variables_of(self.den)
 
     def den_variables_in(self, names: Sequence[str]) -> set[str]:
         """Those of `names` on which the denominator depends."""

@@ -71,6 +71,10 @@ class Ring:
         return self.names.index(name)
 
     # ---- conversion -------------------------------------------------------------------------
+    def variables_of(self, p: flint.fmpz_mpoly) -> set[str]:
+        """Names of the variables that occur in p."""
+        return {self.names[i] for i, d in enumerate(p.degrees()) if d > 0}
+
     def to_sympy(self, p: flint.fmpz_mpoly) -> sympy.Expr:
         return poly_to_sympy(p)
 

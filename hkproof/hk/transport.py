@@ -29,7 +29,8 @@ class Substitution:
     target: Ring
     images: Mapping[str, Frac]
     units: tuple[str, ...] | None = field(init=False, default=None, compare=False, repr=False)  # _laurent_units
-    _composed: list = field(init=False, default_factory=list, compare=False, repr=False)   # recent denominators
+    _composed: list[tuple[flint.fmpz_mpoly, tuple[flint.fmpz_mpoly, int]]] = field(     # recent denominators and
+        init=False, default_factory=list, compare=False, repr=False)                       # their homogenized images
 
     def __post_init__(self) -> None:
         for n, img in self.images.items():
@@ -97,20 +98,16 @@ def _laurent_units(source: Ring, target: Ring, images: Mapping[str, Frac]) -> tu
     for v, img in images.items():
         if len(img.den) != 1 or len(img.num) == 0:
             return None
-        units |= _variables(img.den, target)
+        units |= target.variables_of(img.den)
         index = target.index(v)
         leading = [(m, c) for m, c in img.num.to_dict().items() if m[index]]
         if len(leading) != 1 or leading[0][0][index] != 1:
             return None
         units |= {target.names[i] for i, e in enumerate(leading[0][0]) if e and i != index}
         rest = img.num - img.num.context().from_dict(dict(leading))
-        if _variables(rest, target) & moved:
+        if target.variables_of(rest) & moved:
             return None
     return tuple(sorted(units)) if not units & moved else None
-
-
-def _variables(p: flint.fmpz_mpoly, ring: Ring) -> set[str]:
-    return {ring.names[i] for i, d in enumerate(p.degrees()) if d > 0}
 
 
 def _strip_units(num: flint.fmpz_mpoly, den: flint.fmpz_mpoly, units: Sequence[int]
