@@ -89,6 +89,23 @@ def test_the_polynomial_identity_agrees_with_the_fractions(system, degree):
         assert [c.holds for c in checks] == by_fractions == [True, False]
 
 
+@pytest.mark.parametrize("route", ["horner", "lattice", "modular"])
+def test_pulled_atoms_on_both_sides_are_folded_into_one_identity(route):
+    """K = K0 (q o f) / (q o f) with q pulled on both sides: (D q) o f B = A D (q o f) is one sum over (N, Delta)
+    that holds for a Darboux polynomial D of cofactor K0 and fails for D perturbed, by every route."""
+    from dataclasses import replace
+    from hkproof.hk.darboux import Atom, darboux_identity_checks
+    f = kahan_map("euler-top")
+    found = search_darboux(f, 2)
+    d = found.darboux[0]
+    x, y, _ = (f.ring.gen(v) for v in f.variables)
+    q = x * y + 3 * x + 1
+    atoms = [*found.atoms, Atom("q+", q, pulled=True), Atom("q-", q, pulled=True)]
+    cofactor = replace(d.cofactor, exponents=(*d.cofactor.exponents, 1, -1))
+    checks = darboux_identity_checks(f, atoms, cofactor, [d.poly, d.poly + x ** 2 + 1], route=route)
+    assert [c.holds for c in checks] == [True, False] and {c.by for c in checks} == {route}
+
+
 def test_users_toml_system(capsys):
     assert main(["measure", RIGID, "--degree", "2", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)

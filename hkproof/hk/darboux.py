@@ -171,43 +171,59 @@ def check_at_points(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor, p
 
 def darboux_identity_checks(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cofactor,
                             polys: Sequence[flint.fmpz_mpoly], route: Route = "auto") -> list[RowCheck]:
-    """P o f = K P for each P, as polynomial identities in Z[x, eps, params] with no gcd: with f = N/Delta, for a
-    pulled atom q, q(N/Delta) Delta^deg q is a homogenized compose (the pulled atoms composed once for all P), and
-    the powers of Delta and the denominator atoms are cleared by products only. Route "horner" composes P once
-    (P(N/Delta) Delta^deg P) and multiplies both sides out; "lattice" and "modular" take the identity as
-    sum_m c_m N^m Delta^(d - |m|) below Delta^k - top P Delta^-k (P = sum_m c_m x^m) to `row_check.decide_identity`;
-    "auto" the cheapest by `RouteCosts`, the compose at COMPOSE_WEIGHT of Horner's scheme. Each result names its
-    route and is true iff the identity holds."""
+    """P o f = K P for each P, as polynomial identities in Z[x, eps, params] with no gcd and no pulled atom composed on
+    its own. With K = (A / B) (Q+ o f) / (Q- o f) (A, B the products of the plain atoms, Q+ and Q- of the pulled
+    ones) and f = N / Delta, the identity is (P Q-) o f B = A P (Q+ o f); with G1 = P Q- = sum_m c_m x^m of degree
+    d1 and Q+ = sum_m s_m x^m of degree d2, times Delta^max(d1, d2) it reads
+        R = sum_m (c_m B - s_m A P) N^m Delta^(max(d1, d2) - |m|) = 0,
+    one sum over the factors (N_1, ..., N_n, Delta). Route "horner" composes G1 (and Q+, once for all P) and
+    multiplies both sides out; "lattice" and "modular" take R to `row_check.decide_identity`; "auto" the cheapest by
+    `RouteCosts`, the composes at COMPOSE_WEIGHT of Horner's scheme. Each result names its route and is true iff the
+    identity holds."""
     ring, moved = kmap.ring, kmap.variables
     nums, delta = kmap.explicit
-    top, below, shift = ring.constant(1), ring.constant(1), 0     # K = top / (below Delta^shift)
+    plain_top, plain_below, pulled_top, pulled_below = (ring.constant(1) for _ in range(4))
     for a, e in zip(atoms, cofactor.exponents, strict=True):
-        if e:
-            q, d = homogenized_compose(ring, a.poly, moved, nums, delta) if a.pulled else (a.poly, 0)
-            if e > 0:
-                top, shift = top * q ** e, shift + d * e
+        if e > 0:
+            if a.pulled:
+                pulled_top *= a.poly ** e
             else:
-                below, shift = below * q ** -e, shift + d * e
+                plain_top *= a.poly ** e
+        elif e < 0:
+            if a.pulled:
+                pulled_below *= a.poly ** -e
+            else:
+                plain_below *= a.poly ** -e
+    right = phase_coefficients(kmap, pulled_top)
+    d2 = max(sum(m) for m in right)
+    composed_right: list[flint.fmpz_mpoly] = []          # Q+(N/Delta) Delta^d2, composed once when needed
     out = []
     for p in polys:
-        # P o f = left / Delta^d == top p / (below Delta^shift)  <=>  below Delta^shift left == top p Delta^d:
-        # over the factors (below, top, p, Delta, N_1, ...), the first three once each (Horner takes them first)
-        parts = phase_coefficients(kmap, p)
-        d = max((sum(m) for m in parts), default=0)
-        k = shift - d
-        terms = {(1, 0, 0, d - sum(m) + max(k, 0), *m): c for m, c in parts.items()}
-        right = (0, 1, 1, max(-k, 0), *(0 for _ in nums))
-        terms[right] = ring.constant(-1)
-        factors, free = [below, top, p, delta, *nums], (EPS, *kmap.field.parameters)
+        left = phase_coefficients(kmap, p * pulled_below)
+        d1 = max((sum(m) for m in left), default=0)
+        top = max(d1, d2)
+        folded: dict[tuple[int, ...], flint.fmpz_mpoly] = {}
+        for m, c in left.items():
+            folded[m] = c * plain_below
+        for m, s in right.items():
+            folded[m] = folded.get(m, ring.constant(0)) - s * plain_top * p
+        terms = {(*m, top - sum(m)): t for m, t in folded.items() if not t.is_zero()}
+        if not terms:
+            out.append(RowCheck(True, "P o f = K P: every coefficient of the folded identity is zero", "horner"))
+            continue
+        factors, free = [*nums, delta], (EPS, *kmap.field.parameters)
         chosen = route
         if route == "auto":
             costs = RouteCosts(terms, factors, ring.names, free)
             costs.costs["horner"] *= COMPOSE_WEIGHT
             chosen = costs.cheapest
         if chosen == "horner":
-            left, _ = homogenized_compose(ring, p, moved, nums, delta)
-            holds = left * below * delta ** max(k, 0) == top * p * delta ** max(-k, 0)
-            out.append(RowCheck(holds, "P o f = K P by one compose of P, both sides expanded", "horner"))
+            if not composed_right:
+                composed_right.append(homogenized_compose(ring, pulled_top, moved, nums, delta)[0])
+            g1, _ = homogenized_compose(ring, p * pulled_below, moved, nums, delta)
+            holds = g1 * plain_below * delta ** (top - d1) == plain_top * p * composed_right[0] * delta ** (top - d2)
+            out.append(RowCheck(holds, "P o f = K P by one compose of P (and of the pulled atoms), both sides expanded",
+                                "horner"))
         else:
             out.append(decide_identity(terms, factors, ring.names, free, chosen, "P o f = K P",
                                        "the numerators of f"))
