@@ -4,14 +4,16 @@ from __future__ import annotations
 from enum import Enum
 from fractions import Fraction
 from functools import lru_cache
-from typing import Mapping, Sequence, TypeAlias
+from typing import TYPE_CHECKING, Mapping, Sequence, TypeAlias
 
 import flint
-import sympy
 
 from hkproof.algebra.printing import math
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.errors import ParseError, RingMismatchError, SingularPointError
+
+if TYPE_CHECKING:
+    import sympy
 
 __all__ = ["Frac", "homogenized_compose", "normalize_sign", "Operand", "Parity", "poly_str"]
 

@@ -13,19 +13,21 @@ varepsilon), and Markdown tables for the `_repr_markdown_` of result objects.
 from __future__ import annotations
 
 import json
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import flint
-import sympy
+
+if TYPE_CHECKING:
+    import sympy
 
 __all__ = ["latex", "markdown_table", "math", "poly_to_sympy", "sympy_rational", "to_json"]
 
-_NAMES = {sympy.Symbol("eps"): r"\varepsilon"}
 
 
 def latex(expr: sympy.Expr) -> str:
     """LaTeX of a sympy expression, eps written as \\varepsilon (hkproof's eps is half the time step)."""
-    return sympy.latex(expr, symbol_names=_NAMES)
+    import sympy
+    return sympy.latex(expr, symbol_names={sympy.Symbol("eps"): r"\varepsilon"})
 
 
 def math(expr: sympy.Expr) -> str:
@@ -35,12 +37,14 @@ def math(expr: sympy.Expr) -> str:
 
 def sympy_rational(q: flint.fmpq | int) -> sympy.Rational:
     """An exact rational as a sympy Rational."""
+    import sympy
     q = flint.fmpq(q)
     return sympy.Rational(int(q.p), int(q.q))
 
 
 def poly_to_sympy(p: flint.fmpz_mpoly) -> sympy.Expr:
     """A FLINT polynomial as a sympy expression in its context's variable names."""
+    import sympy
     symbols = [sympy.Symbol(n) for n in p.context().names()]
     return sympy.Add(*[sympy.Integer(int(c)) * sympy.Mul(*[s**e for s, e in zip(symbols, m, strict=True)])
                        for m, c in p.to_dict().items()])

@@ -5,13 +5,15 @@ import os
 from contextlib import contextmanager
 from fractions import Fraction
 from functools import lru_cache
-from typing import Iterable, Iterator, Mapping, Sequence
+from typing import TYPE_CHECKING, Iterable, Iterator, Mapping, Sequence
 
 import flint
-import sympy
 
 from hkproof.algebra.printing import poly_to_sympy
 from hkproof.errors import ParseError, UnknownSymbolError
+
+if TYPE_CHECKING:
+    import sympy
 
 __all__ = ["flint_threads", "get_ring", "Rational", "Ring", "to_fmpq"]
 

@@ -4,8 +4,6 @@ from __future__ import annotations
 import argparse
 import random
 
-import sympy
-
 from hkproof.algebra.formula import split_list
 from hkproof.commands import Result, add_budget_option, add_command, answer_code, at_least, fixed_values
 from hkproof.commands.scan import add_scene_options
@@ -29,6 +27,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run_relations(args: argparse.Namespace) -> Result:
+    import sympy
     f = kahan_map(args.system)
     names = split_list(args.names, "--names") if args.names else None
     fixed = fixed_values(args)

@@ -5,7 +5,6 @@ from functools import cached_property
 from typing import Mapping, Sequence
 
 import flint
-import sympy
 
 from hkproof.algebra.fraction import Frac, homogenized_compose, normalize_sign
 from hkproof.algebra.linalg import cramer_polynomials
@@ -129,6 +128,7 @@ class KahanMap:
 
     def _repr_markdown_(self) -> str:
         """x~ = N(x)/Delta(x) in LaTeX (term counts only for a large map): how Jupyter shows a Kahan map."""
+        import sympy
         nums, delta = self.explicit
         head = f"**Kahan map of {self.field.name}** (eps = half the time step)"
         tilde = [rf"\tilde{{{latex(sympy.Symbol(v))}}}" for v in self.variables]

@@ -2,16 +2,18 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Mapping
+from typing import TYPE_CHECKING, Mapping
 
 import flint
-import sympy
 
 from hkproof.algebra.printing import markdown_table, sympy_rational
 from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.heights import HeightGuard
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import SingularPointError
+
+if TYPE_CHECKING:
+    import sympy
 
 __all__ = ["digits", "exact_orbit", "ExactOrbit"]
 

@@ -10,10 +10,9 @@ from __future__ import annotations
 
 import random
 from dataclasses import dataclass
-from typing import Mapping, Sequence
+from typing import TYPE_CHECKING, Mapping, Sequence
 
 import flint
-import sympy
 
 from hkproof import budget
 from hkproof.algebra.fraction import Frac
@@ -22,6 +21,9 @@ from hkproof.algebra.linalg import nullspace_q
 from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.errors import DependenceSearchError, HKProofError, SingularPointError
 from hkproof.algebra.sampling import random_rational
+
+if TYPE_CHECKING:
+    import sympy
 
 __all__ = ["DependenceSearch", "find_rational_relations", "monomials",
            "RationalRelation"]
@@ -40,6 +42,7 @@ class RationalRelation:
     values: dict[str, flint.fmpq]
 
     def _poly(self, coefficients: Mapping[Exponents, flint.fmpq]) -> sympy.Expr:
+        import sympy
         syms = sympy.symbols(self.names)
         return sympy.Add(*[sympy.Rational(int(c.p), int(c.q)) * sympy.Mul(*[s ** e for s, e in zip(syms, m, strict=True)])
                            for m, c in coefficients.items() if c != 0])

@@ -6,10 +6,9 @@ import itertools
 import math
 import random
 from dataclasses import dataclass, field
-from typing import Callable, Mapping, Sequence
+from typing import TYPE_CHECKING, Callable, Mapping, Sequence
 
 import flint
-import sympy
 
 from hkproof import budget
 from hkproof.algebra.formula import check_new_names
@@ -26,6 +25,9 @@ from hkproof.experiments.scene import make_scene
 from hkproof.experiments.weights import Weights, scaling_weights
 from hkproof.hk.reduced import Relation
 
+if TYPE_CHECKING:
+    import sympy
+
 __all__ = ["CoordinateSampler", "find_relations", "FoundRelation", "Polynomial", "RelationSearch"]
 
 
@@ -41,6 +43,7 @@ class FoundRelation(Relation):
     normalized_name: str | None = None   # the coordinate set to -1, when named: shown projectively
 
     def text(self) -> str:
+        import sympy
         lhs = sympy.Add(*[sympy.factor(c.to_sympy()) * sympy.Symbol(n)
                           for n, c in zip(self.names, self.coefficients, strict=True) if not c.is_zero()])
         rhs = sympy.factor(self.rhs.to_sympy())

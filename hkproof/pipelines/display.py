@@ -7,8 +7,6 @@ from __future__ import annotations
 
 from typing import Any
 
-import sympy
-
 from hkproof.algebra.printing import latex, markdown_table, poly_to_sympy
 from hkproof.hk.poisson import pairs
 from hkproof.pipelines.darboux import DarbouxSearch
@@ -39,6 +37,7 @@ def discovery_markdown(report: DiscoveryReport) -> str:
 
 def darboux_markdown(search: DarbouxSearch) -> str:
     """Darboux polynomials with their cofactors, invariant measures and integrals, each with its status."""
+    import sympy
     payload = search.to_dict()
     polys = [[f"${latex(sympy.factor(poly_to_sympy(d.poly)))}$", d.cofactor.text(search.atoms), p["status"]]
              for d, p in zip(search.darboux, payload["darboux"], strict=True)]
@@ -51,6 +50,7 @@ def darboux_markdown(search: DarbouxSearch) -> str:
 
 def poisson_markdown(report: PoissonReport) -> str:
     """Each invariant bivector (its brackets in LaTeX, status, Jacobi, rank, Casimirs) and each excluded class."""
+    import sympy
     payload = report.to_dict()
     lines = [f"**poisson {report.system}**: invariant bivectors Q/D with deg Q <= {report.degree}", ""]
     for s, p in zip(report.structures, payload["structures"], strict=True):
@@ -76,6 +76,7 @@ def poisson_markdown(report: PoissonReport) -> str:
 
 def _short_latex(d: Denominator, limit: int = 40) -> str:
     """D factored in LaTeX, or its degree and size when it has more than `limit` terms (never printed to measure)."""
+    import sympy
     return f"${latex(sympy.factor(poly_to_sympy(d.poly)))}$" if len(d.poly) <= limit else d.formula()
 
 

@@ -5,15 +5,17 @@ import time
 from array import array
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Iterator, Mapping, MutableMapping
+from typing import TYPE_CHECKING, Iterator, Mapping, MutableMapping
 
-import sympy
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.printing import latex, markdown_table
 from hkproof.algebra.ring import Ring
 from hkproof.errors import BudgetExhausted, ProofStopped, Refuted
 from hkproof.proof.status import Status
+
+if TYPE_CHECKING:
+    import sympy
 
 __all__ = ["Certificate", "describe_ring", "Formulas", "ProofStopped", "Refuted", "Step", "StepRecorder"]
 
@@ -232,6 +234,7 @@ class Certificate:
 
     def _repr_markdown_(self) -> str:
         """Status, claim, formulas (LaTeX), steps and time: how Jupyter shows a certificate."""
+        import sympy
         lines = [f"**[{self.status.label}] {self.claim_id}**: {self.title} ({self.paper_ref}; {self.seconds:.3f} s)",
                  "", f"claim: {self.statement}", ""]
         if self.fixed:

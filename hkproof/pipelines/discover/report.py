@@ -9,8 +9,6 @@ import time
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-import sympy
-
 from hkproof.algebra.fraction import Frac
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
@@ -70,6 +68,7 @@ class FoundIntegral:
         return f"<{self.summary()}>" if self.too_large() else str(self.frac)
 
     def latex(self) -> str:
+        import sympy
         if self.frac is None:
             return ""
         return sympy.latex(sympy.factor(self.frac.to_sympy()), symbol_names={sympy.Symbol("eps"): r"\varepsilon"})
