@@ -94,6 +94,15 @@ def test_mypy_is_clean():
     assert out.returncode == 0, out.stdout[-5000:]
 
 
+def test_sympy_is_not_imported_to_prove():
+    """sympy prints (LaTeX, Markdown) and cross-checks in tests; starting the command line and proving a claim does
+    not import it (it costs half a second per process)."""
+    code = ("import sys; from hkproof.cli import main; main(['prove', 'lv-explicit-map', '--jobs', '1']); "
+            "print('sympy' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert out.stdout.strip().splitlines()[-1] == "False", out.stderr[-2000:]
+
+
 def evaluating_calls(source: str) -> list[str]:
     """Calls that evaluate text as code: eval, exec, compile, sympify, parse_expr (input is data, never code)."""
     builtins, functions = {"eval", "exec", "compile"}, {"sympify", "parse_expr", "S", "eval"}
