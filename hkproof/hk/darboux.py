@@ -201,13 +201,13 @@ def darboux_identity_checks(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cof
     for p in polys:
         left = phase_coefficients(kmap, p * pulled_below)
         d1 = max((sum(m) for m in left), default=0)
-        top = max(d1, d2)
+        d = max(d1, d2)
         folded: dict[tuple[int, ...], flint.fmpz_mpoly] = {}
         for m, c in left.items():
             folded[m] = c * plain_below
         for m, s in right.items():
             folded[m] = folded.get(m, ring.constant(0)) - s * plain_top * p
-        terms = {(*m, top - sum(m)): t for m, t in folded.items() if not t.is_zero()}
+        terms = {(*m, d - sum(m)): t for m, t in folded.items() if not t.is_zero()}
         if not terms:
             out.append(RowCheck(True, "P o f = K P: every coefficient of the folded identity is zero", "horner"))
             continue
@@ -221,7 +221,7 @@ def darboux_identity_checks(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cof
             if not composed_right:
                 composed_right.append(homogenized_compose(ring, pulled_top, moved, nums, delta)[0])
             g1, _ = homogenized_compose(ring, p * pulled_below, moved, nums, delta)
-            holds = g1 * plain_below * delta ** (top - d1) == plain_top * p * composed_right[0] * delta ** (top - d2)
+            holds = g1 * plain_below * delta ** (d - d1) == plain_top * p * composed_right[0] * delta ** (d - d2)
             out.append(RowCheck(holds, "P o f = K P by one compose of P (and of the pulled atoms), both sides expanded",
                                 "horner"))
         else:
