@@ -325,7 +325,8 @@ def test_a_formula_too_large_to_read_is_summarized_in_the_text_and_latex_reports
     formula stays in --json and the certificate), and --latex does not try to factor them."""
     from hkproof.algebra.fraction import Frac
     from hkproof.dynamics.catalogue import kahan_map
-    from hkproof.pipelines.discover.report import SHOWN_TERMS, DiscoveryReport, FoundIntegral
+    from hkproof.algebra.printing import SHOWN_TERMS
+    from hkproof.pipelines.discover.report import DiscoveryReport, FoundIntegral
     from hkproof.proof.status import Status
     ring = kahan_map("euler-top").ring
     big = Frac(ring, (ring.gen("x1") + ring.gen("x2") + 2 * ring.gen("x3") + 1) ** 40, ring.gen("x1") + 3)

@@ -106,6 +106,18 @@ def test_pulled_atoms_on_both_sides_are_folded_into_one_identity(route):
     assert [c.holds for c in checks] == [True, False] and {c.by for c in checks} == {route}
 
 
+def test_large_polynomials_are_shown_by_their_size_in_the_text_and_whole_in_the_json(capsys):
+    """The so(4) top's det M(x, eps) has 850 terms: the text report gives its size, --json the formula."""
+    assert main(["measure", "so4-euler-top", "--degree", "2", "--no-progress"]) == 0
+    text = capsys.readouterr().out
+    assert "B1 = <a polynomial of 850 terms, total degree 15>" in text and "--json prints every formula" in text
+    assert main(["measure", "so4-euler-top", "--degree", "2", "--json", "--no-progress"]) == 0
+    atoms = json.loads(capsys.readouterr().out)["atoms"]
+    assert len(atoms["B1"]) > 10_000 and "<" not in atoms["B1"]
+    assert main(["measure", "euler-top", "--degree", "2", "--no-progress"]) == 0
+    assert "<a polynomial" not in capsys.readouterr().out
+
+
 def test_users_toml_system(capsys):
     assert main(["measure", RIGID, "--degree", "2", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)

@@ -20,7 +20,11 @@ import flint
 if TYPE_CHECKING:
     import sympy
 
-__all__ = ["latex", "markdown_table", "math", "poly_to_sympy", "sympy_rational", "to_json"]
+__all__ = ["latex", "markdown_table", "math", "poly_to_sympy", "SHOWN_TERMS", "sympy_rational", "to_json"]
+
+SHOWN_TERMS = 400
+"""Terms (numerator and denominator) above which the text and LaTeX reports summarize a formula instead of printing
+it (a formula of the commuting so(4) flow is 29 million characters long); the JSON output prints every formula whole."""
 
 
 

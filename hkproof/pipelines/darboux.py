@@ -20,6 +20,7 @@ import flint
 
 from hkproof.algebra.sampling import random_point
 from hkproof.algebra.fraction import Frac, poly_str
+from hkproof.algebra.printing import SHOWN_TERMS
 from hkproof.algebra.linalg import lcm
 from hkproof.algebra.modular import free_kernel_mod_p, random_prime
 from hkproof.algebra.monomials import Exponents, columns_mod_p, exponents_upto, value
@@ -69,31 +70,39 @@ class DarbouxSearch:
     def complete(self) -> bool:
         return not self.stopped
 
-    def densities(self) -> list[tuple[str, Status]]:
-        """1/P for each P with cofactor det Df (rho(f(x)) det Df(x) = rho(x)); 1 itself when det Df = 1."""
+    def densities(self, brief: bool = False) -> list[tuple[str, Status]]:
+        """1/P for each P with cofactor det Df (rho(f(x)) det Df(x) = rho(x)); 1 itself when det Df = 1. `brief`:
+        a P of more than SHOWN_TERMS terms is given by its size."""
         lemma = Status.VERIFIED if self.jacobian_lemma else Status.UNKNOWN
         out = [("1", lemma)] if not any(self.jacobian.exponents) else []
-        out += [(f"1/({poly_str(d.poly)})", min(d.status, lemma)) for d in self.darboux if d.cofactor == self.jacobian]
+        out += [(f"1/({_shown(d.poly, brief)})", min(d.status, lemma)) for d in self.darboux
+                if d.cofactor == self.jacobian]
         return out
 
-    def integrals(self) -> list[tuple[str, Status]]:
-        """P_i / P_0 for Darboux polynomials with equal cofactors, and P itself when its cofactor is 1."""
+    def integrals(self, brief: bool = False) -> list[tuple[str, Status]]:
+        """P_i / P_0 for Darboux polynomials with equal cofactors, and P itself when its cofactor is 1 (`brief`: as
+        for densities)."""
         groups: dict[tuple[int, ...], list[DarbouxPolynomial]] = {}
         for d in self.darboux:
             groups.setdefault(d.cofactor.exponents, []).append(d)
         out = []
         for exps, group in groups.items():
             if not any(exps):
-                out += [(poly_str(d.poly), d.status) for d in group]
+                out += [(_shown(d.poly, brief), d.status) for d in group]
                 continue
             base = group[0]
-            out += [(f"({poly_str(d.poly)})/({poly_str(base.poly)})", min(d.status, base.status)) for d in group[1:]]
+            out += [(f"({_shown(d.poly, brief)})/({_shown(base.poly, brief)})", min(d.status, base.status))
+                    for d in group[1:]]
         return out
 
 
+    def _label(self, status: Status) -> str:
+        """The status as reported: "verified(specialized)" for a search at fixed parameter values."""
+        return specialized_label(status, self.fixed)
+
     def to_dict(self) -> dict[str, Any]:
         """The JSON of `hkproof measure` (docs/geometry.md)."""
-        label = lambda status: specialized_label(status, self.fixed)  # noqa: E731
+        label = self._label
         return {"system": self.system, "degree": self.degree, "fixed": {k: str(v) for k, v in self.fixed.items()},
                 "eps_convention": STEP_CONVENTION,
                 "jacobian": {"formula": JACOBIAN, "identity": "verified" if self.jacobian_lemma else "refuted",
@@ -115,13 +124,19 @@ class DarbouxSearch:
         lines = [f"Kahan map of {self.system} ({STEP_CONVENTION})", *([self.on_slice] if self.on_slice else []),
                  f"{JACOBIAN}: identity {payload['jacobian']['identity']} (exact, in Q(x, eps, parameters not fixed))",
                  f"det Df = {self.jacobian.text(self.atoms)} with"]
-        lines += [f"  {k} = {v}" for k, v in payload["atoms"].items()]
+        lines += [f"  {a.name} = " + (f"det M(x, -eps) o f = {_shown(a.poly, True)} at x = f(x)" if a.pulled else
+                                      _shown(a.poly, True)) for a in self.atoms]
         lines.append(f"Darboux polynomials of degree <= {self.degree} (cofactors: products of these factors):")
-        lines += [f"  [{d['status']}] K = {d['cofactor']}: P = {d['expr']}" for d in payload["darboux"]] or ["  none"]
+        lines += [f"  [{d['status']}] K = {d['cofactor']}: P = {_shown(p.poly, True)}"
+                  for d, p in zip(payload["darboux"], self.darboux, strict=True)] or ["  none"]
+        label = self._label
         lines.append("invariant measure densities rho = 1/P (rho(f(x)) det Df(x) = rho(x)):")
-        lines += [f"  [{d['status']}] {d['expr']}" for d in payload["densities"]] or ["  none found"]
+        lines += [f"  [{label(st)}] {e}" for e, st in self.densities(brief=True)] or ["  none found"]
         lines.append("integrals (ratios of Darboux polynomials with equal cofactors):")
-        lines += [f"  [{d['status']}] {d['expr']}" for d in payload["integrals"]] or ["  none found"]
+        lines += [f"  [{label(st)}] {e}" for e, st in self.integrals(brief=True)] or ["  none found"]
+        if any(len(a.poly) > SHOWN_TERMS for a in self.atoms) or any(len(d.poly) > SHOWN_TERMS for d in self.darboux):
+            lines.append(f"(a polynomial of more than {SHOWN_TERMS} terms is shown by its size; --json prints every "
+                         "formula whole)")
         for u in self.unverified:
             lines.append(f"  not reported: {u}")
         lines.append("searched at " + ", ".join(f"{k} = {v}" for k, v in self.values.items())
@@ -132,6 +147,13 @@ class DarbouxSearch:
         if self.stopped:
             lines.append(f"INCOMPLETE: {self.stopped}")
         return "\n".join(lines)
+
+
+def _shown(p: flint.fmpz_mpoly, brief: bool) -> str:
+    """p as text, or by its size when `brief` and it has more than SHOWN_TERMS terms (a report read by a person)."""
+    if brief and len(p) > SHOWN_TERMS:
+        return f"<a polynomial of {len(p)} terms, total degree {p.total_degree()}>"
+    return poly_str(p)
 
 
 # ---- modular search --------------------------------------------------------------------------------------------------

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from hkproof.algebra.fraction import Frac
+from hkproof.algebra.printing import SHOWN_TERMS
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 
@@ -23,10 +24,6 @@ __all__ = ["DiscoveryReport", "FoundIntegral", "SKIPPED_SHOWN"]
 
 SKIPPED_SHOWN = 40       # kernel coordinates too large to reconstruct: the first ones are listed, all are counted
 
-
-SHOWN_TERMS = 400
-"""Terms (numerator and denominator) above which the text and LaTeX reports summarize a formula instead of printing
-it (a formula of the commuting so(4) flow is 29 million characters long)."""
 
 
 @dataclass
