@@ -27,7 +27,6 @@ SHOWN_TERMS = 400
 it (a formula of the commuting so(4) flow is 29 million characters long); the JSON output prints every formula whole."""
 
 
-
 def latex(expr: sympy.Expr) -> str:
     """LaTeX of a sympy expression, eps written as \\varepsilon (hkproof's eps is half the time step)."""
     import sympy

@@ -196,32 +196,31 @@ def darboux_identity_checks(kmap: KahanMap, atoms: Sequence[Atom], cofactor: Cof
                 plain_below *= a.poly ** -e
     right = phase_coefficients(kmap, pulled_top)
     d2 = max(sum(m) for m in right)
-    composed_right: list[flint.fmpz_mpoly] = []          # Q+(N/Delta) Delta^d2, composed once when needed
+    composed_right: flint.fmpz_mpoly | None = None      # Q+(N/Delta) Delta^d2, composed once when needed
     out = []
     for p in polys:
         left = phase_coefficients(kmap, p * pulled_below)
         d1 = max((sum(m) for m in left), default=0)
         d = max(d1, d2)
-        folded: dict[tuple[int, ...], flint.fmpz_mpoly] = {}
-        for m, c in left.items():
-            folded[m] = c * plain_below
-        for m, s in right.items():
-            folded[m] = folded.get(m, ring.constant(0)) - s * plain_top * p
-        terms = {(*m, d - sum(m)): t for m, t in folded.items() if not t.is_zero()}
-        if not terms:
-            out.append(RowCheck(True, "P o f = K P: every coefficient of the folded identity is zero", "horner"))
-            continue
+        chosen, terms = route, {}
+        if route != "horner":           # the folded sum: the other routes take it, and "auto" prices it
+            folded: dict[tuple[int, ...], flint.fmpz_mpoly] = {m: c * plain_below for m, c in left.items()}
+            for m, s in right.items():
+                folded[m] = folded.get(m, ring.constant(0)) - s * plain_top * p
+            terms = {(*m, d - sum(m)): t for m, t in folded.items() if not t.is_zero()}
+            if not terms:
+                out.append(RowCheck(True, "P o f = K P: every coefficient of the folded identity is zero", "horner"))
+                continue
         factors, free = [*nums, delta], (EPS, *kmap.field.parameters)
-        chosen = route
         if route == "auto":
             costs = RouteCosts(terms, factors, ring.names, free)
             costs.costs["horner"] *= COMPOSE_WEIGHT
             chosen = costs.cheapest
         if chosen == "horner":
-            if not composed_right:
-                composed_right.append(homogenized_compose(ring, pulled_top, moved, nums, delta)[0])
+            if composed_right is None:
+                composed_right = homogenized_compose(ring, pulled_top, moved, nums, delta)[0]
             g1, _ = homogenized_compose(ring, p * pulled_below, moved, nums, delta)
-            holds = g1 * plain_below * delta ** (d - d1) == plain_top * p * composed_right[0] * delta ** (d - d2)
+            holds = g1 * plain_below * delta ** (d - d1) == plain_top * p * composed_right * delta ** (d - d2)
             out.append(RowCheck(holds, "P o f = K P by one compose of P (and of the pulled atoms), both sides expanded",
                                 "horner"))
         else:

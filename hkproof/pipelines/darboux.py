@@ -95,7 +95,6 @@ class DarbouxSearch:
                     for d in group[1:]]
         return out
 
-
     def _label(self, status: Status) -> str:
         """The status as reported: "verified(specialized)" for a search at fixed parameter values."""
         return specialized_label(status, self.fixed)
@@ -107,8 +106,7 @@ class DarbouxSearch:
                 "eps_convention": STEP_CONVENTION,
                 "jacobian": {"formula": JACOBIAN, "identity": "verified" if self.jacobian_lemma else "refuted",
                              "as_atoms": self.jacobian.text(self.atoms)},
-                "atoms": {a.name: (f"det M(x, -eps) o f = {poly_str(a.poly)} at x = f(x)" if a.pulled
-                                   else poly_str(a.poly)) for a in self.atoms},
+                "atoms": {a.name: _atom_text(a, brief=False) for a in self.atoms},
                 "darboux": [{"expr": poly_str(d.poly), "cofactor": d.cofactor.text(self.atoms),
                              "status": label(d.status), "method": d.detail} for d in self.darboux],
                 "densities": [{"expr": e, "status": label(st)} for e, st in self.densities()],
@@ -120,16 +118,15 @@ class DarbouxSearch:
 
     def text(self) -> str:
         """The report for a person."""
-        payload = self.to_dict()
-        lines = [f"Kahan map of {self.system} ({STEP_CONVENTION})", *([self.on_slice] if self.on_slice else []),
-                 f"{JACOBIAN}: identity {payload['jacobian']['identity']} (exact, in Q(x, eps, parameters not fixed))",
-                 f"det Df = {self.jacobian.text(self.atoms)} with"]
-        lines += [f"  {a.name} = " + (f"det M(x, -eps) o f = {_shown(a.poly, True)} at x = f(x)" if a.pulled else
-                                      _shown(a.poly, True)) for a in self.atoms]
-        lines.append(f"Darboux polynomials of degree <= {self.degree} (cofactors: products of these factors):")
-        lines += [f"  [{d['status']}] K = {d['cofactor']}: P = {_shown(p.poly, True)}"
-                  for d, p in zip(payload["darboux"], self.darboux, strict=True)] or ["  none"]
         label = self._label
+        identity = "verified" if self.jacobian_lemma else "refuted"
+        lines = [f"Kahan map of {self.system} ({STEP_CONVENTION})", *([self.on_slice] if self.on_slice else []),
+                 f"{JACOBIAN}: identity {identity} (exact, in Q(x, eps, parameters not fixed))",
+                 f"det Df = {self.jacobian.text(self.atoms)} with"]
+        lines += [f"  {a.name} = {_atom_text(a, brief=True)}" for a in self.atoms]
+        lines.append(f"Darboux polynomials of degree <= {self.degree} (cofactors: products of these factors):")
+        lines += [f"  [{label(d.status)}] K = {d.cofactor.text(self.atoms)}: P = {_shown(d.poly, True)}"
+                  for d in self.darboux] or ["  none"]
         lines.append("invariant measure densities rho = 1/P (rho(f(x)) det Df(x) = rho(x)):")
         lines += [f"  [{label(st)}] {e}" for e, st in self.densities(brief=True)] or ["  none found"]
         lines.append("integrals (ratios of Darboux polynomials with equal cofactors):")
@@ -154,6 +151,11 @@ def _shown(p: flint.fmpz_mpoly, brief: bool) -> str:
     if brief and len(p) > SHOWN_TERMS:
         return f"<a polynomial of {len(p)} terms, total degree {p.total_degree()}>"
     return poly_str(p)
+
+
+def _atom_text(a: Atom, brief: bool) -> str:
+    """An atom of det Df as the reports give it (a pulled atom as q o f)."""
+    return f"det M(x, -eps) o f = {_shown(a.poly, brief)} at x = f(x)" if a.pulled else _shown(a.poly, brief)
 
 
 # ---- modular search --------------------------------------------------------------------------------------------------

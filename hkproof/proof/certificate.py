@@ -7,7 +7,6 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Iterator, Mapping, MutableMapping
 
-
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.printing import latex, markdown_table
 from hkproof.algebra.ring import Ring

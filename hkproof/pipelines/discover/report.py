@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.printing import SHOWN_TERMS
+from hkproof.algebra.printing import SHOWN_TERMS, latex
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status
 
@@ -23,7 +23,6 @@ if TYPE_CHECKING:
 __all__ = ["DiscoveryReport", "FoundIntegral", "SKIPPED_SHOWN"]
 
 SKIPPED_SHOWN = 40       # kernel coordinates too large to reconstruct: the first ones are listed, all are counted
-
 
 
 @dataclass
@@ -68,7 +67,7 @@ class FoundIntegral:
         import sympy
         if self.frac is None:
             return ""
-        return sympy.latex(sympy.factor(self.frac.to_sympy()), symbol_names={sympy.Symbol("eps"): r"\varepsilon"})
+        return latex(sympy.factor(self.frac.to_sympy()))
 
     def to_dict(self) -> dict:
         return {"name": self.name, "expr": None if self.frac is None else str(self.frac),
