@@ -498,8 +498,11 @@ def _split(space: list[Vector], operators: Sequence[flint.fmpq_mat], groups: Seq
             if q0 is not None:
                 pencils += [q0.inv() * q for q in every]
     for coords in inside + pencils:
+        factors = coords.charpoly().factor()[1]
+        if len(factors) < 2:            # one primary component: the operator does not split the space
+            continue
         pieces = []
-        for factor, multiplicity in coords.charpoly().factor()[1]:
+        for factor, multiplicity in factors:
             kernel = nullspace_q((_at_matrix(factor, coords) ** multiplicity).tolist())
             pieces.append([_column(basis * flint.fmpq_mat(k, 1, v)) for v in kernel])
         if len(pieces) > 1 and sum(len(p) for p in pieces) == len(space):
