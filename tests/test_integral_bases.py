@@ -135,6 +135,34 @@ def test_the_batch_black_box_agrees_with_the_pointwise_kernel(split_ctx, first_g
             assert value == [(-a[k]) % p]          # the box gives [c_k / c_l] = [-a_k]
 
 
+def test_the_coordinates_of_one_basis_share_their_kernel_vectors(split_ctx, first_group, monkeypatch):
+    """The boxes of one basis's coordinates compute each point's kernel vector once per process (the memo behind
+    KernelBlackBox.kernels); a box of another basis, or at another prime, computes its own."""
+    from hkproof.algebra.modular import random_prime
+    from hkproof.pipelines.discover import blackbox
+    from hkproof.pipelines.discover.symbolic import PRIME_BITS
+    monkeypatch.setattr(blackbox, "_KERNELS", {})
+    computed: list[int] = []
+    vectors = blackbox.KernelBlackBox.vectors
+    monkeypatch.setattr(blackbox.KernelBlackBox, "vectors",
+                        lambda self, p, pts: (computed.append(len(pts)), vectors(self, p, pts))[1])
+    basis = first_group.order(first_group.members[0])
+    inputs = list(split_ctx.kmap.ring.names)
+    rng = random.Random(5)
+    p, q = random_prime(rng, PRIME_BITS), random_prime(rng, PRIME_BITS)
+    points = [[rng.randrange(1, p) for _ in inputs] for _ in range(4)]
+    boxes = [blackbox.KernelBlackBox(split_ctx.kmap, basis, k, len(basis) - 1, inputs) for k in range(len(basis) - 1)]
+    first = boxes[0](p, points + points[:2])                      # a repeated point is computed once
+    assert computed == [4] and first[4:] == first[:2]
+    for box in boxes[1:]:
+        box(p, points[1:])
+    assert computed == [4]
+    boxes[1](q, points)
+    other = [basis[1], basis[0], *basis[2:]]                     # another basis (the same functions reordered)
+    blackbox.KernelBlackBox(split_ctx.kmap, other, 0, len(other) - 1, inputs)(p, points)
+    assert computed == [4, 4, 4]
+
+
 def test_a_failure_inside_the_stage_is_reported_not_raised(monkeypatch):
     """An unlucky prime inside step 5d ends the stage with a note; the report and the earlier integrals stand."""
     import hkproof.pipelines.discover.run as run

@@ -584,3 +584,28 @@ def test_a_shift_too_large_for_memory_is_a_clean_limit(monkeypatch):
     with pytest.raises(ResourceLimitError, match="shifted terms|shift's contributions") as info:
         sparse(RationalBox(4, [num], [den]), 4, rng=random.Random(1))
     assert info.value.limit == "0 shifted terms per reconstruction"
+
+
+def test_engines_with_equal_seeds_share_their_probes_whatever_the_degrees():
+    """Every point an engine probes is drawn from its seed and the stage's key alone: two coordinates of one vector
+    black box (a common denominator, numerators of different degrees and supports), rebuilt with equal seeds, meet at
+    most of their points (a memoized vector black box pays once), and each is still exact."""
+    rng = random.Random(31)
+    den = random_sparse_polynomial(rng, 3, 4, 5, constant=False)
+    targets = [(RationalBox(3, [num], [den]), *primitive(num, den))
+               for num in (random_sparse_polynomial(rng, 3, d, 12) for d in (3, 6))]
+    asked: list[set] = [set(), set()]
+
+    def component(k: int):
+        def box(p, points):
+            asked[k].update((p, tuple(x)) for x in points)
+            return targets[k][0](p, points)
+        return box
+    for k, (_, num, den) in enumerate(targets):
+        assert_exact(sparse(component(k), 3, rng=random.Random(7)), num, den)
+    shared = asked[0] & asked[1]
+    assert len(shared) >= len(asked[0]) // 2, (len(shared), len(asked[0]), len(asked[1]))
+    other = set()
+    sparse(lambda p, pts: (other.update((p, tuple(x)) for x in pts), targets[1][0](p, pts))[1], 3,
+           rng=random.Random(8))
+    assert not other & asked[1]                         # another seed, other points

@@ -58,6 +58,9 @@ LINES_PER_WAVE = 256
 """Lines probed and fitted between two budget checks (a few seconds for the largest kernel coordinates)."""
 MAX_SUPPORT_RESTARTS = 4
 """Support primes given up (unlucky) before the engine reports failure."""
+KRONECKER_FLOOR = 16
+"""The smallest Kronecker base of the support stage (a larger base costs nothing: the discrete logarithms depend on
+p - 1 only), so that functions of low degree probe one grid."""
 SHIFTED_TERMS_LIMIT = 50_000_000
 """Terms of a shift's contributions one chain may keep (about 1.2 GB in FLINT's packed form): a piece whose
 expansion could pass it is a clean ResourceLimitError before it is composed, not an allocation failure that aborts
@@ -177,7 +180,8 @@ class _Engine:
                  batch_size: int, bits: int):
         self.black_box, self.n, self.rng, self.budget = black_box, n, rng, budget
         self.max_degree, self.batch_size = max_degree, batch_size
-        self.primes = Primes(rng, primes, bits)
+        self.seed = rng.getrandbits(64)
+        self.primes = Primes(self._keyed("primes"), primes, bits)
         self.mapper: Mapper = mapper or (lambda fn, jobs: [fn(job) for job in jobs])
         self.report = progress
         self.stats = ReconstructionStats()
@@ -187,6 +191,13 @@ class _Engine:
         self.pole: tuple[int, ...] | None = None     # x^pole divides f's denominator (cleared from the black box)
 
     # -- bookkeeping ---------------------------------------------------------------------------------------------
+    def _keyed(self, *key: object) -> random.Random:
+        """The random stream of one purpose (a line's nodes, a grid, a shift's values, the primes, ...), drawn from the
+        engine's seed and the key alone: engines given equal seeds probe the same points wherever their stages meet
+        (the same line, the prefix of its nodes, the same prime), so a memoized vector black box pays once for the
+        components it serves, whatever their degrees and supports."""
+        return random.Random("/".join(map(str, (self.seed, *key))))
+
     @contextmanager
     def _stage(self, name: str) -> Iterator[None]:
         """Time a stage, excluding the time of nested stages (the black box's time goes to 'probes')."""
@@ -245,13 +256,15 @@ class _Engine:
                      direction: Sequence[int] | None = None) -> tuple[list[int], list[int]]:
         """The reduced N/D (coefficient lists) of t -> f(t z + s) for a random z (or the given direction), by Thiele
         with early termination (hkproof.algebra.reconstruction.fractions_on_line)."""
-        z = list(direction) if direction is not None else [self.rng.randrange(1, p) for _ in range(self.n)]
+        z = list(direction) if direction is not None else \
+            [r.randrange(1, p) for r in [self._keyed("direction", p, *shift)] for _ in range(self.n)]
+        nodes = self._keyed("nodes", p, *z, *shift)
 
         def values(ts: list[int]) -> list[list[int] | None]:
             return [None if v is None else [v] for v in
                     self._probe(p, [[(t * zi + si) % p for zi, si in zip(z, shift)] for t in ts], stage)]
         with self._stage("univariate"):
-            found = fractions_on_line(values, p, 1, lambda k: [self.rng.randrange(1, p) for _ in range(k)],
+            found = fractions_on_line(values, p, 1, lambda k: [nodes.randrange(1, p) for _ in range(k)],
                                       self.max_degree, first=expected)[0]
         if found is None:
             raise ResourceLimitError(
@@ -261,7 +274,8 @@ class _Engine:
 
     def _degrees(self, p: int) -> tuple[int, int]:
         """deg P, deg Q from a random line with a random shift (-1 for f = 0)."""
-        num, den = self._thiele_line(p, [self.rng.randrange(1, p) for _ in range(self.n)], "degrees")
+        draws = self._keyed("degrees", p)
+        num, den = self._thiele_line(p, [draws.randrange(1, p) for _ in range(self.n)], "degrees")
         return (-1 if num == [0] else len(num) - 1), len(den) - 1
 
     def _poles(self, p: int) -> tuple[int, ...]:
@@ -270,7 +284,8 @@ class _Engine:
         Q(s) != 0, exist where the denominator has a monomial factor (then the full shift's expansions are avoided)."""
         out = []
         for i in range(self.n):
-            base = [self.rng.randrange(1, p) for _ in range(self.n)]
+            draws = self._keyed("pole", p, i)
+            base = [draws.randrange(1, p) for _ in range(self.n)]
             base[i] = 0
             num, den = self._thiele_line(p, base, "shift", direction=[int(j == i) for j in range(self.n)])
             order = next(k for k, c in enumerate(den) if c) - next((k for k, c in enumerate(num) if c), 0)
@@ -296,14 +311,15 @@ class _Engine:
                 group = list(itertools.combinations(range(n), k))
             else:
                 chosen: set[tuple[int, ...]] = set()
+                draws = self._keyed("subsets", p, k)
                 while len(chosen) < SHIFT_SUBSETS:
-                    chosen.add(tuple(sorted(self.rng.sample(range(n), k))))
+                    chosen.add(tuple(sorted(draws.sample(range(n), k))))
                 group = sorted(chosen)
             group = [subset for subset in group if not known_to_fail or not known_to_fail <= set(subset)]
             if not group:
                 continue
-            candidates = [[self.rng.randrange(1, 2 ** 31) if i in subset else 0 for i in range(n)]
-                          for subset in group]
+            candidates = [[r.randrange(1, 2 ** 31) if i in subset else 0 for i in range(n)]
+                          for subset in group for r in [self._keyed("shift", p, *subset)]]
             screened = self._probe(p, [[v % p for v in s] for s in candidates], "shift")
             lines = [s for s, value in zip(candidates, screened) if value is not None or k == n]
             if 0 < k < n:
@@ -322,8 +338,9 @@ class _Engine:
         while a piece needs more lines; `batch` says how many lines to probe next)."""
         width = chains[0].degree + chains[1].degree + 1
         nodes: list[int] = []
+        draws = self._keyed("line nodes", p)
         while len(nodes) < width + SPARE_NODES:
-            t = self.rng.randrange(1, p)
+            t = draws.randrange(1, p)
             if t not in nodes:
                 nodes.append(t)
         lines = 0
@@ -412,7 +429,8 @@ class _Engine:
         if shift is None:
             raise UnluckyPrimeError(f"no shift s with Q(s) != 0 mod p = {p} was found (a random full shift failed)")
         with self._stage("sparse"):
-            grid = GeometricPoints.kronecker(p, self.n - 1, max(degrees) + 1, self.rng)
+            base = _kronecker_base(max(degrees) + 1, self.n - 1, p)
+            grid = GeometricPoints.kronecker(p, self.n - 1, base, self._keyed("grid", p, base))
         chains = (_Chain(degrees[0], shift, p, grid, False),
                   _Chain(degrees[1], shift, p, grid, True))
 
@@ -433,7 +451,7 @@ class _Engine:
         """The coefficients mod p on the known support (transposed Vandermonde per piece, one extra line checks
         each), normalized to a denominator coefficient 1 at support.normalizer."""
         with self._stage("sparse"):
-            grid = GeometricPoints.random(p, self.n - 1, self.rng)
+            grid = GeometricPoints.random(p, self.n - 1, self._keyed("coefficient grid", p))
             for pieces in (support.num, support.den):
                 for poly in pieces.values():
                     bases = [grid.base_of(m[1:]) for m in poly]
@@ -483,7 +501,7 @@ class _Engine:
         def vectors(p: int, points: Sequence[Sequence[int]]) -> list[list[int] | None]:
             return [None if v is None else [v] for v in self._probe(p, [list(x) for x in points], "check")]
         with self._stage("check"):
-            p = agrees_at_fresh_prime(vectors, [candidate], self.n, self.primes, self.rng)
+            p = agrees_at_fresh_prime(vectors, [candidate], self.n, self.primes, self._keyed("check"))
         if p is not None:
             self.stats.check_primes.append(p)
         return p is not None
@@ -560,6 +578,14 @@ class _Engine:
         s.cleared = self.pole if self.pole and any(self.pole) else ()
         self._progress(force=True, stage="done", terms=s.terms_numerator + s.terms_denominator)
         return Rebuilt(numerator, denominator, s)
+
+
+def _kronecker_base(base: int, nvars: int, p: int) -> int:
+    """The Kronecker base for partial degrees below `base`, rounded up to a power of two of at least
+    KRONECKER_FLOOR where the prime allows it (base^nvars < p - 1): engines with equal seeds then share their lines
+    whatever their degrees below the floor, and in each power-of-two range above it."""
+    rounded = max(KRONECKER_FLOOR, 1 << max(0, base - 1).bit_length())
+    return rounded if rounded ** nvars < p - 1 else base
 
 
 def sparse(black_box: ProbeBatch, n: int, *, rng: random.Random, budget: Budget | None = None, max_degree: int = 60,

@@ -27,6 +27,11 @@ __all__ = ["KernelBlackBox", "basis_terms"]
 Terms = tuple[tuple[int, tuple[int, ...]], ...]     # (integer coefficient, exponents over the ring's names)
 
 _WORKER_MAPS: dict[tuple[QuadraticField, int], BatchKahanMap] = {}    # a worker process's batch maps, by prime
+# a process's kernel vectors mod p, by basis and prime, then by point: the coordinates of one basis, rebuilt with equal
+# seeds (hkproof.algebra.sparse_reconstruction), probe the same points and pay for each once
+_KERNELS: dict[tuple, dict[tuple[int, ...], tuple[int, ...] | None]] = {}
+KERNELS_KEPT = 1 << 20
+"""Kernel vectors a process keeps (all of them dropped when a new one would pass this)."""
 
 
 def basis_terms(kmap: KahanMap, phi: Exponents | Frac) -> Terms:
@@ -70,6 +75,7 @@ class KernelBlackBox:
         self._slices = list(zip([0, *ends[:-1]], ends, strict=True))
         self._maps: dict[int, BatchKahanMap] = {}
         self.probes = 0
+        self._memo_key = (kmap.field, tuple(self.basis), tuple(self.inputs), tuple(sorted(self.fixed.items())))
 
     def _map(self, p: int) -> BatchKahanMap:
         if p not in self._maps:
@@ -121,15 +127,32 @@ class KernelBlackBox:
         self.probes += count
         return [nums[:, c] for c in range(l - 1)] + [(p - den) % p], ok
 
+    def kernels(self, p: int, points: Sequence[Sequence[int]]) -> list[tuple[int, ...] | None]:
+        """The kernel vector (projectively, as `vectors`) at each point, None where it is undefined mod p; each point
+        computed once per process for every black box of the same basis (_KERNELS)."""
+        memo = _KERNELS.setdefault((self._memo_key, p), {})
+        keys = [tuple(int(v) for v in x) for x in points]
+        missing = [x for x in dict.fromkeys(keys) if x not in memo]
+        if missing:
+            if sum(map(len, _KERNELS.values())) + len(missing) > KERNELS_KEPT:
+                _KERNELS.clear()
+                memo = _KERNELS.setdefault((self._memo_key, p), {})
+            coords, ok = self.vectors(p, missing)
+            columns = np.stack(coords, axis=1).tolist()
+            for x, c, good in zip(missing, columns, ok.tolist(), strict=True):
+                memo[x] = tuple(c) if good else None
+        return [memo[x] for x in keys]
+
     def __call__(self, p: int, points: Sequence[Sequence[int]]) -> list[list[int] | None]:
         """[c_k / c_j] mod p at each point (None where undefined mod p): the black box of
         hkproof.algebra.reconstruction, one function."""
-        coords, ok = self.vectors(p, points)
-        top, bottom = coords[self.k], coords[self.j]
-        ok &= bottom != 0
-        inverse = _inverse(np.where(ok, bottom, 1), p)
-        values = mulmod(top, inverse, p)
-        return [[int(v)] if good else None for v, good in zip(values, ok, strict=True)]
+        out: list[list[int] | None] = []
+        for c in self.kernels(p, points):
+            if c is None or c[self.j] == 0:
+                out.append(None)
+            else:
+                out.append([c[self.k] * pow(c[self.j], -1, p) % p])
+        return out
 
 
 def _sum_mod(block: np.ndarray, p: int) -> np.ndarray:
@@ -139,15 +162,3 @@ def _sum_mod(block: np.ndarray, p: int) -> np.ndarray:
         total = (total + block[start:start + (1 << 13)].sum(axis=0) % p) % p
     return total
 
-
-def _inverse(values: np.ndarray, p: int) -> np.ndarray:
-    """Elementwise inverse mod p by Fermat's little theorem (values non-zero)."""
-    result = np.ones_like(values)
-    base = values % p
-    e = p - 2
-    while e:
-        if e & 1:
-            result = mulmod(result, base, p)
-        base = mulmod(base, base, p)
-        e >>= 1
-    return result

@@ -124,12 +124,13 @@ def group_coordinates(ctx: SearchContext, group: Group, rng: random.Random) -> l
     jobs, shares = [], []
     for idx, m in enumerate(group.members):
         basis = group.order(m)
+        seed = rng.randrange(2 ** 63)          # one per basis: its coordinates probe shared points (KernelBlackBox)
         for k in range(len(basis) - 1):
             weight = next(weights)
             if idx not in carried:
                 jobs.append(_Coordinate(KernelBlackBox(ctx.kmap, basis, k, len(basis) - 1, inputs,
                                                        {n: 1 for n in ctx.weights.normalized}),
-                                        rng.randrange(2 ** 63), ctx.budget))
+                                        seed, ctx.budget))
                 shares.append(weight)
     if ctx.mapper is None:
         results: list[Rebuilt | BudgetExhausted] = []

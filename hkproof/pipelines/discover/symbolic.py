@@ -77,8 +77,9 @@ def coordinates(ctx: SearchContext, basis: Sequence[Exponents], rng: random.Rand
     """c_1, ..., c_(l-1) of the kernel of `basis` (c_l = -1) with eps and the parameters symbolic, by sparse
     reconstruction over prime fields (a candidate)."""
     last = len(basis) - 1
-    return [-kernel_ratio(ctx, basis, k, last, rng, budget=budget, mapper=mapper, progress=progress)  # c_k/c_l = -c_k
-            for k in range(last)]
+    seed = rng.randrange(2 ** 63)       # one for the basis: its coordinates probe shared points (KernelBlackBox)
+    return [-kernel_ratio(ctx, basis, k, last, random.Random(seed), budget=budget, mapper=mapper,  # c_k/c_l = -c_k
+                          progress=progress) for k in range(last)]
 
 
 def kernel_ratio(ctx: SearchContext, basis: Sequence[Exponents], k: int, j: int, rng: random.Random, *,
