@@ -329,6 +329,26 @@ def test_certificate_travels_with_its_exact_values():
     assert all(again.values[k] == v for k, v in cert.values.items())
 
 
+def test_exact_values_stay_packed_until_read():
+    """A pickled certificate's values are unpacked one by one when read (the scheduler, which only prints or forwards
+    a certificate, builds no polynomial), passed on as they came, and a value set after arrival is packed anew."""
+    import pickle
+    from hkproof.algebra.fraction import Frac
+    from hkproof.algebra.ring import get_ring
+    from hkproof.proof.certificate import PackedValues
+    ring = get_ring(("x", "eps"))
+    cert = Certificate("c", "t", "p", "s")
+    for name, text in (("g", "x/(1 + eps)"), ("h", "(x**2 - eps)/(1 + x)")):
+        cert.formula(name, Frac.parse(ring, text))
+    copy = pickle.loads(pickle.dumps(cert))
+    assert isinstance(copy.values, PackedValues) and copy.values._values == {}
+    assert copy.values["h"] == cert.values["h"] and set(copy.values._values) == {"h"}
+    copy.formula("k", Frac.parse(ring, "eps - x"))
+    again = pickle.loads(pickle.dumps(copy))
+    assert sorted(again.values) == ["g", "h", "k"] == sorted(again.formulas)
+    assert all(again.values[n] == Frac.parse(ring, t) for n, t in (("g", "x/(1 + eps)"), ("k", "eps - x")))
+
+
 def test_the_longest_chain_of_citations_starts_first():
     """In `prove --all` the short flow-second-theorem, on which the chain of the two slowest claims waits, comes
     before a slow claim that nothing cites; dependencies still come first."""

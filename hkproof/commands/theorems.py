@@ -53,7 +53,8 @@ def run_prove(args: argparse.Namespace) -> Result:
     claims = select(ids=args.ids, groups=args.group, include_slow=not args.no_slow)
     done: list[Certificate] = []
     payload, closing, code = prove_claims(claims, args, done.append)  # certificates are printed as they complete
-    closing += write_certificate(target, theorem_document(done), payload)
+    if target is not None:                  # the document is built only for a file to write
+        closing += write_certificate(target, theorem_document(done), payload)
     return Result(payload, closing, code)
 
 

@@ -16,7 +16,8 @@ from hkproof.proof.status import Status
 if TYPE_CHECKING:
     import sympy
 
-__all__ = ["Certificate", "describe_ring", "Formulas", "ProofStopped", "Refuted", "Step", "StepRecorder"]
+__all__ = ["Certificate", "describe_ring", "Formulas", "PackedValues", "ProofStopped", "Refuted", "Step",
+           "StepRecorder"]
 
 
 class Formulas(MutableMapping[str, str]):
@@ -55,6 +56,41 @@ class Formulas(MutableMapping[str, str]):
 
     def __repr__(self) -> str:
         return repr(dict(self))
+
+
+class PackedValues(MutableMapping[str, Frac]):
+    """A pickled certificate's exact values, each unpacked from its exponent bytes and coefficients when first read (a
+    process that only prints or forwards a certificate never builds its polynomials)."""
+
+    def __init__(self, packed: Mapping[str, tuple]):
+        self._packed = dict(packed)
+        self._values: dict[str, Frac] = {}
+        self._rings: dict[tuple[str, ...], Ring] = {}
+
+    def __getitem__(self, name: str) -> Frac:
+        if name not in self._values:
+            self._values[name] = _unpack(self._packed[name], self._rings)
+        return self._values[name]
+
+    def __setitem__(self, name: str, value: Frac) -> None:
+        self._packed.pop(name, None)
+        self._values[name] = value
+
+    def __delitem__(self, name: str) -> None:
+        if name not in self._packed and name not in self._values:
+            raise KeyError(name)
+        self._packed.pop(name, None)
+        self._values.pop(name, None)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter({**dict.fromkeys(self._packed), **dict.fromkeys(self._values)})
+
+    def __len__(self) -> int:
+        return len(self._packed.keys() | self._values.keys())
+
+    def packed(self) -> dict[str, tuple]:
+        """Every value packed: the arrived ones as they came, the others packed now."""
+        return {name: self._packed[name] if name in self._packed else _pack(self._values[name]) for name in self}
 
 
 def describe_ring(ring: Ring | str, fixed: Mapping[str, object] | None = None) -> str:
@@ -130,7 +166,7 @@ class Certificate:
     notes: list[str] = field(default_factory=list)
     error: str = ""
     cites: list[str] = field(default_factory=list)
-    values: dict[str, Frac] = field(default_factory=dict, compare=False, repr=False)  # exact values of `formulas`
+    values: MutableMapping[str, Frac] = field(default_factory=dict, compare=False, repr=False)  # of `formulas`
     fixed: dict[str, str] = field(default_factory=dict)    # parameter values the whole proof holds at (specialized)
     checks: list[dict] = field(default_factory=list, compare=False, repr=False)  # re-checkable steps (proof.export)
     elapsed: float | None = field(default=None, compare=False, repr=False)   # the prover's whole time, if measured
@@ -212,20 +248,18 @@ class Certificate:
 
     def __getstate__(self) -> dict:
         """Pickled (for a worker process or a Dask worker) with its exact values packed as exponent bytes and
-        integer coefficients; a certificate that arrived pickled is passed on without packing it again."""
-        state = {k: v for k, v in self.__dict__.items() if k != "_packed"}
+        integer coefficients; values that arrived pickled are passed on without unpacking or packing them again."""
+        state = dict(self.__dict__)
         state["formulas"] = self.formulas.unwritten()     # type: ignore[attr-defined]  # see __post_init__
-        packed = self.__dict__.get("_packed")
-        fresh = packed is not None and packed.keys() == self.values.keys()
-        state["values"] = packed if fresh else {k: _pack(v) for k, v in self.values.items()}
+        values = self.values
+        state["values"] = values.packed() if isinstance(values, PackedValues) else \
+            {k: _pack(v) for k, v in values.items()}
         return state
 
     def __setstate__(self, state: dict) -> None:
-        rings: dict[tuple[str, ...], Ring] = {}
         self.__dict__.update(state)
-        self.values = {k: _unpack(v, rings) for k, v in state["values"].items()}
+        self.values = PackedValues(state["values"])
         self.formulas = Formulas(self.values, state["formulas"])
-        self._packed = state["values"]
 
     def to_sympy(self) -> dict[str, sympy.Expr]:
         """The formulas found that carry exact values, as sympy expressions in the system's own names."""
