@@ -113,8 +113,8 @@ def _claims_sharing(log, specs) -> None:
             out.write(f"computed {os.getpid()}\n")
         return 1
 
-    def register(claim_id: str, shares: str, seconds: float) -> None:
-        @claim(claim_id, "test", claim_id, "-", "-", claimed={"x": "1"}, shares=shares)
+    def register(claim_id: str, shares: str, seconds: float, uses: tuple[str, ...] = ()) -> None:
+        @claim(claim_id, "test", claim_id, "-", "-", claimed={"x": "1"}, shares=shares, uses=uses)
         def prove(cert: Certificate, given) -> None:
             with cert.step("reads the intermediate or waits", "comparison", "-") as s:
                 s.require(not shares or intermediate() == 1, "wrong intermediate")
@@ -150,6 +150,27 @@ def test_a_claim_sharing_an_intermediate_goes_to_the_free_worker_that_holds_it(f
         certs = run_graph(["t-warm-a", "t-busy-1", "t-busy-2", "t-warm-b"], executor)
     assert all(c.status is Status.VERIFIED for c in certs.values())
     assert sum(line.startswith("computed") for line in log.read_text().splitlines()) == 1
+
+
+@pytest.mark.parametrize("long_claim, computed", [(1.0, 1), (100.0, 2)])
+def test_a_claim_waits_for_the_busy_worker_holding_its_intermediate_when_that_is_sooner(
+        fresh_run, tmp_path, monkeypatch, long_claim, computed):
+    """t-b reads the intermediate t-a computed, and is ready (after t-dep) while that worker proves t-long (after
+    t-a): it waits
+    for it when t-long is expected to end before the intermediate could be computed again (EXPECTED_SECONDS: t-long
+    1 s, the intermediate's claims 3 s), and takes the free worker, computing it a second time, when t-long is
+    expected to take far longer (100 s)."""
+    from hkproof.orchestration import execution
+    for cid, seconds in (("t-a", 3), ("t-b", 3), ("t-dep", 0.5), ("t-long", long_claim)):
+        monkeypatch.setitem(execution.EXPECTED_SECONDS, cid, seconds)
+    log = tmp_path / "wait.log"
+    _claims_sharing(log, [("t-a", "t-y", 0), ("t-dep", "", 0.6), ("t-long", "", 1.5, ("t-a",)),
+                          ("t-b", "t-y", 0, ("t-dep",))])
+    with ProcessPoolExecutor(2) as executor:
+        certs = run_graph(["t-a", "t-dep", "t-long", "t-b"], executor)
+    assert all(c.status is Status.VERIFIED for c in certs.values())
+    lines = [line.split() for line in log.read_text().splitlines()]
+    assert sum(name == "computed" for name, _ in lines) == computed, lines
 
 
 def test_workers_share_the_cores(fresh_run, tmp_path, monkeypatch):

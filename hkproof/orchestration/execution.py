@@ -129,6 +129,10 @@ class Executor:
         workers proving other claims), None (none, or an executor that does not say)."""
         return None
 
+    def holder_task(self, shares: str) -> Hashable | None:
+        """The task a busy worker holding the intermediate `shares` is running (None: none, or not said)."""
+        return None
+
     def close(self, interrupted: bool = False) -> None:
         """Release the workers; after an interrupt, stop running proofs at once."""
 
@@ -204,6 +208,7 @@ class _Worker:
         _own_group(cast(int, self.process.pid))
         child.close()
         self.shared: set[str] = set()    # the intermediates (Claim.shares) its claims have computed
+        self.task: _Task | None = None   # the claim it is proving
 
     def stop(self, sig: int = signal.SIGTERM) -> None:
         """Send `sig` to the worker and to the processes it forked (its process group)."""
@@ -254,7 +259,8 @@ class ProcessPoolExecutor(Executor):
                 worker.conn.send((claim_id, dict(cited), self.seconds))
             if shares:
                 worker.shared.add(shares)
-        return _Task(claim_id, worker)
+            worker.task = _Task(claim_id, worker)
+        return worker.task
 
     def wait(self, handles: Sequence[Hashable]) -> list[tuple[Hashable, Certificate]]:
         tasks = {task.worker.conn: task for task in (cast(_Task, h) for h in handles)}
@@ -278,6 +284,9 @@ class ProcessPoolExecutor(Executor):
         if any(shares in w.shared for w in self._idle):
             return "idle"
         return "busy" if any(shares in w.shared for w in self._busy) else None
+
+    def holder_task(self, shares: str) -> Hashable | None:
+        return next((w.task for w in self._busy if shares in w.shared), None)
 
     def _discard(self, worker: _Worker) -> None:
         worker.stop(getattr(signal, "SIGKILL", signal.SIGTERM))
@@ -410,6 +419,18 @@ def make_executor(kind: str, jobs: int, scheduler: str | None, tasks: int, secon
     return executor
 
 
+def _holder_sooner(executor: Executor, shares: str, running: Mapping[Hashable, str],
+                   started: Mapping[Hashable, float]) -> bool:
+    """Whether the busy worker holding the intermediate `shares` is expected (EXPECTED_SECONDS) to finish its claim
+    before a cold worker would have computed the intermediate again (the longest claim that shares it): then a claim
+    reading it waits for that worker instead of taking a free one."""
+    task = executor.holder_task(shares)
+    if task is None or task not in running:
+        return False
+    left = expected_seconds(REGISTRY[running[task]]) - (time.monotonic() - started[task])
+    return left < max(expected_seconds(c) for c in REGISTRY.values() if c.shares == shares)
+
+
 def run_graph(claim_ids: Iterable[str], executor: Executor,
               on_done: Callable[[Certificate], None] = lambda cert: None) -> dict[str, Certificate]:
     """Prove `claim_ids` and the claims they cite, each at most once per run (the run's cache), dependencies first,
@@ -430,6 +451,7 @@ def run_graph(claim_ids: Iterable[str], executor: Executor,
     if executor.slots > 1:       # the longest chains of expected seconds start first
         pending = critical_path_first(pending, REGISTRY, expected_seconds)
     running: dict[Hashable, str] = {}
+    started: dict[Hashable, float] = {}
     while pending or running:
         held = {REGISTRY[cid].shares for cid in running.values()}     # one claim at a time per shared intermediate
         ready = [cid for cid in pending if all(u in done for u in REGISTRY[cid].uses)]
@@ -440,11 +462,15 @@ def run_graph(claim_ids: Iterable[str], executor: Executor,
             shares = REGISTRY[cid].shares
             if len(running) >= executor.slots or (shares and shares in held):
                 continue
-            running[executor.submit(cid, {u: done[u] for u in REGISTRY[cid].uses})] = cid
+            if where[cid] == "busy" and _holder_sooner(executor, shares, running, started):
+                continue
+            handle = executor.submit(cid, {u: done[u] for u in REGISTRY[cid].uses})
+            running[handle], started[handle] = cid, time.monotonic()
             pending.remove(cid)
             held.add(shares)
         for handle, cert in executor.wait(list(running)):
             cid = running.pop(handle)
+            started.pop(handle, None)
             done[cid] = cert
             remember([cert])
             if cid in wanted:
