@@ -256,8 +256,10 @@ class _Engine:
                      direction: Sequence[int] | None = None) -> tuple[list[int], list[int]]:
         """The reduced N/D (coefficient lists) of t -> f(t z + s) for a random z (or the given direction), by Thiele
         with early termination (hkproof.algebra.reconstruction.fractions_on_line)."""
-        z = list(direction) if direction is not None else \
-            [r.randrange(1, p) for r in [self._keyed("direction", p, *shift)] for _ in range(self.n)]
+        if direction is None:
+            draws = self._keyed("direction", p, *shift)
+            direction = [draws.randrange(1, p) for _ in range(self.n)]
+        z = list(direction)
         nodes = self._keyed("nodes", p, *z, *shift)
 
         def values(ts: list[int]) -> list[list[int] | None]:
@@ -318,8 +320,7 @@ class _Engine:
             group = [subset for subset in group if not known_to_fail or not known_to_fail <= set(subset)]
             if not group:
                 continue
-            candidates = [[r.randrange(1, 2 ** 31) if i in subset else 0 for i in range(n)]
-                          for subset in group for r in [self._keyed("shift", p, *subset)]]
+            candidates = [self._shift_values(p, subset) for subset in group]
             screened = self._probe(p, [[v % p for v in s] for s in candidates], "shift")
             lines = [s for s, value in zip(candidates, screened) if value is not None or k == n]
             if 0 < k < n:
@@ -329,6 +330,12 @@ class _Engine:
                 if den[0] == 1 and (len(num) - 1, len(den) - 1) == degrees:
                     return shift
         return None
+
+    def _shift_values(self, p: int, subset: Sequence[int]) -> list[int]:
+        """A candidate shift on the variables of `subset` (random integers, 0 elsewhere), the same for every engine
+        of this seed."""
+        draws = self._keyed("shift", p, *subset)
+        return [draws.randrange(1, 2 ** 31) if i in subset else 0 for i in range(self.n)]
 
     # -- the lines -----------------------------------------------------------------------------------------------
     def _run_lines(self, p: int, grid: GeometricPoints, chains: tuple[_Chain, _Chain],

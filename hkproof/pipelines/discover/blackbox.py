@@ -30,8 +30,9 @@ _WORKER_MAPS: dict[tuple[QuadraticField, int], BatchKahanMap] = {}    # a worker
 # a process's kernel vectors mod p, by basis and prime, then by point: the coordinates of one basis, rebuilt with equal
 # seeds (hkproof.algebra.sparse_reconstruction), probe the same points and pay for each once
 _KERNELS: dict[tuple, dict[tuple[int, ...], tuple[int, ...] | None]] = {}
-KERNELS_KEPT = 1 << 20
-"""Kernel vectors a process keeps (all of them dropped when a new one would pass this)."""
+KERNELS_KEPT = 1 << 19
+"""Kernel vectors a process keeps, about 100 MB for bases of five functions (all of them dropped when a new one would
+pass this)."""
 
 
 def basis_terms(kmap: KahanMap, phi: Exponents | Frac) -> Terms:
