@@ -161,10 +161,10 @@ def test_a_claim_waits_for_the_busy_worker_holding_its_intermediate_when_that_is
     1 s, the intermediate's claims 3 s), and takes the free worker, computing it a second time, when t-long is
     expected to take far longer (100 s)."""
     from hkproof.orchestration import execution
-    for cid, seconds in (("t-a", 3), ("t-b", 3), ("t-dep", 0.5), ("t-long", long_claim)):
+    for cid, seconds in (("t-a", 3), ("t-b", 3), ("t-dep", 1.5), ("t-long", long_claim)):
         monkeypatch.setitem(execution.EXPECTED_SECONDS, cid, seconds)
     log = tmp_path / "wait.log"
-    _claims_sharing(log, [("t-a", "t-y", 0), ("t-dep", "", 0.6), ("t-long", "", 1.5, ("t-a",)),
+    _claims_sharing(log, [("t-a", "t-y", 0), ("t-dep", "", 1.5), ("t-long", "", 3.0, ("t-a",)),
                           ("t-b", "t-y", 0, ("t-dep",))])
     with ProcessPoolExecutor(2) as executor:
         certs = run_graph(["t-a", "t-dep", "t-long", "t-b"], executor)

@@ -609,3 +609,16 @@ def test_engines_with_equal_seeds_share_their_probes_whatever_the_degrees():
     sparse(lambda p, pts: (other.update((p, tuple(x)) for x in pts), targets[1][0](p, pts))[1], 3,
            rng=random.Random(8))
     assert not other & asked[1]                         # another seed, other points
+
+
+def test_memoized_values_compute_each_point_once_in_order():
+    from hkproof.algebra.reconstruction import memoized_values
+    asked: list[list[tuple[int, ...]]] = []
+
+    def compute(points):
+        asked.append(list(points))
+        return [sum(x) for x in points]
+    memo: dict = {}
+    assert memoized_values(memo, [[1, 2], [3, 4], [1, 2]], compute) == [3, 7, 3]
+    assert memoized_values(memo, [(3, 4), (5, 6)], compute) == [7, 11]
+    assert asked == [[(1, 2), (3, 4)], [(5, 6)]]

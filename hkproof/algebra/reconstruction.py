@@ -39,8 +39,9 @@ from hkproof.algebra.sparse_interpolation import is_smooth_prime, smooth_prime
 from hkproof.algebra.univariate_rational import ThieleInterpolator
 from hkproof.errors import HKProofError
 
-__all__ = ["Batch", "CHECK_POINTS", "Mapper", "Polynomial", "Primes", "Rebuilt", "ReconstructionStats",
-           "agrees_at_fresh_prime", "degrees_on_line", "fractions_on_line", "lift", "primitive", "reconstruct"]
+__all__ = ["Batch", "CHECK_POINTS", "Mapper", "memoized_values", "Polynomial", "Primes", "Rebuilt",
+           "ReconstructionStats", "agrees_at_fresh_prime", "degrees_on_line", "fractions_on_line", "lift", "primitive",
+           "reconstruct"]
 
 Polynomial = dict[Exponents, int]
 Batch = Callable[[int, Sequence[Sequence[int]]], "list[list[int] | None]"]
@@ -237,6 +238,18 @@ def agrees_at_fresh_prime(black_box: Batch, candidates: Sequence[Rebuilt], n: in
         if agreed >= points:
             return p
     raise HKProofError("the black box is undefined at most random points modulo three check primes")
+
+
+def memoized_values(memo: dict[tuple[int, ...], Any], points: Sequence[Sequence[int]],
+                    compute: Callable[[list[tuple[int, ...]]], Sequence[Any]]) -> list[Any]:
+    """A vector black box's values at `points` (mod one prime), each computed once: the points not yet in `memo` go to
+    `compute` together (once each, in order), the others are read back. Components rebuilt one at a time with equal
+    seeds meet on the same points (the sparse engine's keyed streams), so they pay for each vector once."""
+    keys = [tuple(int(v) for v in x) for x in points]
+    missing = [x for x in dict.fromkeys(keys) if x not in memo]
+    if missing:
+        memo.update(zip(missing, compute(missing), strict=True))
+    return [memo[x] for x in keys]
 
 
 def reconstruct(black_box: Batch, n: int, count: int = 1, *, method: str = "sparse", rng: random.Random,

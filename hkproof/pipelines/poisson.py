@@ -28,7 +28,7 @@ from hkproof.algebra.fraction import Frac, poly_str
 from hkproof.algebra.linalg import lcm
 from hkproof.algebra.modular import free_kernel_mod_p, nmod_matrix, random_prime
 from hkproof.algebra.monomials import Exponents
-from hkproof.algebra.reconstruction import reconstruct
+from hkproof.algebra.reconstruction import memoized_values, reconstruct
 from hkproof.algebra.ring import get_ring
 from hkproof.algebra.sampling import random_point
 from hkproof.budget import Budget, current
@@ -745,20 +745,18 @@ def _reconstruct(box: Callable[[int, Sequence[Sequence[int]]], list[list[int] | 
     per probe). One variable (every other control normalized by a scaling): method "dense", all coordinates on the same
     probes (the Gaudin magnet's 704 coordinates at degree 6: each probe is an elimination of 2 110 unknowns, and one
     sparse reconstruction per coordinate spent 25 s each). More variables: method "sparse", one at a time with the
-    same seed, so that components of equal degrees probe the same points (memoized vectors)."""
+    same seed, so that the components meet on the same points whatever their degrees (the engine's keyed random
+    streams, hkproof.algebra.sparse_reconstruction) and each kernel vector is computed once (memoized)."""
     if count == 0:
         return []
     if n == 1:
         budget.check("rebuilding the coordinates of invariant bivectors")
         return [(r.numerator, r.denominator)
                 for r in reconstruct(box, 1, count, method="dense", rng=rng, bits=31, max_degree=DENSE_MAX_DEGREE)]
-    memo: dict[tuple[int, tuple[int, ...]], list[int] | None] = {}
+    memos: dict[int, dict[tuple[int, ...], list[int] | None]] = {}
 
     def vectors(q: int, points: Sequence[Sequence[int]]) -> list[list[int] | None]:
-        missing = [tuple(t) for t in points if (q, tuple(t)) not in memo]
-        for t, v in zip(missing, box(q, missing) if missing else [], strict=True):
-            memo[(q, t)] = v
-        return [memo[(q, tuple(t))] for t in points]
+        return memoized_values(memos.setdefault(q, {}), points, lambda missing: box(q, missing))
     seed = rng.randrange(2**32)
     out = []
     for k in range(count):

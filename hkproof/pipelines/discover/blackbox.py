@@ -16,6 +16,7 @@ import numpy as np
 from hkproof import budget
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.monomials import Exponents
+from hkproof.algebra.reconstruction import memoized_values
 from hkproof.dynamics.batch_map import BatchKahanMap, mulmod, power_table, solve_projective
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import QuadraticField
@@ -31,8 +32,8 @@ _WORKER_MAPS: dict[tuple[QuadraticField, int], BatchKahanMap] = {}    # a worker
 # seeds (hkproof.algebra.sparse_reconstruction), probe the same points and pay for each once
 _KERNELS: dict[tuple, dict[tuple[int, ...], tuple[int, ...] | None]] = {}
 KERNELS_KEPT = 1 << 19
-"""Kernel vectors a process keeps, about 100 MB for bases of five functions (all of them dropped when a new one would
-pass this)."""
+"""Kernel vectors a process keeps, about 100 MB for bases of five functions (all of them dropped before a call whose
+points could pass this)."""
 
 
 def basis_terms(kmap: KahanMap, phi: Exponents | Frac) -> Terms:
@@ -131,18 +132,14 @@ class KernelBlackBox:
     def kernels(self, p: int, points: Sequence[Sequence[int]]) -> list[tuple[int, ...] | None]:
         """The kernel vector (projectively, as `vectors`) at each point, None where it is undefined mod p; each point
         computed once per process for every black box of the same basis (_KERNELS)."""
-        memo = _KERNELS.setdefault((self._memo_key, p), {})
-        keys = [tuple(int(v) for v in x) for x in points]
-        missing = [x for x in dict.fromkeys(keys) if x not in memo]
-        if missing:
-            if sum(map(len, _KERNELS.values())) + len(missing) > KERNELS_KEPT:
-                _KERNELS.clear()
-                memo = _KERNELS.setdefault((self._memo_key, p), {})
+        if sum(map(len, _KERNELS.values())) + len(points) > KERNELS_KEPT:
+            _KERNELS.clear()
+
+        def compute(missing: list[tuple[int, ...]]) -> list[tuple[int, ...] | None]:
             coords, ok = self.vectors(p, missing)
-            columns = np.stack(coords, axis=1).tolist()
-            for x, c, good in zip(missing, columns, ok.tolist(), strict=True):
-                memo[x] = tuple(c) if good else None
-        return [memo[x] for x in keys]
+            return [tuple(c) if good else None
+                    for c, good in zip(np.stack(coords, axis=1).tolist(), ok.tolist(), strict=True)]
+        return memoized_values(_KERNELS.setdefault((self._memo_key, p), {}), points, compute)
 
     def __call__(self, p: int, points: Sequence[Sequence[int]]) -> list[list[int] | None]:
         """[c_k / c_j] mod p at each point (None where undefined mod p): the black box of

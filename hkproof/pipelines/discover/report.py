@@ -64,9 +64,9 @@ class FoundIntegral:
         return f"<{self.summary()}>" if self.too_large() else str(self.frac)
 
     def latex(self) -> str:
-        import sympy
         if self.frac is None:
             return ""
+        import sympy
         return latex(sympy.factor(self.frac.to_sympy()))
 
     def to_dict(self) -> dict:
