@@ -58,3 +58,23 @@ def test_solve_overdetermined_is_exact_and_refuses_a_rank_deficient_system():
     assert solve_overdetermined(a, [2, 3, 5]) == [2, 3]
     with pytest.raises(SingularSystemError):
         solve_overdetermined(flint.fmpq_mat([[1, 1], [2, 2], [3, 3]]), [1, 2, 3])
+
+
+def test_the_clebsch_composition_is_the_lift_of_its_restriction_to_w3_0():
+    """Table "f2" is read on the slice w3 = 0 (theorems.clebsch_f2): a translation-invariant P_h(N, Delta) is the
+    lift of its restriction. Checked on m1 p1 and on the m1-numerator's top part m1 (cheap), and a polynomial that
+    is not invariant (w3 m1) is not the lift of its restriction."""
+    from hkproof.algebra.fraction import Frac
+    from hkproof.theorems._clebsch import TRANSLATION
+
+    f = kahan_map("clebsch")
+    small = TRANSLATION.slice_map(f)
+    r = f.ring
+    for text in ("m1*p1", "m1", "w1*p2**2 + m3"):
+        p = Frac.parse(r, text).num
+        full = plain_composition(f, {"p": p})[0]["p"]
+        assert TRANSLATION.is_invariant(Frac(r, full)) == TRANSLATION.is_invariant(Frac(r, p))
+        p0 = TRANSLATION.restrict(Frac(r, p)).num
+        sliced = plain_composition(small, {"p": p0})[0]["p"]
+        assert (TRANSLATION.lift(Frac(small.ring, sliced), r) == Frac(r, full)) is TRANSLATION.is_invariant(
+            Frac(r, p))
