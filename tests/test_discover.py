@@ -382,3 +382,23 @@ def test_henon_heiles_seeded_modified_hamiltonian_is_not_proven_twice():
     report = discover(get_system(path), 4, budget=Budget(300))
     [proven] = report.verified
     assert proven.kind == "modified Hamiltonian" and proven.independent
+
+
+def test_the_screen_is_not_fooled_by_special_parameter_values(monkeypatch):
+    """The screening values are drawn per probe: a draw that hits a special value (a4 = a3 = 3 makes m34 conserved
+    for the so(4) top) shows a larger kernel than the generic one, and the smallest kernel wins. With one draw for
+    every probe, all of them saw the kernel of degree 1 of the special system."""
+    import flint
+
+    from hkproof.pipelines.discover import run
+
+    draws: list[int] = []
+
+    def special_first(rng, names, size=9, **kwargs):
+        draws.append(1)
+        return {n: flint.fmpq(3) if len(draws) == 1 else flint.fmpq(17, 5) for n in names}
+
+    monkeypatch.setattr(run, "random_point", special_first)
+    report = run.discover("so4-euler-top", 1, params={"a1": 1, "a2": 2, "a3": 3})
+    assert report.probes[0]["values"]["a4"] == "3" and report.probes[0]["dimensions"][1] == 1
+    assert report.kernels[0]["dimension"] == 0 and not report.integrals

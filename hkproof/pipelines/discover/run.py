@@ -27,7 +27,7 @@ from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.field import QuadraticField
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, ParseError, ResourceLimitError
-from hkproof.experiments.scene import make_scene
+from hkproof.experiments.scene import Scene, make_scene
 from hkproof.hk.certified_integrals import certify, independent_subset, jacobian_points
 from hkproof.pipelines.discover.bases import confirm_basis, minimal_bases
 from hkproof.pipelines.discover.context import SearchContext
@@ -35,7 +35,7 @@ from hkproof.pipelines.discover.hamiltonian_seed import seed_modified_hamiltonia
 from hkproof.pipelines.discover.integral_bases import prove_with_integral_bases
 from hkproof.pipelines.discover.reconstruct import reconstruct_candidates
 from hkproof.pipelines.discover.report import DiscoveryReport, FoundIntegral
-from hkproof.pipelines.discover.screen import screen, without_conserved
+from hkproof.pipelines.discover.screen import Probe, screen, without_conserved
 from hkproof.pipelines.charts import Chart, pull_back_integrals
 from hkproof.pipelines.slices import Slice, lift_integrals
 from hkproof.pipelines.stages import Progress, Stages
@@ -149,18 +149,17 @@ def _search(ctx: SearchContext, report: DiscoveryReport) -> None:
         seed_modified_hamiltonian(ctx, report)
     n = len(kmap.variables)
     degree = report.degree
-    # a generic scene: normalized names 1 (as in reconstruction), the others random
-    values = {m: flint.fmpq(1) for m in ctx.weights.normalized}
-    values.update(random_point(rng, ctx.free, 29))
-    scene = make_scene(kmap, values)
-
     stages.start("screening", f"screening monomials of degree <= {degree} mod p (algorithm (N))")
-    probes = [screen(scene, n, degree, rng), screen(scene, n, degree, rng)]
-    if len(probes[0].kernels[degree]) != len(probes[1].kernels[degree]):
-        probes.append(screen(scene, n, degree, rng))
-    probe = min(probes, key=lambda pr: len(pr.kernels[degree]))
+    # each probe at its own generic scene: normalized names 1 (as in reconstruction), the others random. A kernel is
+    # never smaller at special parameter values (a drawn value equal to a fixed one, two equal ones) than at generic
+    # ones, so the smallest kernel is the generic one; one scene for all probes could be special for all of them.
+    screens = [_screened(ctx, n, degree) for _ in range(2)]
+    if len(screens[0][2].kernels[degree]) != len(screens[1][2].kernels[degree]):
+        screens.append(_screened(ctx, n, degree))
+    values, scene, probe = min(screens, key=lambda sc: len(sc[2].kernels[degree]))
     report.probes = [{"prime": pr.p, "point": [str(v) for v in pr.point],
-                      "dimensions": {d: len(k) for d, k in pr.kernels.items()}} for pr in probes]
+                      "values": {k: str(v) for k, v in vals.items()},
+                      "dimensions": {d: len(k) for d, k in pr.kernels.items()}} for vals, _, pr in screens]
     new_degrees = []
     for d in range(1, degree + 1):
         dim, triv = len(probe.kernels[d]), probe.trivial_rank[d]
@@ -169,7 +168,8 @@ def _search(ctx: SearchContext, report: DiscoveryReport) -> None:
         if dim > triv:
             new_degrees.append(d)
     report.covered.append(f"screened all {count_upto(n, degree)} monomials of degree <= {degree} "
-                          f"at {len(probes)} points mod p (values {', '.join(f'{k}={v}' for k, v in values.items())})")
+                          f"at {len(screens)} points mod p, each at its own parameter values (the smallest kernel at "
+                          f"{', '.join(f'{k}={v}' for k, v in values.items())})")
     if not new_degrees:
         report.negative = (f"no non-zero polynomial of degree <= {degree} in {', '.join(kmap.variables)} vanishes on "
                            f"the first {count_upto(n, degree) + 3} points of an orbit (exact: the rank "
@@ -203,6 +203,14 @@ def _search(ctx: SearchContext, report: DiscoveryReport) -> None:
     report.skipped += done.skipped
     report.covered.append(done.covered)
     _with_integral_bases(ctx, report, probe, new_degrees, target)
+
+
+def _screened(ctx: SearchContext, n: int, degree: int) -> tuple[dict[str, flint.fmpq], Scene, Probe]:
+    """Algorithm (N) at a random phase point of a random scene (the normalized names 1, the free ones random)."""
+    values = {m: flint.fmpq(1) for m in ctx.weights.normalized}
+    values.update(random_point(ctx.rng, ctx.free, 29))
+    scene = make_scene(ctx.kmap, values)
+    return values, scene, screen(scene, n, degree, ctx.rng)
 
 
 def _proven_gradients(ctx: SearchContext, report: DiscoveryReport, probe, values: Mapping[str, flint.fmpq]
