@@ -164,3 +164,27 @@ def test_kernel_vectors_share_one_orbit_and_agree_with_kernel_vector():
     other = ProfileProblem(make_scene(f, {"eps": 1, "a1": 1, "a2": 2, "a3": 3}), problems[0].basis)
     with pytest.raises(HKProofError, match="in one scene"):
         kernel_vectors([problems[0], other], point)
+
+
+def test_a_basis_times_an_integral_is_sampled_from_the_plain_one():
+    """(x1^2, x2^2, h x3^2) with h an integral of the Euler top's Kahan map has the kernel coordinates of
+    (x1^2, x2^2, x3^2) times h: recipe (E) told that h is an integral samples it without profiling it and finds the
+    same relation space as profiling both; a function that does not match leaves the basis profiled."""
+    import random
+
+    from hkproof.algebra.fraction import Frac
+    from hkproof.experiments.relations import CoordinateSampler
+
+    f = kahan_map("euler-top")
+    h = Frac.parse(f.ring, "(1 - eps**2*a2*a3*x1**2)/(1 - eps**2*a3*a1*x2**2)")
+    nums, delta = f.explicit
+    assert h.pullback(nums, delta, f.variables) == h
+    plain = [Frac.parse(f.ring, t) for t in ("x1**2", "x2**2", "x3**2")]
+    bases = [plain, plain[:2] + [h * plain[2]]]
+    assert CoordinateSampler(f, bases, random.Random(0), [h]).derived == {1: (0, h)}
+    assert CoordinateSampler(f, bases, random.Random(0), [h * h]).derived == {}
+    derived = find_relations(f, bases, integrals=[h])
+    profiled = find_relations(f, bases)
+    assert derived.dimension == profiled.dimension == 1      # a1 c1 + a2 c2 = a3; h c_k adds none
+    rows = [[str(c) for c in r.coefficients] + [str(-r.rhs)] for r in profiled.relations]
+    assert spans("euler-top", derived, rows)

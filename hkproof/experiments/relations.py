@@ -81,12 +81,23 @@ class RelationSearch:
 
 
 class CoordinateSampler:
-    """Kernel coordinates of one or more HK-bases with d = 1 (last coordinate -1) at exact sample points."""
+    """Kernel coordinates of one or more HK-bases with d = 1 (last coordinate -1) at exact sample points.
 
-    def __init__(self, kmap: KahanMap, bases: Sequence[Sequence[Frac]], rng: random.Random):
+    `integrals` are functions h with h o f = h (the caller cites their proofs). A basis that is an earlier one with
+    its last function multiplied by such an h has that basis's kernel coordinates times h(x) (sum_k c_k phi_k o f^i
+    = phi_l o f^i gives sum_k h c_k phi_k o f^i = (h phi_l) o f^i), so it is not profiled: one evaluation of h."""
+
+    def __init__(self, kmap: KahanMap, bases: Sequence[Sequence[Frac]], rng: random.Random,
+                 integrals: Sequence[Frac] = ()):
         self.kmap = kmap
         self.bases = [list(b) for b in bases]
         self.rng = rng
+        self.derived: dict[int, tuple[int, Frac]] = {}       # basis j = basis i with its last function times h
+        for j, b in enumerate(self.bases):
+            source = next(((i, h) for i in range(j) if i not in self.derived and self.bases[i][:-1] == b[:-1]
+                           for h in integrals if h * self.bases[i][-1] == b[-1]), None)
+            if source is not None:
+                self.derived[j] = source
 
     @property
     def width(self) -> int:
@@ -96,21 +107,28 @@ class CoordinateSampler:
     def row(self, family: BasisFamily) -> list[flint.fmpq] | None:
         """(c^(1)_1, ..., c^(1)_(l1-1), c^(2)_1, ..., 1) at a random point, or None at a bad point."""
         point = random_rationals(self.rng, len(self.kmap.variables), 99)
-        out = []
-        for problem, c in zip(family.problems, family.kernel_vectors(point), strict=True):
+        profiled = [j for j in range(len(self.bases)) if j not in self.derived]
+        kernels: dict[int, list[flint.fmpq]] = {}
+        for j, problem, c in zip(profiled, family.problems, family.kernel_vectors(point), strict=True):
             if c is None:
                 return None
             if c[-1] != -1:
                 raise RelationSearchError(
                     f"the last coordinate of K_Phi vanishes for ({', '.join(map(str, problem.basis))}): "
                     "put last a function whose coefficient is not zero (recipe (B) sets it to -1)")
-            out += c[:-1]
-        return out + [flint.fmpq(1)]
+            kernels[j] = c[:-1]
+        at = {**family.scene.fixed, **dict(zip(self.kmap.variables, point, strict=True))}
+        for j, (i, h) in self.derived.items():
+            if h.den.is_zero() or Frac(self.kmap.ring, h.den).evaluate(at) == 0:
+                return None
+            value = h.evaluate(at)
+            kernels[j] = [value * c for c in kernels[i]]
+        return [c for j in range(len(self.bases)) for c in kernels[j]] + [flint.fmpq(1)]
 
     def relation_space(self, values: Mapping[str, Rational], extra: int = 2) -> list[list[flint.fmpq]] | None:
         """Rows spanning the annihilator of the sampled coordinate vectors at these eps and parameter values."""
         scene = make_scene(self.kmap, values)
-        family = BasisFamily([ProfileProblem(scene, b) for b in self.bases])
+        family = BasisFamily([ProfileProblem(scene, b) for j, b in enumerate(self.bases) if j not in self.derived])
         rows: list[list[flint.fmpq]] = []
         rank, stable, tries = 0, 0, 0
         while stable < extra and tries < 4 * self.width + 8:
@@ -131,15 +149,16 @@ class CoordinateSampler:
 
 def find_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], *, names: Sequence[str] | None = None,
                    values: Mapping[str, Rational] | None = None, max_degree: int = 6, checks: int = 3,
-                   seed: int = 0) -> RelationSearch:
+                   seed: int = 0, integrals: Sequence[Frac] = ()) -> RelationSearch:
     """Recipe (E) exactly: sample the relation space at random rational eps/parameters (some set to 1 by
     weighted homogeneity), interpolate polynomial relation vectors of rising degree, check them at fresh
-    samples and restore the normalized names."""
+    samples and restore the normalized names. `integrals`: proven integrals h (`CoordinateSampler`): a basis that
+    is an earlier one with its last function times h is sampled as that one's coordinates times h."""
     rng = random.Random(seed)
     fixed = {k: to_fmpq(v) for k, v in (values or {}).items()}
     parsed = [parse_basis(kmap.ring, b) if isinstance(b, str) else list(b) for b in bases]
     names = check_new_names(names, kmap.ring.names, "coordinate name") if names else _default_names(parsed)
-    sampler = CoordinateSampler(kmap, parsed, rng)
+    sampler = CoordinateSampler(kmap, parsed, rng, integrals)
     normalized_name = None
     if len(parsed) == 1 and len(names) == len(parsed[0]):
         names, normalized_name = names[:-1], names[-1]

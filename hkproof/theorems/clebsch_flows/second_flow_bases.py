@@ -153,8 +153,10 @@ def prove_l_relations_found(cert: Certificate, claimed: Mapping[str, str]) -> No
                "Prop. \"prop: even\" hold; what remains for a proof is the symbolic solve (one row with an iterate "
                "after eliminating 17 unknowns) and the substitution of the solution into the rows i = 1")
     with cert.step("recipe (E) with the columns L alpha, L beta, L gamma: the space is spanned by the claimed "
-                   "relations", "exact kernels at rational points, interpolation in eps and w, fresh checks", r) as s:
-        search = find_relations(f, [*phis, *[b[:6] + [big_l * b[6]] for b in phis]], names=names)
+                   "relations", "exact kernels at rational points (those of (p^2, m^2, L m_k p_k) as L times those of "
+                   "Phi_k, L being an integral), interpolation in eps and w, fresh checks", r) as s:
+        search = find_relations(f, [*phis, *[b[:6] + [big_l * b[6]] for b in phis]], names=names,
+                                integrals=[big_l])
         found = [Relation(rel.coefficients, rel.rhs) for rel in search.relations]
         s.require(search.dimension == len(rels) == len(found),
                   f"relation space of dimension {search.dimension}, {len(found)} reconstructed, {len(rels)} claimed")
