@@ -119,7 +119,7 @@ class CoordinateSampler:
             kernels[j] = c[:-1]
         at = {**family.scene.fixed, **dict(zip(self.kmap.variables, point, strict=True))}
         for j, (i, h) in self.derived.items():
-            if h.den.is_zero() or Frac(self.kmap.ring, h.den).evaluate(at) == 0:
+            if Frac(self.kmap.ring, h.den).evaluate(at) == 0:     # h undefined here: a bad point
                 return None
             value = h.evaluate(at)
             kernels[j] = [value * c for c in kernels[i]]
