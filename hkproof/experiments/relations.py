@@ -98,6 +98,7 @@ class CoordinateSampler:
                            for h in integrals if h * self.bases[i][-1] == b[-1]), None)
             if source is not None:
                 self.derived[j] = source
+        self.profiled = [j for j in range(len(self.bases)) if j not in self.derived]
 
     @property
     def width(self) -> int:
@@ -107,9 +108,8 @@ class CoordinateSampler:
     def row(self, family: BasisFamily) -> list[flint.fmpq] | None:
         """(c^(1)_1, ..., c^(1)_(l1-1), c^(2)_1, ..., 1) at a random point, or None at a bad point."""
         point = random_rationals(self.rng, len(self.kmap.variables), 99)
-        profiled = [j for j in range(len(self.bases)) if j not in self.derived]
         kernels: dict[int, list[flint.fmpq]] = {}
-        for j, problem, c in zip(profiled, family.problems, family.kernel_vectors(point), strict=True):
+        for j, problem, c in zip(self.profiled, family.problems, family.kernel_vectors(point), strict=True):
             if c is None:
                 return None
             if c[-1] != -1:
@@ -128,7 +128,7 @@ class CoordinateSampler:
     def relation_space(self, values: Mapping[str, Rational], extra: int = 2) -> list[list[flint.fmpq]] | None:
         """Rows spanning the annihilator of the sampled coordinate vectors at these eps and parameter values."""
         scene = make_scene(self.kmap, values)
-        family = BasisFamily([ProfileProblem(scene, b) for j, b in enumerate(self.bases) if j not in self.derived])
+        family = BasisFamily([ProfileProblem(scene, self.bases[j]) for j in self.profiled])
         rows: list[list[flint.fmpq]] = []
         rank, stable, tries = 0, 0, 0
         while stable < extra and tries < 4 * self.width + 8:
