@@ -156,10 +156,9 @@ def test_a_claim_sharing_an_intermediate_goes_to_the_free_worker_that_holds_it(f
 def test_a_claim_waits_for_the_busy_worker_holding_its_intermediate_when_that_is_sooner(
         fresh_run, tmp_path, monkeypatch, long_claim, computed):
     """t-b reads the intermediate t-a computed, and is ready (after t-dep) while that worker proves t-long (after
-    t-a): it waits
-    for it when t-long is expected to end before the intermediate could be computed again (EXPECTED_SECONDS: t-long
-    1 s, the intermediate's claims 3 s), and takes the free worker, computing it a second time, when t-long is
-    expected to take far longer (100 s)."""
+    t-a): it waits for it when t-long is expected to end before the intermediate could be computed again
+    (EXPECTED_SECONDS: t-long 1 s, the intermediate's claims 3 s), and takes the free worker, computing it a second
+    time, when t-long is expected to take far longer (100 s)."""
     from hkproof.orchestration import execution
     for cid, seconds in (("t-a", 3), ("t-b", 3), ("t-dep", 1.5), ("t-long", long_claim)):
         monkeypatch.setitem(execution.EXPECTED_SECONDS, cid, seconds)
