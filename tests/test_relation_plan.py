@@ -98,3 +98,20 @@ def test_a_normalization_over_a_size_limit_gives_way_to_the_next(monkeypatch):
     monkeypatch.setattr(solve, "coordinates", lambda *a, **k: (_ for _ in ()).throw(ResourceLimitError("limit")))
     with pytest.raises(ResourceLimitError):
         solve._race(ctx, orders, random.Random(1))
+
+
+def test_the_pool_renormalizes_one_kernel_exactly() -> None:
+    """SamplePool.coordinates: the coordinates and gradients of every normalization of a basis, renormalized from
+    one kernel per point, are those recipe (B) solves for that normalization directly; a wrong quotient rule fails."""
+    kmap = kahan_map(SPLIT)
+    pool = SamplePool(kmap, {}, P, {n: 3 for n in kmap.field.control_names}, random.Random(2), len(SQUARES) - 2)
+    for index in range(3):
+        x, orbit = pool.point(index)
+        for last in range(len(SQUARES)):
+            order = [e for k, e in enumerate(SQUARES) if k != last] + [SQUARES[last]]
+            assert pool.coordinates(x, orbit, order, gradients=True) == relation_plan._direct(orbit, order, True)
+            assert pool.coordinates(x, orbit, order) == (relation_plan._direct(orbit, order, False)[0], None)
+    order = SQUARES[1:] + SQUARES[:1]
+    coords, grads = pool.coordinates(x, orbit, order, gradients=True)
+    assert grads != [[-g % P for g in row] for row in grads]      # the gradients are not trivially sign-symmetric
+    assert relation_plan._direct(orbit, order, True) != (coords, [[-g % P for g in row] for row in grads])

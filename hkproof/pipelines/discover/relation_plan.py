@@ -97,6 +97,7 @@ class SamplePool:
         self.points: list[tuple[list[int], TangentOrbit]] = []
         self._values: dict[tuple[int, ...], dict[str, int] | None] = {}
         self._gradients: dict[tuple[int, ...], list[list[int]] | None] = {}
+        self._kernels: dict[tuple, tuple[dict[Exponents, int], dict[Exponents, list[int]] | None] | None] = {}
 
     def point(self, index: int) -> tuple[list[int], TangentOrbit]:
         """The index-th random point and its tangent orbit of `length` steps (drawn when first asked for)."""
@@ -139,6 +140,30 @@ class SamplePool:
             self._gradients[key] = None if any(r is None for r in rows) else rows  # type: ignore[assignment]
         return self._gradients[key]
 
+    def coordinates(self, x: Sequence[int], orbit: TangentOrbit, basis: Sequence[Exponents],
+                    gradients: bool = False) -> tuple[list[int], list[list[int]] | None] | None:
+        """The kernel coordinates of `basis` at x (its last function normalized to -1), and their gradients when
+        asked for, mod p (None where the system of recipe (B) is singular). The normalizations of one basis share
+        one kernel: it is solved once per point in the sorted order and renormalized, c'_k = -c_k / c_j, with the
+        quotient rule for the gradients; where the sorted order's own normalization is singular, directly."""
+        key = (tuple(x), tuple(sorted(basis)))
+        if key not in self._kernels or (gradients and (entry := self._kernels[key]) is not None and entry[1] is None):
+            self._kernels[key] = _kernel(orbit, list(key[1]), gradients)
+        entry = self._kernels[key]
+        if entry is None:
+            return _direct(orbit, list(basis), gradients)
+        values, grads = entry
+        p, last = self.p, basis[-1]
+        if values[last] == 0:
+            return None
+        scale = -pow(values[last], -1, p)
+        coords = [values[e] * scale % p for e in basis[:-1]]
+        if not gradients or grads is None:
+            return coords, None
+        inverse2, dl = pow(values[last], -2, p), grads[last]
+        return coords, [[-(a * values[last] - values[e] * b) * inverse2 % p for a, b in zip(grads[e], dl, strict=True)]
+                        for e in basis[:-1]]
+
 
 class _Samples:
     """Kernel coordinates (c_l = -1) of the basis in its order, at the points of a pool, one after another."""
@@ -165,8 +190,12 @@ class _Samples:
         self._next += 1
         return self.pool.point(self._next - 1)
 
-    def coordinates(self, orbit: TangentOrbit) -> list[int] | None:
-        solved = recipe_b_mod_p(orbit, self.basis)
+    def coordinates(self, x: Sequence[int], orbit: TangentOrbit) -> list[int] | None:
+        solved = self.pool.coordinates(x, orbit, self.basis)
+        return None if solved is None else solved[0]
+
+    def gradients(self, x: Sequence[int], orbit: TangentOrbit) -> list[list[int]] | None:
+        solved = self.pool.coordinates(x, orbit, self.basis, gradients=True)
         return None if solved is None else solved[1]
 
     def known_values(self, x: Sequence[int]) -> dict[str, int] | None:
@@ -174,6 +203,31 @@ class _Samples:
 
     def known_gradients(self, x: Sequence[int]) -> list[list[int]] | None:
         return self.pool.known_gradients(x)
+
+
+def _kernel(orbit: TangentOrbit, basis: list[Exponents], gradients: bool
+            ) -> tuple[dict[Exponents, int], dict[Exponents, list[int]] | None] | None:
+    """The coordinates of recipe (B) (and their gradients) in the order `basis`, by function, the last one -1."""
+    solved = _direct(orbit, basis, gradients)
+    if solved is None:
+        return None
+    coords, grads = solved
+    values = dict(zip(basis, [*coords, orbit.p - 1], strict=True))
+    if grads is None:
+        return values, None
+    return values, dict(zip(basis, [*grads, [0] * len(orbit.points[0])], strict=True))
+
+
+def _direct(orbit: TangentOrbit, basis: list[Exponents], gradients: bool
+            ) -> tuple[list[int], list[list[int]] | None] | None:
+    """The coordinates of recipe (B) in the order `basis` (and their gradients), solved at the orbit."""
+    solved = recipe_b_mod_p(orbit, basis)
+    if solved is None:
+        return None
+    if not gradients:
+        return solved[1], None
+    grads = coordinate_gradients(orbit, basis)
+    return None if grads is None else (solved[1], grads)
 
 
 def _dependent_space(samples: _Samples, points: int) -> list[list[int]]:
@@ -184,7 +238,7 @@ def _dependent_space(samples: _Samples, points: int) -> list[list[int]]:
     for _ in range(points):
         budget.check("collecting gradient conditions for the relations with proven integrals")
         x, orbit = samples.point()
-        grads = coordinate_gradients(orbit, samples.basis)
+        grads = samples.gradients(x, orbit)
         dk = samples.known_gradients(x) if samples.known else []
         if grads is None or dk is None:
             continue
@@ -244,13 +298,13 @@ def _data(samples: _Samples, count: int) -> list[_Point]:
     while len(out) < count:
         budget.check("sampling kernel coordinates and proven integrals mod p")
         x, orbit = samples.point()
-        c, k = samples.coordinates(orbit), samples.known_values(x)
+        c, k = samples.coordinates(x, orbit), samples.known_values(x)
         if c is None or k is None:
             continue
         if out:
             out.append(_Point(c, list(k.values())))
             continue
-        dc, dk = coordinate_gradients(orbit, samples.basis), samples.known_gradients(x)
+        dc, dk = samples.gradients(x, orbit), samples.known_gradients(x)
         if dc is not None and dk is not None:
             out.append(_Point(c, list(k.values()), dc, dk))
     return out
@@ -377,7 +431,7 @@ def evaluate_plan(kmap: KahanMap, basis: Sequence[Exponents], known: Mapping[str
     while len(data) < unknowns + extra:
         budget.check("sampling kernel coordinates and proven integrals mod p")
         x, orbit = samples.point()
-        c, k = samples.coordinates(orbit), samples.known_values(x)
+        c, k = samples.coordinates(x, orbit), samples.known_values(x)
         if c is not None and k is not None:
             data.append((c, k))
     out: list[ModularRelation] = []
