@@ -1,6 +1,9 @@
 """hk/transport.Substitution: names replaced by rational functions (one compose), as the sec. 6 proofs use it."""
 from __future__ import annotations
 
+from fractions import Fraction
+
+import flint
 import pytest
 
 from hkproof.algebra import Frac
@@ -66,3 +69,33 @@ def test_a_denominator_shared_by_several_functions_is_composed_once_with_the_sam
     got = [sigma.apply(h) for h in functions]
     assert got == [Substitution(source, target, images).apply(h) for h in functions]    # fresh: no cache
     assert len(sigma._composed) == 1
+
+
+def test_the_pullback_point_gives_the_value_of_the_image():
+    """sigma(h)(P) = h(sigma*(P)): what flow-conjecture evaluates instead of forming sigma(h); a point that ignores
+    an image (the kept value of w) gives another value."""
+    source, target = get_ring(("x", "e", "w")), get_ring(("x", "e", "w", "y", "z"))
+    sigma = Substitution(source, target, {"w": Frac.parse(target, "w + y/z"), "e": Frac.parse(target, "z*e")})
+    h = Frac.parse(source, "(x**2 + e**2*w)/(w - x + 3)")
+    point = {"x": 2, "e": Fraction(1, 3), "w": 5, "y": -1, "z": Fraction(7, 2)}
+    at = sigma.pullback(point)
+    assert at == {"x": flint.fmpq(2), "e": flint.fmpq(7, 6), "w": flint.fmpq(33, 7)}
+    assert h.evaluate(at) == sigma.apply(h).evaluate(point)
+    assert h.evaluate({**at, "w": 5}) != sigma.apply(h).evaluate(point)
+
+
+@pytest.mark.parametrize("images,commutes", [
+    ({"w": "w + y/z", "e": "z*e"}, True),          # the reduction of sec. 6
+    ({"e": "y*e"}, True),                          # sigma0
+    ({"w": "w + e", "e": "z*e"}, False),           # an image of w odd in e
+    ({"e": "e + y"}, False),                       # an image of e not odd
+    ({"w": "w + e**2", "e": "e**3*z"}, True),
+])
+def test_sigma_commutes_with_the_sign_of_eps_exactly_when_its_images_say_so(images, commutes):
+    """Substitution.commutes_with_sign: the image of e odd in e and the others even; then sigma keeps functions
+    even in e even (checked on one even function), and otherwise it does not."""
+    source, target = get_ring(("x", "e", "w")), get_ring(("x", "e", "w", "y", "z"))
+    sigma = Substitution(source, target, {k: Frac.parse(target, v) for k, v in images.items()})
+    assert sigma.commutes_with_sign("e") is commutes
+    even = Frac.parse(source, "(x + e**2*w)/(1 + w*e**2 + x)")
+    assert sigma.apply(even).is_even_in("e") is commutes

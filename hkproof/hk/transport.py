@@ -8,9 +8,9 @@ from typing import Mapping, Sequence
 
 import flint
 
-from hkproof.algebra.fraction import Frac, homogenized_compose, normalize_sign
+from hkproof.algebra.fraction import Frac, Parity, homogenized_compose, normalize_sign
 from hkproof.algebra.linalg import lcm
-from hkproof.algebra.ring import Rational, Ring
+from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
 from hkproof.hk.independence import jacobian_rank_at
@@ -74,6 +74,19 @@ class Substitution:
         if den.is_zero():
             raise HKProofError(f"the substitution {self} sends the denominator of {h} to 0")
         return num.project_to_context(self.target.ctx), den.project_to_context(self.target.ctx)
+
+    def pullback(self, point: Mapping[str, Rational]) -> dict[str, flint.fmpq]:
+        """The point of the source at which h takes the value of sigma(h) at `point`: the images evaluated there, the
+        kept names as they are (sigma(h)(P) = h(sigma*(P)) wherever h's denominator does not vanish at sigma*(P))."""
+        out = {n: to_fmpq(point[n]) for n in self.source.names if n not in self.images}
+        out.update({n: img.evaluate(point) for n, img in self.images.items()})
+        return out
+
+    def commutes_with_sign(self, name: str) -> bool:
+        """sigma o iota = iota o sigma for iota: name -> -name on both rings (the image of `name` odd in it, every
+        other image even): then sigma maps functions even in `name` to functions even in it."""
+        return all(img.parity(name) is (Parity.ODD if n == name else Parity.EVEN) or img.is_zero() and n != name
+                   for n, img in self.images.items())
 
     def is_injective_at(self, moved_onto: Sequence[str], point: Mapping[str, Rational]) -> bool:
         """sigma is an injective homomorphism of fields (identities carry over both ways, no non-zero denominator

@@ -6,7 +6,6 @@ from __future__ import annotations
 from typing import Mapping, Sequence
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.ring import flint_threads
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
@@ -65,25 +64,23 @@ def prove_conjecture(cert: Certificate, claimed: Mapping[str, str]) -> None:
 def _carried(cert: Certificate, case: str, sigma: Substitution, target: KahanMap,
              vectors: Sequence[Sequence[Frac]], integrals: Sequence[Frac], names: str,
              claimed: Mapping[str, str]) -> None:
-    """The vectors and integrals carried by sigma onto `target`, and what the conjecture says of them there."""
-    r = target.ring
-    monomials = [Frac.parse(r, m) for m in PHI_MAX_TEXT.split(", ")]
+    """What the conjecture says of the vectors and integrals carried by sigma onto `target`, read on the source:
+    sigma is an injective homomorphism fixing x (flow-reduction) and commuting with eps -> -eps, so parity and every
+    identity carry over, and the ranks are taken at the pulled-back point. The images are never formed."""
+    source = sigma.source
+    monomials = [Frac.parse(source, m) for m in PHI_MAX_TEXT.split(", ")]
     with cert.step(f"{case}the null-vectors carried by {sigma}: components even in eps, rows i = 0",
-                   "the substitution of flow-reduction applied exactly (one homogenized compose each); exact parity; "
-                   "row i = 0 by substitution", r) as s, flint_threads():
-        images: dict[int, Frac] = {}      # by identity: an integral that is also a component is carried once
-
-        def carry(h: Frac) -> Frac:
-            if id(h) not in images:
-                images[id(h)] = sigma.apply(h) if not h.is_constant() else h.to_ring(r)
-            return images[id(h)]
-
-        moved = [[carry(h) for h in vec] for vec in vectors]
-        for k, vec in enumerate(moved):
+                   "transport: sigma fixes x and commutes with eps -> -eps (the image of eps odd in eps, the other "
+                   "images even), so the images of even components are even and the images of identities are "
+                   "identities; exact parity and row i = 0 (substitution) on the source vectors", source) as s:
+        s.require(not set(sigma.images) & set(target.variables), f"sigma moves a phase variable: {sigma}")
+        s.require(sigma.commutes_with_sign(EPS), f"sigma does not commute with eps -> -eps: {sigma}")
+        for k, vec in enumerate(vectors):
+            s.require(all(h.ring == source for h in (*vec, *integrals)), "a vector is not a function on sigma's source")
             s.require(all(h.is_even_in(EPS) for h in vec), f"a component of the Phi{k} vector is not even in eps")
-            s.require(linear_combination_equals(vec, monomials, Frac(r, 0)), f"the Phi{k} vector misses row i = 0")
-        s.note(f"sizes up to {max(len(h.num) for vec in moved for h in vec)} terms over "
-               f"{max(len(h.den) for vec in moved for h in vec)}; sigma maps the source map to this one "
+            s.require(linear_combination_equals(vec, monomials, Frac(source, 0)), f"the Phi{k} vector misses row i = 0")
+        s.note(f"sizes on the source up to {max(len(h.num) for vec in vectors for h in vec)} terms over "
+               f"{max(len(h.den) for vec in vectors for h in vec)}; sigma maps the source map to this one "
                "(flow-reduction) and is an injective homomorphism of fields fixing x, so the source's identities "
-               "h o f = h carry over: the components are integrals and the vectors annihilate every row")
-    max_basis_facts(cert, target, moved, [carry(h) for h in integrals], names, case, claimed["dim"])
+               "h o f = h carry over: the images are integrals and annihilate every row")
+    max_basis_facts(cert, target, vectors, integrals, names, case, claimed["dim"], sigma)

@@ -23,6 +23,7 @@ from hkproof.hk.completion import complete_coordinates
 from hkproof.hk.independence import jacobian_rank_at
 from hkproof.hk.linear_relations import parse_relation, relation_rank
 from hkproof.hk.reduced import Relation, kernel_coordinates, system_at
+from hkproof.hk.transport import Substitution
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate, Refuted, StepRecorder
 from hkproof.proof.status import Status
@@ -240,11 +241,14 @@ def embedded_vectors(phi0: Sequence[Frac], blocks: Sequence[Sequence[Frac]]) -> 
 
 
 def max_basis_facts(cert: Certificate, f: KahanMap, vectors: Sequence[Sequence[Frac]], integrals: Sequence[Frac],
-                    names: str, case: str = "", dim: str = "4") -> None:
+                    names: str, case: str = "", dim: str = "4", sigma: Substitution | None = None) -> None:
     """For null-vectors of Phi0..Phi3 with integral components (placed in R^10): dim K_Phi_k = 1, dim K_Phi = `dim`
-    = 4, the span of the four; the four `integrals` functionally independent (exact ranks at a rational point)."""
+    = 4, the span of the four; the four `integrals` functionally independent (exact ranks at a rational point).
+    With `sigma` (fixing x), the vectors and integrals are functions on its source that stand for their images on
+    f: each is evaluated at the pulled-back point, sigma(h)(P) = h(sigma*(P)), never carried over itself."""
     r = f.ring
     point = {k: v for k, v in RANK_POINT.items() if k in r.names}
+    at = sigma.pullback(point) if sigma is not None else point
     monomials = [Frac.parse(r, m) for m in PHI_MAX_TEXT.split(", ")]
     with cert.step(f"{case}K_Phi_k = [block k : -1] (dim 1) and K_Phi = span of the four vectors (dim 4)",
                    "exact kernels of X_[0,5] and X_[0,6] at a rational point; rank of the four vectors", r) as s:
@@ -255,7 +259,7 @@ def max_basis_facts(cert: Certificate, f: KahanMap, vectors: Sequence[Sequence[F
         for name, slots in SUB_BASES.items():
             got = flint.fmpq_mat([[row[k] for k in slots] for row in values]).rank()
             s.require(got == 6, f"rank X_[0,6] = {got} for {name}, not 6")
-        vals = [[h.evaluate(point) for h in vec] for vec in vectors]
+        vals = [[h.evaluate(at) for h in vec] for vec in vectors]
         s.require(flint.fmpq_mat(vals).rank() == 4, "the four kernel vectors are dependent at the point")
         s.require(all(sum((a * b for a, b in zip(vec, row, strict=True)), flint.fmpq(0)) == 0
                       for vec in vals for row in values),
@@ -264,8 +268,8 @@ def max_basis_facts(cert: Certificate, f: KahanMap, vectors: Sequence[Sequence[F
                "hence every row: they lie in K_Phi; independent at one point; a non-zero maximal minor of X_[0,5] "
                "at one point bounds dim K_Phi by 4 and dim K_Phi_k by 1 off a proper algebraic subset")
     with cert.step(f"{case}{names} functionally independent", "exact Jacobian rank at a rational point", r) as s:
-        params = {k: v for k, v in point.items() if k not in f.variables}
-        ring_x = r.drop(params)
+        params = {k: v for k, v in at.items() if k not in f.variables}
+        ring_x = (sigma.source if sigma is not None else r).drop(params)
         funcs = [h.specialize(params, ring_x) for h in integrals]
         rank = jacobian_rank_at(funcs, f.variables, {k: point[k] for k in f.variables})
         s.require(rank == 4, f"Jacobian rank {rank}, not 4")
