@@ -19,7 +19,7 @@ from hkproof.hk.poisson import Bivector, invariance_holds, is_poisson, pairs
 from hkproof.hk.poisson_proofs import prove_structure
 from hkproof.hk.jacobian import matrix_identity_holds
 from hkproof.hk.poisson_system import blocks, sign_symmetries, system_mod_p
-from hkproof.pipelines.poisson import PoissonReport, search_poisson
+from hkproof.pipelines.poisson import PoissonReport, search_poisson, with_integrals
 from hkproof.proof.status import Status
 
 
@@ -179,3 +179,29 @@ def test_euler_top_structures_in_a_random_affine_chart(kind: str) -> None:
     report = search_poisson(kahan_map(field), 3)
     assert len(report.structures) == 3
     assert all(s.status is Status.VERIFIED and s.poisson for s in report.structures)
+
+
+def test_a_slice_is_used_only_where_the_kernel_is_an_invariant_function() -> None:
+    """zhukovsky-volterra-1 depends on a1, a2, a3 through their differences: a class whose D is invariant under the
+    translation is rebuilt with a3 = 0; a D that is not invariant, or a pivot that a scaling normalizes, gets none."""
+    from hkproof.pipelines import poisson
+    f = kahan_map("zhukovsky-volterra-1")
+    d = Frac.parse(f.ring, "(a1 - a2)*x1**2*eps**2 + (a3 - a2)*x3**2*eps**2 + 1")
+    assert poisson._slice_for(f, d.num, ["eps", "a1"]) is not None
+    assert poisson._slice_for(f, d.num, ["eps", "a3"]) is None             # the pivot normalized by a scaling
+    assert poisson._slice_for(f, (d + Frac.parse(f.ring, "a3*x1")).num, ["eps", "a1"]) is None
+
+
+@pytest.mark.slow          # 16 s
+def test_a_kernel_rebuilt_on_the_slice_and_lifted_is_the_full_rebuild(monkeypatch) -> None:
+    """zhukovsky-volterra-1, D = den(I1), deg Q <= 5: the two structures rebuilt with a3 = 0 and lifted are those of
+    the rebuild in every parameter (both proven on the whole map)."""
+    from hkproof.pipelines import poisson
+    f = kahan_map("zhukovsky-volterra-1")
+
+    def matrices(report: PoissonReport) -> list:
+        return [s.bivector.texts() for s in report.structures]
+    on_slice = with_integrals(f, 5, darboux_degree=0, only=["F1"])
+    assert len(on_slice.structures) == 2 and all(s.status is Status.VERIFIED for s in on_slice.structures)
+    monkeypatch.setattr(poisson, "_slice_for", lambda *args: None)
+    assert matrices(with_integrals(f, 5, darboux_degree=0, only=["F1"])) == matrices(on_slice)

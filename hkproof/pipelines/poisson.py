@@ -49,6 +49,7 @@ from hkproof.hk.poisson_system import (Block, SignSymmetry, blocks, denominator_
 from hkproof.hk.torus import (Torus, commuting_linear_fields, eigen_coordinates, generic_generator, is_semi_invariant,
                               semi_invariance_character, torus_data)
 from hkproof.pipelines.poisson_candidates import Denominator, candidate_denominators
+from hkproof.pipelines.slices import Slice
 from hkproof.pipelines.stages import Progress, Stages
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.status import Status, specialized_label
@@ -643,14 +644,16 @@ def _rebuild_block(scene: _Scene, block: Block, rows: np.ndarray, known: Sequenc
     targets = [(k, c) for k, (f, v) in enumerate(reference) if k in chosen for c, x in enumerate(v) if x and c != f]
     weights = scaling_weights(kmap, [Frac(kmap.ring, scene.denominator)])
     normalized = list(weights.normalized)
-    sampled = [n for n in kmap.field.control_names if n not in normalized]
+    where = _slice_for(kmap, scene.denominator, normalized)
+    pivots = [] if where is None else [shift.pivot for shift in where.shifts]
+    sampled = [n for n in kmap.field.control_names if n not in normalized and n not in pivots]
     seed = rng.randrange(2**32)
 
     def box(q: int, points: Sequence[Sequence[int]]) -> list[list[int] | None]:
         out: list[list[int] | None] = []
         local = random.Random(seed)
         for t in points:
-            controls = {**{n: 1 for n in normalized}, **dict(zip(sampled, t))}
+            controls = {**{n: 1 for n in normalized}, **{n: 0 for n in pivots}, **dict(zip(sampled, t))}
             try:
                 matrix, _ = scene.rows(kmap.mod(q, controls), block, local, confirming_rows(scene.width(block))[0])
             except (UnluckyPrimeError, ZeroDivisionError):
@@ -674,9 +677,23 @@ def _rebuild_block(scene: _Scene, block: Block, rows: np.ndarray, known: Sequenc
                                                    scene.terms(block, c)[0][0]))
         if restored is None:
             raise SingularSystemError(f"a rebuilt coefficient {h} is not weighted homogeneous")
-        coefficients[k][c] = restored
+        coefficients[k][c] = restored if where is None else where.lift(restored.to_ring(where.searched.ring), ring)
     return [_bivector(kmap, block, _on_columns(scene, block, coeffs), scene.denominator)
             for coeffs in coefficients.values()]
+
+
+def _slice_for(kmap: KahanMap, denominator: flint.fmpz_mpoly, normalized: Sequence[str]) -> Slice | None:
+    """The slice of the field's parameter translations on which a kernel is rebuilt (one parameter fewer), when D is
+    invariant under them and no pivot is normalized by a scaling: then the invariance rows at the parameters a and at
+    their translate are the same system, so the kernel's rref coordinates are invariant functions, the lifts of their
+    restrictions to the slice (a candidate only: every bivector is then proven on the whole map). None otherwise."""
+    where = Slice.of(kmap.field)
+    if not where.shifts or any(shift.pivot in normalized for shift in where.shifts):
+        return None
+    d = restricted = Frac(kmap.ring, denominator)
+    for shift in where.shifts:
+        restricted = shift.restrict(restricted)
+    return where if where.lift(restricted, kmap.ring) == d else None
 
 
 def _on_columns(scene: _Scene, block: Block, coeffs: Mapping[int, T]) -> dict[int, T]:
