@@ -8,7 +8,7 @@ import pytest
 import sympy
 
 from hkproof.algebra import Frac, Ring
-from hkproof.algebra.factored import factor, sum_of_products
+from hkproof.algebra.factored import Quotient, factor, sum_of_products
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.errors import HKProofError
 from hkproof.hk.completion import complete_coordinates
@@ -47,6 +47,20 @@ def test_sum_of_products_agrees_with_sympy(seed):
             assert got.to_sympy().subs(at) == want
     plain = sum((_product(t) for t in terms), Frac(R, 0))
     assert (got.num, got.den) == (plain.num, plain.den)    # the same lowest terms and sign as Frac arithmetic
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_sum_of_products_reduces_terms_not_in_lowest_terms(seed):
+    """Quotient inputs (num and den sharing factors) give the lowest terms that Frac arithmetic gives; a wrong
+    cofactor in one term changes the sum."""
+    rng = random.Random(100 + seed)
+    terms = [[_random_frac(rng)[0] for _ in range(rng.randint(1, 2))] for _ in range(rng.randint(1, 3))]
+    common = R.gen("x") * 3 + R.gen("eps") ** 2 + 1
+    loose = [[Quotient(R, f.num * common, f.den * common) for f in t] for t in terms]
+    got, plain = sum_of_products(loose), sum((_product(t) for t in terms), Frac(R, 0))
+    assert (got.num, got.den) == (plain.num, plain.den)
+    wrong = [[Quotient(R, loose[0][0].num * 2, loose[0][0].den), *loose[0][1:]], *loose[1:]]
+    assert sum_of_products(wrong) != plain
 
 
 def _product(factors):

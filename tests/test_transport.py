@@ -99,3 +99,17 @@ def test_sigma_commutes_with_the_sign_of_eps_exactly_when_its_images_say_so(imag
     assert sigma.commutes_with_sign("e") is commutes
     even = Frac.parse(source, "(x + e**2*w)/(1 + w*e**2 + x)")
     assert sigma.apply(even).is_even_in("e") is commutes
+
+
+def test_apply_cancelled_removes_the_image_factors_without_a_gcd():
+    """sigma(h) with L -> (x + y)/(y + 2): the numerator's factor x + y is cancelled from sigma(num) and sigma(den)
+    by exact division; the quotient equals sigma(h), in lowest terms here, and differs from the uncancelled pair."""
+    small = get_ring(("x", "y"))
+    big = small.extend(["L"])
+    sigma = Substitution(big, small, {"L": Frac.parse(small, "(x + y)/(y + 2)")})
+    h = Frac.parse(big, "(L*x + x**2 + x*y)/(L*y**3 + L)")
+    num, den = sigma.apply_cancelled(h)
+    assert Frac(small, num, den) == sigma.apply(h)
+    raw = sigma.apply_terms(h)
+    assert len(raw[1]) > len(den) and (num.total_degree(), den.total_degree()) == (
+        sigma.apply(h).num.total_degree(), sigma.apply(h).den.total_degree())

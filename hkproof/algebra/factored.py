@@ -3,14 +3,26 @@ denominators are factored (they are small next to the numerators), the sum is ta
 denominators, and each factor is then cancelled by exact division where it divides."""
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Sequence
 
 import flint
 from flint.utils.flint_exceptions import DomainError
 
 from hkproof.algebra.fraction import Frac, normalize_sign
+from hkproof.algebra.ring import Ring
 
-__all__ = ["factor", "sum_of_products"]
+__all__ = ["exact_quotient", "factor", "Quotient", "sum_of_products"]
+
+
+@dataclass(frozen=True)
+class Quotient:
+    """num / den over `ring`, not necessarily in lowest terms: an input of `sum_of_products`, whose sum is reduced
+    anyway (it spares the gcd of a big numerator and denominator that only feed a sum)."""
+
+    ring: Ring
+    num: flint.fmpz_mpoly
+    den: flint.fmpz_mpoly
 
 
 _FACTORED: dict[tuple[int, str], tuple[flint.fmpz, list[tuple[flint.fmpz_mpoly, int]]]] = {}
@@ -31,7 +43,7 @@ def factor(p: flint.fmpz_mpoly) -> tuple[flint.fmpz, list[tuple[flint.fmpz_mpoly
         rest, found = p, []
         for q in known.values():
             e = 0
-            while (quotient := _divides(q, rest)) is not None:
+            while (quotient := exact_quotient(rest, q)) is not None:
                 rest, e = quotient, e + 1
             if e:
                 found.append((q, e))
@@ -48,7 +60,7 @@ def _product(factors: dict[str, tuple[flint.fmpz_mpoly, int]], one: flint.fmpz_m
     return out
 
 
-def _divides(q: flint.fmpz_mpoly, p: flint.fmpz_mpoly) -> flint.fmpz_mpoly | None:
+def exact_quotient(p: flint.fmpz_mpoly, q: flint.fmpz_mpoly) -> flint.fmpz_mpoly | None:
     """p / q when q divides p exactly, else None (FLINT's exact division stops at the first failing term)."""
     try:
         return p / q
@@ -56,8 +68,9 @@ def _divides(q: flint.fmpz_mpoly, p: flint.fmpz_mpoly) -> flint.fmpz_mpoly | Non
         return None
 
 
-def sum_of_products(terms: Sequence[Sequence[Frac]]) -> Frac:
-    """sum_i prod_j terms[i][j] in lowest terms, for big numerators over denominators that FLINT can factor.
+def sum_of_products(terms: Sequence[Sequence[Frac | Quotient]]) -> Frac:
+    """sum_i prod_j terms[i][j] in lowest terms, for big numerators over denominators that FLINT can factor (the
+    terms need not be in lowest terms themselves: every factor of the sum's denominator is cancelled where it divides).
 
     >>> from hkproof.algebra.ring import get_ring
     >>> r = get_ring(("x", "y"))
@@ -97,7 +110,7 @@ def sum_of_products(terms: Sequence[Sequence[Frac]]) -> Frac:
         total += num * _product(cofactor, one) * int(scale // content)
     remaining = dict(common)
     for key, (q, e) in common.items():
-        while e and (quotient := _divides(q, total)) is not None:
+        while e and (quotient := exact_quotient(total, q)) is not None:
             total, e = quotient, e - 1
         remaining[key] = (q, e)
     if total.is_zero():

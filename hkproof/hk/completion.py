@@ -12,7 +12,7 @@ from typing import Mapping, Sequence
 
 import flint
 
-from hkproof.algebra.factored import sum_of_products
+from hkproof.algebra.factored import Quotient, sum_of_products
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import cramer, pivots_at
 from hkproof.algebra.ring import flint_threads
@@ -78,8 +78,9 @@ def complete_coordinates(kmap: KahanMap, bases: Sequence[Sequence[Frac]], relati
         for j in wanted:
             if j in found:
                 continue
-            a0 = sigma.apply(sum((x * u for x, u in zip(columns[j], particular, strict=True)), zero))
-            a1 = sigma.apply(sum((x * u for x, u in zip(columns[j], direction, strict=True)), zero))
+            a0, a1 = (Quotient(kmap.ring, *sigma.apply_cancelled(sum((x * u for x, u in zip(columns[j], t, strict=True)),
+                                                                     zero)))
+                      for t in (particular, direction))
             found[j] = sum_of_products([[a0], [known[1], a1]])
             if symmetry is not None:
                 found.update(_carried(found, [len(b) - 1 for b in bases], symmetry))

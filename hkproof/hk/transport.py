@@ -8,6 +8,7 @@ from typing import Mapping, Sequence
 
 import flint
 
+from hkproof.algebra.factored import exact_quotient
 from hkproof.algebra.fraction import Frac, Parity, homogenized_compose, normalize_sign
 from hkproof.algebra.linalg import lcm
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
@@ -56,6 +57,18 @@ class Substitution:
             return Frac(self.target, num, den)
         return Frac(self.target, *normalize_sign(*_strip_units(num, den, [self.target.index(u) for u in self.units])),
                     reduced=True)
+
+    def apply_cancelled(self, h: Frac) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
+        """(P, Q) with P/Q = sigma(h), the irreducible factors of the images' numerators and denominators cancelled
+        where they divide both (where the common factor of sigma(num) and sigma(den) usually lies: the image of a
+        symbol of h's denominator), without the gcd of the two big polynomials: not always in lowest terms."""
+        num, den = self.apply_terms(h)
+        for image in self.images.values():
+            for part in (image.num, image.den):
+                for q, _ in part.factor()[1]:
+                    while (n := exact_quotient(num, q)) is not None and (d := exact_quotient(den, q)) is not None:
+                        num, den = n, d
+        return num, den
 
     def apply_terms(self, h: Frac) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
         """(P, Q) with P/Q = sigma(h), not reduced."""
