@@ -12,7 +12,9 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.errors import HKProofError
 from hkproof.pipelines.discover import relation_plan
 from hkproof.pipelines.discover.context import SearchContext
-from hkproof.pipelines.discover.relation_plan import SamplePool, plan_mod_p
+from hkproof.pipelines.discover import sample_pool
+from hkproof.pipelines.discover.relation_plan import plan_mod_p
+from hkproof.pipelines.discover.sample_pool import SamplePool
 from hkproof.pipelines.discover.solve import BasisProof, prove_basis
 from hkproof.proof.status import Status
 
@@ -109,9 +111,9 @@ def test_the_pool_renormalizes_one_kernel_exactly() -> None:
         x, orbit = pool.point(index)
         for last in range(len(SQUARES)):
             order = [e for k, e in enumerate(SQUARES) if k != last] + [SQUARES[last]]
-            assert pool.coordinates(x, orbit, order, gradients=True) == relation_plan._direct(orbit, order, True)
-            assert pool.coordinates(x, orbit, order) == (relation_plan._direct(orbit, order, False)[0], None)
+            assert pool.coordinates(x, orbit, order, gradients=True) == sample_pool._direct(orbit, order, True)
+            assert pool.coordinates(x, orbit, order) == (sample_pool._direct(orbit, order, False)[0], None)
     order = SQUARES[1:] + SQUARES[:1]
     coords, grads = pool.coordinates(x, orbit, order, gradients=True)
     assert grads != [[-g % P for g in row] for row in grads]      # the gradients are not trivially sign-symmetric
-    assert relation_plan._direct(orbit, order, True) != (coords, [[-g % P for g in row] for row in grads])
+    assert sample_pool._direct(orbit, order, True) != (coords, [[-g % P for g in row] for row in grads])

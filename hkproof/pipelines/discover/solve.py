@@ -31,7 +31,8 @@ from hkproof.hk.row_check import check_solution_by_rows
 from hkproof.algebra.dense_reconstruction import ansatz_size
 from hkproof.pipelines.discover.candidates import line_degrees
 from hkproof.pipelines.discover.context import SearchContext
-from hkproof.pipelines.discover.relation_plan import ModularPlan, SamplePool, plan_mod_p
+from hkproof.pipelines.discover.relation_plan import ModularPlan, plan_mod_p
+from hkproof.pipelines.discover.sample_pool import SamplePool
 from hkproof.pipelines.discover.symbolic import PRIME_BITS, SymbolicRelation, coordinates, lift_relations
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
