@@ -66,8 +66,8 @@ class Substitution:
         for image in self.images.values():
             for part in (image.num, image.den):
                 for q, _ in part.factor()[1]:
-                    while (n := exact_quotient(num, q)) is not None and (d := exact_quotient(den, q)) is not None:
-                        num, den = n, d
+                    while (d := exact_quotient(den, q)) is not None and (n := exact_quotient(num, q)) is not None:
+                        num, den = n, d     # the denominator first: it is the smaller, and fails faster
         return num, den
 
     def apply_terms(self, h: Frac) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:

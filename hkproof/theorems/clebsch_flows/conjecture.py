@@ -75,8 +75,9 @@ def _carried(cert: Certificate, case: str, sigma: Substitution, target: KahanMap
                    "identities; exact parity and row i = 0 (substitution) on the source vectors", source) as s:
         s.require(not set(sigma.images) & set(target.variables), f"sigma moves a phase variable: {sigma}")
         s.require(sigma.commutes_with_sign(EPS), f"sigma does not commute with eps -> -eps: {sigma}")
+        s.require(all(h.ring == source for vec in vectors for h in (*vec, *integrals)),
+                  "a vector or an integral is not a function on sigma's source")
         for k, vec in enumerate(vectors):
-            s.require(all(h.ring == source for h in (*vec, *integrals)), "a vector is not a function on sigma's source")
             s.require(all(h.is_even_in(EPS) for h in vec), f"a component of the Phi{k} vector is not even in eps")
             s.require(linear_combination_equals(vec, monomials, Frac(source, 0)), f"the Phi{k} vector misses row i = 0")
         s.note(f"sizes on the source up to {max(len(h.num) for vec in vectors for h in vec)} terms over "
