@@ -78,3 +78,16 @@ def test_the_clebsch_composition_is_the_lift_of_its_restriction_to_w3_0():
         sliced = plain_composition(small, {"p": p0})[0]["p"]
         assert (TRANSLATION.lift(Frac(small.ring, sliced), r) == Frac(r, full)) is TRANSLATION.is_invariant(
             Frac(r, p))
+
+
+def test_every_claim_reading_the_plain_composition_declares_it_shared():
+    """Claim.shares: a claim whose prover calls plain_second_iterate (an lru-cached f o f) must name it, or a run with
+    two workers may compute f o f in both (dc-f2-reduced did not: 17.6 s on the cold worker against 8.6 s)."""
+    import inspect
+
+    from hkproof.orchestration.registry import REGISTRY, load_all
+    from hkproof.theorems.clebsch_f2 import PLAIN_F2
+    load_all()
+    readers = {c.id for c in REGISTRY.values() if "plain_second_iterate(" in inspect.getsource(c.prover)}
+    assert readers == {"dc-f2-plain", "dc-f2-reduced"}
+    assert {c.id for c in REGISTRY.values() if c.shares == PLAIN_F2} == readers

@@ -141,7 +141,7 @@ def prove_f2_plain(cert: Certificate, claimed: Mapping[str, str]) -> None:
        claimed={"g_degree": "8",
                 "table": "18 16 16 16 8 8 8; 19 17 16 16 8 8 8; 19 16 17 16 8 8 8; 19 16 16 17 8 8 8; "
                          "19 16 16 16 9 8 8; 19 16 16 16 8 9 8; 19 16 16 16 8 8 9"},
-       slow=True, uses=["dc-map-symmetries"])
+       slow=True, uses=["dc-map-symmetries"], shares=PLAIN_F2)
 def prove_f2_reduced(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(SYSTEM)
     r = f.ring
