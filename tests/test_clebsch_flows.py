@@ -1,6 +1,8 @@
 """The Clebsch flows (end of sec. 6): general map, second-flow theorem, Phi0 for every flow, conjecture evidence."""
 from __future__ import annotations
 
+import contextlib
+
 import pytest
 import sympy
 
@@ -68,6 +70,40 @@ def test_theta_every_flow_with_w_symbolic():
 def test_theta_perturbed_relation_refuted():
     bad = THETA_RELATION.replace("(w2 - w3)*c1*(eps**2*L - c1)", "(w2 - w3)*c1*(eps**2*L - 2*c1)")
     assert get_claim("flow-theta-all").prove({"relation": bad}).status is not Status.VERIFIED
+
+
+def test_the_transport_of_a_solution_needs_each_equation_carried():
+    """flow-theta-all reads the transported Theta solution on the source: sigma0 (eps -> y eps) carries the first
+    flow's system to the (y, 0) map's, so the step holds; a substitution that breaks the sign of eps (eps -> eps + y)
+    or a target row that is not the image (H4 doubled) is refused, and so is a proportionality with a wrong entry."""
+    from hkproof.algebra.fraction import Frac
+    from hkproof.algebra.ring import get_ring
+    from hkproof.dynamics.catalogue import kahan_map
+    from hkproof.hk.transport import Substitution
+    from hkproof.proof.certificate import Certificate, ProofStopped
+    from hkproof.theorems._clebsch import recall
+    from hkproof.theorems.clebsch_flows import general
+    from hkproof.theorems.clebsch_flows.data import yz_map_at_z0
+    first, g0 = kahan_map(general.FIRST), yz_map_at_z0()
+    sol = [recall(proven("dc-theta"), k, first.ring) for k in general.THETA_NAMES]
+    good = general.reduction_substitutions(proven("flow-reduction").formulas)[1]
+    bad = Substitution(first.ring, g0.ring, {"eps": Frac.parse(g0.ring, "eps + y")})
+    basis, h4 = general._theta_basis(g0)
+
+    def status(sigma, target_h4):
+        cert = Certificate("t", "t", "-", "-")
+        with contextlib.suppress(ProofStopped):
+            general._transported_solution(cert, sigma, (*general._theta_basis(first), []), g0,
+                                          (basis, target_h4, []), sol, "z = 0")
+        return cert.status
+    assert status(good, h4) is Status.VERIFIED
+    assert status(bad, h4) is not Status.VERIFIED
+    assert status(good, h4 * 2) is not Status.VERIFIED
+    r = get_ring(("x", "y"))
+    x, y = Frac.parse(r, "x"), Frac.parse(r, "y")
+    assert general._proportional([2 * x * y, 2 * y], [x * y, y])
+    assert general._proportional([Frac(r, 0), y], [Frac(r, 0), x * y / x])
+    assert not general._proportional([2 * x, 3 * y], [x, y]) and not general._proportional([Frac(r, 0), y], [x, y])
 
 
 def test_the_general_flow_is_invariant_under_the_combined_shift():

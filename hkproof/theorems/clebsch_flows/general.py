@@ -623,6 +623,7 @@ def prove_theta_all_flows(cert: Certificate, claimed: Mapping[str, str]) -> None
     g, g0 = yz_map(), yz_map_at_z0()
     second, flow2 = require_proven(cert, "flow-second-theta"), kahan_map(FLOW2)
     l2 = _cite_l(cert, flow2, "flow-second-theorem")
+    source_sol = [recall(second, k, flow2.ring) for k in THETA_NAMES]
     with cert.step("z != 0: L_b = z^3 sigma(L) and the Theta kernel carried by sigma", "the substitution of "
                    "flow-reduction applied exactly (one homogenized compose each); L_b = A/D as in flow-general-phi0",
                    g.ring) as s:
@@ -631,25 +632,28 @@ def prove_theta_all_flows(cert: Certificate, claimed: Mapping[str, str]) -> None
         known.update({k: named(g, v, known) for k, v in GENERAL_NAMES.items() if k.startswith("E")})
         a_poly, d_poly = named(g, GENERAL_CLAIM["A"], known), named(g, GENERAL_CLAIM["D"], known)
         s.require_equal(big_l, a_poly / d_poly, "z^3 sigma(L) = A/D")
-        sol = [sigma.apply(recall(second, k, flow2.ring)) for k in THETA_NAMES]
+        sol = [sigma.apply(v) for v in source_sol]
         s.note("sigma(f_2) = f_(y,z) (flow-reduction) and sigma is an injective homomorphism of fields fixing x: "
                "the identities proven for the second flow -- rows i = 0, 1, L o f = L, g_k o f = g_k -- hold for "
-               "their images; the checks below apply the substitution to every transported statement")
+               "their images; the next step checks that sigma carries each equation of the system to this map's")
         for k, v in zip(THETA_NAMES, sol, strict=True):
             record(cert, k, v)
+    source_rel = _theta_relation(cert, flow2, ("w1", "w2", "w3"), l2, claimed["relation"])
     rel = _theta_relation(cert, g, C_OF_YZ, big_l, claimed["relation"])
+    _transported_solution(cert, sigma, (*_theta_basis(flow2), [source_rel]), g, (*_theta_basis(g), [rel]),
+                          source_sol, "z != 0")
     basis, h4 = _theta_basis(g)
-    _transported_solution(cert, g, basis, h4, sol, [rel], "z != 0")
     _theta_kernel(cert, g, basis, h4)
     _independent(cert, g, [big_l, *sol], "L_b, g1, g2")
     first = kahan_map(FIRST)
     theta1 = require_proven(cert, "dc-theta")
+    source0 = [recall(theta1, k, first.ring) for k in THETA_NAMES]
     with cert.step("z = 0: the first flow's Theta kernel at eps' = y eps", "sigma0 of flow-reduction applied "
                    "exactly", g0.ring) as s:
-        sol0 = [sigma0.apply(recall(theta1, k, first.ring)) for k in THETA_NAMES]
+        sol0 = [sigma0.apply(v) for v in source0]
         s.note("sigma0(f_1) = f_(y,0) (flow-reduction): dc-theta's identities carry over")
+    _transported_solution(cert, sigma0, (*_theta_basis(first), []), g0, (*_theta_basis(g0), []), source0, "z = 0")
     basis0, h40 = _theta_basis(g0)
-    _transported_solution(cert, g0, basis0, h40, sol0, [], "z = 0")
     _theta_kernel(cert, g0, basis0, h40)
 
 
@@ -676,25 +680,50 @@ def _theta_relation(cert: Certificate, f: KahanMap, c_of: Sequence[str], big_l: 
     return Relation(coefficients, Frac(r, 0), source="L is an even integral (flow-second-theorem)")
 
 
-def _transported_solution(cert: Certificate, f: KahanMap, basis: Sequence[Frac], target: Frac,
-                          sol: Sequence[Frac], relations: Sequence[Relation], case: str) -> None:
-    """What a transported solution of rows i = 0, 1 (+ relations) must satisfy, checked on the new map."""
+def _transported_solution(cert: Certificate, sigma: Substitution,
+                          source: tuple[Sequence[Frac], Frac, Sequence[Relation]], f: KahanMap,
+                          target: tuple[Sequence[Frac], Frac, Sequence[Relation]], sol: Sequence[Frac],
+                          case: str) -> None:
+    """What the image under sigma of a source solution `sol` of rows i = 0, 1 (+ relations) must satisfy on the new
+    map f, read on the source: sigma fixes x and commutes with eps -> -eps, and carries each equation of the source
+    system (basis, target, relations) to the new map's up to a non-zero factor (checked on the small functions), so
+    parity, row i = 0 and the relations of sigma(sol) follow from those of sol; the images are not expanded."""
+    (basis_s, target_s, rels_s), (basis_t, target_t, rels_t) = source, target
     r = f.ring
     with cert.step(f"{case}: the transported (g1, g2, g3) is the unique solution, even in eps",
-                   "exact parity; row i = 0 and the relations by substitution; row i = 1 by transport; det of the "
-                   "system at a rational point", r) as s:
+                   "transport: sigma fixes x and commutes with eps -> -eps, and maps each equation of the source "
+                   "system to this map's times a non-zero factor (exact, on the basis functions and the relations' "
+                   "coefficients); exact parity, row i = 0 and the relations by substitution on the source; row i = 1 "
+                   "by transport; det of the system at a rational point", r) as s:
+        s.require(not set(sigma.images) & set(f.variables), f"sigma moves a phase variable: {sigma}")
+        s.require(sigma.commutes_with_sign(EPS), f"sigma does not commute with eps -> -eps: {sigma}")
         for k, v in zip(THETA_NAMES, sol, strict=True):
-            s.require(v.is_even_in(EPS), f"the transported {k} is not even in eps")
-        s.require(linear_combination_equals(basis, sol, target), "row i = 0 fails for the transported solution")
-        for rel in relations:
-            s.require(linear_combination_equals(rel.coefficients, sol, rel.rhs), "the relation fails")
+            s.require(v.is_even_in(EPS), f"the source's {k} is not even in eps")
+        s.require(linear_combination_equals(basis_s, sol, target_s), "row i = 0 fails for the source solution")
+        s.require(_proportional([sigma.apply(h) for h in (*basis_s, target_s)], [*basis_t, target_t]),
+                  "sigma does not carry the source's row i = 0 to this map's")
+        s.require(len(rels_s) == len(rels_t), "the source and this map have different relations")
+        for rel_s, rel_t in zip(rels_s, rels_t, strict=True):
+            s.require(rel_s.rhs.is_zero() and rel_t.rhs.is_zero(), "a relation is not homogeneous")
+            s.require(linear_combination_equals(rel_s.coefficients, sol, rel_s.rhs), "the relation fails on the source")
+            s.require(_proportional([sigma.apply(c) for c in rel_s.coefficients], rel_t.coefficients),
+                      "sigma does not carry the source's relation to this map's")
         point = {k: v for k, v in RANK_POINT.items() if k in r.names}
-        iterates = (0, 1) if relations else (0, 1, 2)
-        det = det_at_point(f, basis, iterates, relations, point)
+        iterates = (0, 1) if rels_t else (0, 1, 2)
+        det = det_at_point(f, basis_t, iterates, rels_t, point)
         s.require(det != 0, "the transported system is singular at the sample point")
-        s.note(f"det = {det} at a rational point: the solution is unique; it is even in eps and satisfies rows "
-               "i = 0, 1 (row 1: the image of the base claim's identity), so Prop. \"prop: even\" makes g1, g2, g3 "
-               "integrals -- as does the transport of g_k o f = g_k itself")
+        s.note(f"det = {det} at a rational point: the solution is unique; its image is even in eps and satisfies "
+               "rows i = 0, 1 and the relations (images of the source's identities), so Prop. \"prop: even\" makes "
+               "g1, g2, g3 integrals -- as does the transport of g_k o f = g_k itself")
+
+
+def _proportional(images: Sequence[Frac], wanted: Sequence[Frac]) -> bool:
+    """images = lambda * wanted for one non-zero lambda (exact; a zero entry only against a zero entry)."""
+    pivot = next((k for k, h in enumerate(wanted) if not h.is_zero()), None)
+    if pivot is None or images[pivot].is_zero():
+        return False
+    lam = images[pivot] / wanted[pivot]
+    return all(a == lam * b for a, b in zip(images, wanted, strict=True))
 
 
 def _theta_kernel(cert: Certificate, f: KahanMap, basis: Sequence[Frac], h4: Frac) -> None:
