@@ -239,3 +239,29 @@ def test_lcm_of_repeated_and_trivial_denominators():
     got = lcm([a * b, one, a * b, b * c, a * b, a ** 2])
     assert got == a ** 2 * b * c or got == -(a ** 2 * b * c)
     assert lcm([one, one]) == one
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_gcd_after_small_factors_is_flints_gcd(monkeypatch, seed):
+    """linalg._gcd_after_small_factors: the shared monomial and the factors of A's small entries divided out first,
+    then FLINT's gcd of the rest; the product is the gcd itself (up to sign), also when a small factor divides only
+    one side, divides to a higher power on one side, or a big factor is shared."""
+    import random
+
+    from hkproof.algebra import linalg
+    from hkproof.algebra.ring import get_ring
+    monkeypatch.setattr(linalg, "BIG_GCD", 0)
+    rng = random.Random(seed)
+    ring = get_ring(("x", "y", "w1", "w2"))
+    x, y, w1, w2 = (ring.gen(n) for n in ("x", "y", "w1", "w2"))
+
+    def poly():
+        return sum((rng.randint(-5, 5) * x ** rng.randint(0, 3) * y ** rng.randint(0, 3) * w1 ** rng.randint(0, 2)
+                    for _ in range(6)), ring.constant(1))
+    big, small = poly(), w1 - w2
+    num = x ** rng.randint(0, 2) * small ** rng.randint(0, 3) * big * poly()
+    den = x ** rng.randint(0, 2) * y * small ** rng.randint(0, 3) * big * poly()
+    a = [[small * x, w1 + 3 * w2], [ring.constant(2), y ** 2 + w1]]
+    got, want = linalg._gcd_after_small_factors(num, den, a), num.gcd(den)
+    assert got == want or got == -want
+    assert (num / got).gcd(den / got).is_one() or (num / got).gcd(den / got) == -ring.constant(1)

@@ -4,6 +4,7 @@ from __future__ import annotations
 from typing import Mapping, Sequence, TypeVar
 
 import flint
+from flint.utils.flint_exceptions import DomainError
 
 from hkproof import budget
 from hkproof.algebra.fraction import Frac, normalize_sign
@@ -170,7 +171,7 @@ def solve_cleared(ring: Ring, a: PolyMatrix, b: Sequence[flint.fmpz_mpoly], comm
         num, den = nums[j], d
         lowest = False
         if factor is None and not num.is_zero():
-            factor, lowest = num.gcd(d), True     # this component divided by it is in lowest terms
+            factor, lowest = _gcd_after_small_factors(num, d, a), True   # this component divided by it: lowest terms
         if factor is not None and not factor.is_one():  # it usually divides the other components too
             q, rem = divmod(num, factor)
             if rem.is_zero():
@@ -178,6 +179,37 @@ def solve_cleared(ring: Ring, a: PolyMatrix, b: Sequence[flint.fmpz_mpoly], comm
         h = Frac(ring, *normalize_sign(num, den), reduced=True) if lowest else Frac(ring, num, den)
         solution.append(h / Frac(ring, common))
     return solution, d
+
+
+SMALL_ENTRY = 32      # entries of A with at most this many terms are factored for `_gcd_after_small_factors`
+BIG_GCD = 2 * 10**4   # ... for a quotient with at least this many terms in all (below, FLINT's gcd at once)
+
+
+def _gcd_after_small_factors(num: flint.fmpz_mpoly, den: flint.fmpz_mpoly, a: PolyMatrix) -> flint.fmpz_mpoly:
+    """gcd(num, den) for a big Cramer quotient: the monomial they share and the irreducible factors of A's small
+    entries (where a determinant's common factors often come from, e.g. w_i - w_j of a relation's row) are divided
+    out of both first while they divide both, so FLINT's gcd runs on smaller polynomials; gcd = taken * gcd(rest)."""
+    if len(num) + len(den) < BIG_GCD:
+        return num.gcd(den)
+    taken = den.context().constant(1)
+    shared = [min(u, v) for u, v in zip(num.deflation_index()[1], den.deflation_index()[1], strict=True)]
+    if any(shared):
+        monomial = den.context().from_dict({tuple(shared): 1})
+        num, den, taken = num / monomial, den / monomial, monomial
+    seen: set[str] = set()
+    for entry in (x for row in a for x in row if 0 < len(x) <= SMALL_ENTRY and not x.is_constant()):
+        for q, _ in entry.factor()[1]:
+            if len(q) < 2 or str(q) in seen:    # monomials are taken above
+                continue
+            seen.add(str(q))
+            while True:
+                try:
+                    d2 = den / q
+                    n2 = num / q
+                except DomainError:
+                    break
+                num, den, taken = n2, d2, taken * q
+    return taken * num.gcd(den)
 
 
 def cleared_system(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac]
