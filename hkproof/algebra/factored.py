@@ -4,7 +4,7 @@ denominators, and each factor is then cancelled by exact division where it divid
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Iterable, Sequence
 
 import flint
 from flint.utils.flint_exceptions import DomainError
@@ -12,7 +12,7 @@ from flint.utils.flint_exceptions import DomainError
 from hkproof.algebra.fraction import Frac, normalize_sign
 from hkproof.algebra.ring import Ring
 
-__all__ = ["exact_quotient", "factor", "Quotient", "sum_of_products"]
+__all__ = ["cancel_common", "exact_quotient", "factor", "Quotient", "sum_of_products"]
 
 
 @dataclass(frozen=True)
@@ -66,6 +66,21 @@ def exact_quotient(p: flint.fmpz_mpoly, q: flint.fmpz_mpoly) -> flint.fmpz_mpoly
         return p / q
     except DomainError:
         return None
+
+
+def cancel_common(num: flint.fmpz_mpoly, den: flint.fmpz_mpoly, factors: Iterable[flint.fmpz_mpoly]
+                  ) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly, flint.fmpz_mpoly]:
+    """(num / t, den / t, t): each of `factors` (each distinct one once) divided out of both while it divides both,
+    without a gcd of the two; the denominator is tried first (usually the smaller, it fails faster)."""
+    taken = den.context().constant(1)
+    seen: set[str] = set()
+    for q in factors:
+        if str(q) in seen:
+            continue
+        seen.add(str(q))
+        while (d := exact_quotient(den, q)) is not None and (n := exact_quotient(num, q)) is not None:
+            num, den, taken = n, d, taken * q
+    return num, den, taken
 
 
 def sum_of_products(terms: Sequence[Sequence[Frac | Quotient]]) -> Frac:

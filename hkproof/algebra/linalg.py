@@ -4,9 +4,9 @@ from __future__ import annotations
 from typing import Mapping, Sequence, TypeVar
 
 import flint
-from flint.utils.flint_exceptions import DomainError
 
 from hkproof import budget
+from hkproof.algebra.factored import cancel_common
 from hkproof.algebra.fraction import Frac, normalize_sign
 from hkproof.algebra.modular import rank_mod_p, residue
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
@@ -191,25 +191,14 @@ def _gcd_after_small_factors(num: flint.fmpz_mpoly, den: flint.fmpz_mpoly, a: Po
     out of both first while they divide both, so FLINT's gcd runs on smaller polynomials; gcd = taken * gcd(rest)."""
     if len(num) + len(den) < BIG_GCD:
         return num.gcd(den)
-    taken = den.context().constant(1)
     shared = [min(u, v) for u, v in zip(num.deflation_index()[1], den.deflation_index()[1], strict=True)]
+    monomial = den.context().from_dict({tuple(shared): 1})
     if any(shared):
-        monomial = den.context().from_dict({tuple(shared): 1})
-        num, den, taken = num / monomial, den / monomial, monomial
-    seen: set[str] = set()
-    for entry in (x for row in a for x in row if 0 < len(x) <= SMALL_ENTRY and not x.is_constant()):
-        for q, _ in entry.factor()[1]:
-            if len(q) < 2 or str(q) in seen:    # monomials are taken above
-                continue
-            seen.add(str(q))
-            while True:
-                try:
-                    d2 = den / q
-                    n2 = num / q
-                except DomainError:
-                    break
-                num, den, taken = n2, d2, taken * q
-    return taken * num.gcd(den)
+        num, den = num / monomial, den / monomial
+    small = (q for row in a for x in row if 0 < len(x) <= SMALL_ENTRY and not x.is_constant()
+             for q, _ in x.factor()[1] if len(q) > 1)      # monomial factors: in `monomial`
+    num, den, taken = cancel_common(num, den, small)
+    return monomial * taken * num.gcd(den)
 
 
 def cleared_system(rows: Sequence[Sequence[Frac]], rhs: Sequence[Frac]

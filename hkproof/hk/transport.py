@@ -8,15 +8,17 @@ from typing import Mapping, Sequence
 
 import flint
 
-from hkproof.algebra.factored import exact_quotient
+from hkproof.algebra.factored import cancel_common
 from hkproof.algebra.fraction import Frac, Parity, homogenized_compose, normalize_sign
 from hkproof.algebra.linalg import lcm
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
+from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
 from hkproof.hk.independence import jacobian_rank_at
+from hkproof.proof.certificate import StepRecorder
 
-__all__ = ["map_mismatches", "Substitution"]
+__all__ = ["map_mismatches", "require_transport", "Substitution"]
 
 
 @dataclass(frozen=True)
@@ -63,12 +65,8 @@ class Substitution:
         where they divide both (where the common factor of sigma(num) and sigma(den) usually lies: the image of a
         symbol of h's denominator), without the gcd of the two big polynomials: not always in lowest terms."""
         num, den = self.apply_terms(h)
-        for image in self.images.values():
-            for part in (image.num, image.den):
-                for q, _ in part.factor()[1]:
-                    while (d := exact_quotient(den, q)) is not None and (n := exact_quotient(num, q)) is not None:
-                        num, den = n, d     # the denominator first: it is the smaller, and fails faster
-        return num, den
+        factors = (q for image in self.images.values() for part in (image.num, image.den) for q, _ in part.factor()[1])
+        return cancel_common(num, den, factors)[:2]
 
     def apply_terms(self, h: Frac) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
         """(P, Q) with P/Q = sigma(h), not reduced."""
@@ -109,6 +107,13 @@ class Substitution:
         if kept & set(moved_onto) or any(kept & img.variables() for img in self.images.values()):
             return False
         return jacobian_rank_at(list(self.images.values()), moved_onto, point) == len(self.images)
+
+
+def require_transport(s: StepRecorder, sigma: Substitution, target: KahanMap) -> None:
+    """What lets facts about sigma(h) on `target` be read on h: sigma fixes the phase variables (so the images of
+    identities in them are identities) and commutes with eps -> -eps (so the images of even functions are even)."""
+    s.require(not set(sigma.images) & set(target.variables), f"sigma moves a phase variable: {sigma}")
+    s.require(sigma.commutes_with_sign(EPS), f"sigma does not commute with eps -> -eps: {sigma}")
 
 
 def _laurent_units(source: Ring, target: Ring, images: Mapping[str, Frac]) -> tuple[str, ...] | None:

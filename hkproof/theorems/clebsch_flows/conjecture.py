@@ -11,7 +11,7 @@ from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.balance import orbit_matrix
 from hkproof.hk.reduced import linear_combination_equals
-from hkproof.hk.transport import Substitution
+from hkproof.hk.transport import Substitution, require_transport
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate
 from hkproof.theorems._clebsch import recall
@@ -73,8 +73,7 @@ def _carried(cert: Certificate, case: str, sigma: Substitution, target: KahanMap
                    "transport: sigma fixes x and commutes with eps -> -eps (the image of eps odd in eps, the other "
                    "images even), so the images of even components are even and the images of identities are "
                    "identities; exact parity and row i = 0 (substitution) on the source vectors", source) as s:
-        s.require(not set(sigma.images) & set(target.variables), f"sigma moves a phase variable: {sigma}")
-        s.require(sigma.commutes_with_sign(EPS), f"sigma does not commute with eps -> -eps: {sigma}")
+        require_transport(s, sigma, target)
         s.require(all(h.ring == source for vec in vectors for h in (*vec, *integrals)),
                   "a vector or an integral is not a function on sigma's source")
         for k, vec in enumerate(vectors):

@@ -33,7 +33,7 @@ from hkproof.hk.reduced import (
 )
 from hkproof.hk.equivariant_solution import prove_by_symmetry
 from hkproof.hk.translation import ParameterTranslation
-from hkproof.hk.transport import Substitution, map_mismatches
+from hkproof.hk.transport import Substitution, map_mismatches, require_transport
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate, StepRecorder
 from hkproof.proof.export import substitution_step
@@ -695,8 +695,7 @@ def _transported_solution(cert: Certificate, sigma: Substitution,
                    "system to this map's times a non-zero factor (exact, on the basis functions and the relations' "
                    "coefficients); exact parity, row i = 0 and the relations by substitution on the source; row i = 1 "
                    "by transport; det of the system at a rational point", r) as s:
-        s.require(not set(sigma.images) & set(f.variables), f"sigma moves a phase variable: {sigma}")
-        s.require(sigma.commutes_with_sign(EPS), f"sigma does not commute with eps -> -eps: {sigma}")
+        require_transport(s, sigma, f)
         for k, v in zip(THETA_NAMES, sol, strict=True):
             s.require(v.is_even_in(EPS), f"the source's {k} is not even in eps")
         s.require(linear_combination_equals(basis_s, sol, target_s), "row i = 0 fails for the source solution")
