@@ -349,6 +349,26 @@ def test_certificate_travels_with_its_exact_values():
     assert all(again.values[k] == v for k, v in cert.values.items())
 
 
+def test_packed_values_keep_large_exponents_and_coefficients_and_share_equal_polynomials():
+    """Exponents of any size and coefficients of any length survive the packing; a denominator that several values
+    share (equal, not necessarily the same object) is written once."""
+    import pickle
+    from hkproof.algebra.fraction import Frac
+    from hkproof.algebra.ring import get_ring
+    ring = get_ring(("x", "eps"))
+    den = Frac.parse(ring, "(1 + eps*x**300 + 7*x**70000)**2 * (1 + x + eps)**30").num
+    nums = [Frac.parse(ring, t).num for t in ("x**2 - 3**90", "eps**255 * x", "x**256 + 1")]
+    cert = Certificate("c", "t", "p", "s")
+    for k, num in enumerate(nums):
+        cert.formula(f"g{k}", Frac(ring, num, den * 1, reduced=True))   # den * 1: equal, another object
+    copy = pickle.loads(pickle.dumps(cert))
+    assert all(copy.values[f"g{k}"] == Frac(ring, num, den, reduced=True) for k, num in enumerate(nums))
+    one = Certificate("c", "t", "p", "s")
+    one.formula("g0", Frac(ring, nums[0], den, reduced=True))
+    assert len(pickle.dumps(cert)) < len(pickle.dumps(one)) + 200   # the shared denominator once
+    assert pickle.loads(pickle.dumps(copy)).values["g2"] == cert.values["g2"]
+
+
 def test_exact_values_stay_packed_until_read():
     """A pickled certificate's values are unpacked one by one when read (the scheduler, which only prints or forwards
     a certificate, builds no polynomial), passed on as they came, and a value set after arrival is packed anew."""

@@ -5,7 +5,9 @@ import time
 from array import array
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Iterator, Mapping, MutableMapping
+from typing import TYPE_CHECKING, Callable, Iterator, Mapping, MutableMapping
+
+import flint
 
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.printing import latex, markdown_table
@@ -90,7 +92,8 @@ class PackedValues(MutableMapping[str, Frac]):
 
     def packed(self) -> dict[str, tuple]:
         """Every value packed: the arrived ones as they came, the others packed now."""
-        return {name: self._packed[name] if name in self._packed else _pack(self._values[name]) for name in self}
+        seen: list[tuple[flint.fmpz_mpoly, tuple]] = []
+        return {name: self._packed[name] if name in self._packed else _pack(self._values[name], seen) for name in self}
 
 
 def describe_ring(ring: Ring | str, fixed: Mapping[str, object] | None = None) -> str:
@@ -127,10 +130,11 @@ class StepRecorder:
         self.status = Status.VERIFIED_SPECIALIZED if specialized else Status.VERIFIED
         self._details: list[str] = []
 
-    def require(self, condition: bool, message: str) -> None:
-        """The claim of this step holds iff `condition`; otherwise the step (and claim) is refuted."""
+    def require(self, condition: bool, message: str | Callable[[], str]) -> None:
+        """The claim of this step holds iff `condition`; otherwise the step (and claim) is refuted with `message` (a
+        callable is written only then: the text of a big rational function costs seconds)."""
         if not condition:
-            raise Refuted(message)
+            raise Refuted(message if isinstance(message, str) else message())
 
     def require_equal(self, found: Frac, claimed: Frac, what: str) -> None:
         """An exact identity of rational functions; the refutation shows the difference."""
@@ -252,8 +256,9 @@ class Certificate:
         state = dict(self.__dict__)
         state["formulas"] = self.formulas.unwritten()     # type: ignore[attr-defined]  # see __post_init__
         values = self.values
+        seen: list[tuple[flint.fmpz_mpoly, tuple]] = []
         state["values"] = values.packed() if isinstance(values, PackedValues) else \
-            {k: _pack(v) for k, v in values.items()}
+            {k: _pack(v, seen) for k, v in values.items()}
         return state
 
     def __setstate__(self, state: dict) -> None:
@@ -301,11 +306,23 @@ class Certificate:
         return "\n".join(lines)
 
 
-def _pack(q: Frac) -> tuple:
-    """A rational function as compact picklable data: its ring's names; exponents (bytes) and coefficients of
-    num and den."""
-    return (q.ring.names,) + tuple((array("L", [e for m in p.monoms() for e in m]).tobytes(), p.coeffs())
-                                   for p in (q.num, q.den))
+def _pack(q: Frac, seen: list[tuple[flint.fmpz_mpoly, tuple]] | None = None) -> tuple:
+    """A rational function as compact picklable data: its ring's names, then numerator and denominator as (width,
+    exponent bytes, integer coefficients), each exponent in the fewest bytes its largest degree needs. A polynomial
+    equal to one in `seen` (packed earlier for the same certificate) reuses that one's data, which pickle then
+    writes once (the components of a solution share their denominator)."""
+    return (q.ring.names,) + tuple(_pack_polynomial(p, seen if seen is not None else []) for p in (q.num, q.den))
+
+
+def _pack_polynomial(p: flint.fmpz_mpoly, seen: list[tuple[flint.fmpz_mpoly, tuple]]) -> tuple:
+    for q, data in seen:
+        if q is p or (len(q) == len(p) and q.context() is p.context() and q == p):
+            return data
+    top = max(p.degrees(), default=0)
+    width = "B" if top < 1 << 8 else "H" if top < 1 << 16 else "Q"
+    data = (width, array(width, [e for m in p.monoms() for e in m]).tobytes(), [int(c) for c in p.coeffs()])
+    seen.append((p, data))
+    return data
 
 
 def _unpack(packed: tuple, rings: dict[tuple[str, ...], Ring]) -> Frac:
@@ -313,11 +330,12 @@ def _unpack(packed: tuple, rings: dict[tuple[str, ...], Ring]) -> Frac:
     if names not in rings:
         rings[names] = Ring(names)
     ring = rings[names]
-    num, den = (ring.ctx.from_dict(dict(zip(_exponents(raw, len(names)), coeffs, strict=True))) for raw, coeffs in polys)
+    num, den = (ring.ctx.from_dict(dict(zip(_exponents(width, raw, len(names)), coeffs, strict=True)))
+                for width, raw, coeffs in polys)
     return Frac(ring, num, den, reduced=True)
 
 
-def _exponents(raw: bytes, nvars: int) -> Iterator[tuple[int, ...]]:
-    flat = array("L")
+def _exponents(width: str, raw: bytes, nvars: int) -> Iterator[tuple[int, ...]]:
+    flat = array(width)
     flat.frombytes(raw)
     return zip(*[iter(flat)] * nvars, strict=True)
