@@ -116,7 +116,7 @@ def even_components(cert: Certificate, names: Sequence[str], solution: Sequence[
     with cert.step("solution is even in eps", "exact parity of each component in lowest terms", ring) as s:
         for n, a in zip(names, solution, strict=True):
             par = a.parity(EPS)
-            s.require(par is Parity.EVEN, f"{n} is {par.value} in eps, not even: {a}")
+            s.require(par is Parity.EVEN, lambda: f"{n} is {par.value} in eps, not even: {a}")
         s.note(f"{', '.join(names)} even in eps")
 
 
