@@ -8,7 +8,7 @@ import pytest
 import sympy
 
 from hkproof.algebra import Frac, Parity, Ring, cramer, det, homogenized_compose, nullspace_q, rank_mod_p, rank_q
-from hkproof.algebra.linalg import rank_over_fraction_field, rank_q_grows, solve_by_inverse
+from hkproof.algebra.linalg import rank_over_fraction_field, rank_q, solve_by_inverse
 from hkproof.errors import ParseError, SingularPointError, SingularSystemError, UnknownSymbolError
 from tests.sympy_bridge import poly_from_sympy
 
@@ -219,15 +219,22 @@ def test_solve_by_inverse_agrees_with_cramer():
     assert solve_by_inverse(rows, [rhs[0] + 1, *rhs[1:]]) != sol
 
 
-def test_rank_q_grows_is_the_exact_rank_also_where_the_prime_divides_a_denominator():
-    """The screen mod p only ever confirms growth; a row with no image mod p falls back to the rank over Q."""
+def test_echelon_mod_p_grows_with_the_rank_and_stays_below_the_rank_over_q():
+    """Rows added one by one: the rank mod p grows exactly when a row is independent mod p; a row with no image mod
+    p, or one dependent mod p only, raises nothing, and the rank over Q is then larger (relation_space re-primes)."""
+    from hkproof.algebra.modular import EchelonModP
     q = flint.fmpq
     p = 2 ** 61 - 1
-    assert rank_q_grows([[q(1, 2), q(3, 5)], [q(1, 4), q(3, 10)]], 1) == 1
-    assert rank_q_grows([[q(1, 2), q(3, 5)], [q(1, 3), q(3, 10)]], 1) == 2
-    assert rank_q_grows([[q(1, p), q(3, 5)], [q(2, p), q(6, 5)]], 1) == 1
-    assert rank_q_grows([[q(1, p), q(3, 5)], [q(2, p), q(7, 5)]], 1) == 2
-    assert rank_q_grows([[q(p), q(0)], [q(0), q(p)]], 1) == 2   # zero mod p, not over Q
+    rows = [[q(1, 2), q(3, 5), q(0)], [q(1, 4), q(3, 10), q(0)], [q(0), q(1, 3), q(2)], [q(1), q(1), q(1)],
+            [q(5), q(7), q(-3, 4)]]
+    echelon = EchelonModP(p)
+    assert [echelon.add(r) for r in rows] == [True, False, True, True, False]
+    assert echelon.rank == rank_q(rows) == 3
+    unlucky = [[q(1, p), q(3, 5)], [q(p), q(0)], [q(0), q(p)]]
+    echelon = EchelonModP(p)
+    assert [echelon.add(r) for r in unlucky] == [False, False, False] and rank_q(unlucky) == 2
+    other = EchelonModP(1000003)
+    assert [other.add(r) for r in unlucky] == [True, True, False]
 
 
 def test_lcm_of_repeated_and_trivial_denominators():

@@ -13,7 +13,7 @@ from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.errors import ShapeError, SingularSystemError, UnluckyPrimeError
 
 __all__ = ["clear_row_denominators", "cleared_system", "cramer", "cramer_polynomials", "det", "Element", "LAPLACE_MAX", "lcm",
-           "maximal_minors", "nullspace_q", "pivots_at", "PolyMatrix", "primitive_vector", "q_matrix", "rank_over_fraction_field", "rank_q", "rank_q_grows",
+           "maximal_minors", "nullspace_q", "pivots_at", "PolyMatrix", "primitive_vector", "q_matrix", "rank_over_fraction_field", "rank_q",
            "solve_by_inverse", "solve_cleared", "solve_overdetermined"]
 
 PolyMatrix = Sequence[Sequence[flint.fmpz_mpoly]]
@@ -302,17 +302,6 @@ def rank_q(rows: Sequence[Sequence[Rational]]) -> int:
     if not rows:
         return 0
     return q_matrix(rows).rank()
-
-
-def rank_q_grows(rows: Sequence[Sequence[flint.fmpq]], rank: int, prime: int = 2 ** 61 - 1) -> int:
-    """rank over Q of `rows` whose top len(rows) - 1 rows have rank `rank`: a rank mod `prime` above `rank`
-    settles it (a rank mod p never exceeds the rank over Q, which grows by at most one); otherwise exactly."""
-    try:
-        if rank_mod_p([[residue(v, prime) for v in r] for r in rows], prime) > rank:
-            return rank + 1
-    except UnluckyPrimeError:
-        pass  # a denominator divisible by the prime: no image mod p
-    return rank_q(rows)
 
 
 def nullspace_q(rows: Sequence[Sequence[Rational]]) -> list[list[flint.fmpq]]:

@@ -11,7 +11,7 @@ is a lower bound of the rank over Q, which is what makes a modular screen exact 
 from __future__ import annotations
 
 import random
-from typing import Sequence
+from typing import Sequence, cast
 
 import flint
 import numpy as np
@@ -19,7 +19,7 @@ import numpy as np
 from hkproof.algebra.monomials import Exponents, columns_mod_p, exponents_upto, value_mod_p
 from hkproof.errors import UnluckyPrimeError
 
-__all__ = ["free_kernel_mod_p", "kernel_mod_p", "nmod_matrix", "polynomial_mod_p", "random_prime", "rank_mod_p",
+__all__ = ["EchelonModP", "free_kernel_mod_p", "kernel_mod_p", "nmod_matrix", "polynomial_mod_p", "random_prime", "rank_mod_p",
            "rational_fit_mod_p", "residue", "residue_or_none", "solve_mod_p"]
 
 Rows = Sequence[Sequence[int]] | np.ndarray      # integer rows, or a numpy array of them
@@ -47,6 +47,38 @@ def residue(q: flint.fmpq | flint.fmpz | int, p: int) -> int:
     if r is None:
         raise UnluckyPrimeError(f"the denominator of {q} is divisible by p = {p}")
     return r
+
+
+class EchelonModP:
+    """Rows added one at a time, kept as an echelon basis mod `prime`: one row reduction per row tells whether
+    the rank mod p grew (a lower bound of the rank over Q at every prefix; a row with a denominator divisible by p
+    counts as not raising it)."""
+
+    def __init__(self, prime: int = 2 ** 61 - 1) -> None:
+        self.prime = prime
+        self._basis: list[tuple[int, list[int]]] = []    # (pivot column, row with 1 there)
+
+    @property
+    def rank(self) -> int:
+        return len(self._basis)
+
+    def add(self, row: Sequence[flint.fmpq | flint.fmpz | int]) -> bool:
+        """Add `row`; whether the rank mod p grew."""
+        p = self.prime
+        v = [residue_or_none(x, p) for x in row]
+        if any(x is None for x in v):
+            return False
+        w = cast(list[int], v)
+        for col, b in self._basis:
+            c = w[col]
+            if c:
+                w = [(x - c * y) % p for x, y in zip(w, b)]
+        lead = next((j for j, x in enumerate(w) if x), None)
+        if lead is None:
+            return False
+        inverse = pow(w[lead], -1, p)
+        self._basis.append((lead, [x * inverse % p for x in w]))
+        return True
 
 
 def rank_mod_p(rows: Sequence[Sequence[int]], p: int) -> int:

@@ -9,11 +9,13 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Callable, Mapping, Sequence
 
 import flint
+import numpy as np
 
 from hkproof import budget
 from hkproof.algebra.formula import check_new_names
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.linalg import nullspace_q, q_matrix, rank_q_grows
+from hkproof.algebra.linalg import nullspace_q, q_matrix
+from hkproof.algebra.modular import EchelonModP, random_prime
 from hkproof.algebra.monomials import exponents_upto, value as monomial_value
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.dynamics.field import EPS
@@ -130,21 +132,24 @@ class CoordinateSampler:
         scene = make_scene(self.kmap, values)
         family = BasisFamily([ProfileProblem(scene, self.bases[j]) for j in self.profiled])
         rows: list[list[flint.fmpq]] = []
-        rank, stable, tries = 0, 0, 0
-        while stable < extra and tries < 4 * self.width + 8:
+        ranks = EchelonModP()
+        stable, tries = 0, 0
+        while tries < 4 * self.width + 8:
             budget.check("sampling kernel vectors for recipe (E)")
             tries += 1
             r = self.row(family)
             if r is None:
                 continue
             rows.append(r)
-            new = rank_q_grows(rows, rank)
-            stable = stable + 1 if new == rank else 0
-            rank = new
-        if stable < extra:
-            return None
-        echelon, rank = q_matrix(rows).rref()
-        return [[echelon[i, j] for j in range(self.width)] for i in range(rank)]
+            stable = 0 if ranks.add(r) else stable + 1
+            if stable == extra:     # the rank mod p stood still for `extra` rows; over Q too, if the two agree
+                echelon, rank = q_matrix(rows).rref()
+                if rank == ranks.rank:
+                    return [[echelon[i, j] for j in range(self.width)] for i in range(rank)]
+                ranks, stable = EchelonModP(random_prime(self.rng)), 0     # p divided a minor: another prime
+                for row in rows:
+                    ranks.add(row)
+        return None
 
 
 def find_relations(kmap: KahanMap, bases: Sequence[str | Sequence[Frac]], *, names: Sequence[str] | None = None,
@@ -252,13 +257,11 @@ def _sparsest(fit: _Interpolation, found: list[list[Polynomial]], max_degree: in
     lowest degree, then fewest columns, while they add to the span; `found` completes the span if needed."""
     if not found:
         return found
-    carries = _support_test([fit.value(r) for r in found])
+    carrying = _carrying_supports([fit.value(r) for r in found], fit.width)
     candidates = []
     for size in range(2, max_support + 1):
         budget.check("choosing the sparsest relations (recipe (E))")
-        for support in itertools.combinations(range(fit.width), size):
-            if size < fit.width and not carries(support):
-                continue
+        for support in carrying(size):
             rel, degree = fit.relations(support, [], 1, max_degree)
             if rel:
                 candidates.append((degree, size, rel[0]))
@@ -269,25 +272,53 @@ def _sparsest(fit: _Interpolation, found: list[list[Polynomial]], max_degree: in
     return chosen
 
 
-def _support_test(values: Sequence[Sequence[flint.fmpq]]) -> Callable[[Sequence[int]], bool]:
-    """Does the span W of the relation vectors `values` contain a non-zero vector supported in S? With K a basis of
-    the annihilator of W (rows), that is rank K_S < |S| (K_S: the columns in S). Screened by the rank mod a prime
-    (never above the rank over Q, so a full rank mod p settles it), confirmed over Q otherwise."""
+def _carrying_supports(values: Sequence[Sequence[flint.fmpq]], width: int
+                       ) -> Callable[[int], list[tuple[int, ...]]]:
+    """The supports S of a given size (columns of `width`) for which the span W of the relation vectors `values`
+    holds a non-zero vector supported in S. With K a basis of the annihilator of W (integer rows), that is
+    rank K_S < |S|. Screened for all S of one size at once: det (G K)_S != 0 mod a prime, for a random G, proves
+    K_S of full rank (no vector); the others are decided by the rank mod p of K_S, then over Q."""
     integral = []
     for row in nullspace_q(values):
         scale = math.lcm(*(int(c.q) for c in row))
         integral.append([int(c.p) * (scale // int(c.q)) for c in row])
     prime = 2 ** 61 - 1
     columns_mod = [[v % prime for v in col] for col in zip(*integral)]
+    small = 2 ** 31 - 1       # products of two residues fit in int64
+    rng = np.random.default_rng(0)
+    projection = rng.integers(0, small, size=(min(4, len(integral)), len(integral)), dtype=np.int64)
+    reduced = np.array([[v % small for v in row] for row in integral], dtype=np.int64).reshape(len(integral), width)
+    projected = np.zeros((len(projection), width), dtype=np.int64)
+    for k in range(len(integral)):     # G K mod small, one row of K at a time (no overflow)
+        projected = (projected + projection[:, k:k + 1] * reduced[k]) % small
 
-    def carries(support: Sequence[int]) -> bool:
-        if not integral:
-            return True
+    def exact(support: Sequence[int]) -> bool:
         if flint.nmod_mat([columns_mod[j] for j in support], prime).rank() == len(support):
             return False
         return flint.fmpq_mat([[flint.fmpq(row[j]) for j in support] for row in integral]).rank() < len(support)
 
-    return carries
+    def carrying(size: int) -> list[tuple[int, ...]]:
+        supports = list(itertools.combinations(range(width), size))
+        if not integral or size >= width:
+            return supports
+        screened = np.zeros(len(supports), dtype=bool) if size > len(projection) else \
+            _determinants_mod(projected[:size], np.array(supports, dtype=np.int64), small) != 0
+        return [s for s, full in zip(supports, screened) if not full and exact(s)]
+
+    return carrying
+
+
+def _determinants_mod(rows: np.ndarray, supports: np.ndarray, prime: int) -> np.ndarray:
+    """det rows[:, S] mod `prime` for each row S of `supports` (Leibniz's formula, vectorized over the supports)."""
+    size = supports.shape[1]
+    total = np.zeros(len(supports), dtype=np.int64)
+    for perm in itertools.permutations(range(size)):
+        term = np.ones(len(supports), dtype=np.int64)
+        for i, j in enumerate(perm):
+            term = term * rows[i, supports[:, j]] % prime
+        inversions = sum(perm[a] > perm[b] for a in range(size) for b in range(a + 1, size))
+        total = (total + (prime - term if inversions % 2 else term)) % prime
+    return total
 
 
 def _default_names(bases: Sequence[Sequence[Frac]]) -> list[str]:
