@@ -85,6 +85,22 @@ def test_factor_divides_out_known_factors_and_agrees_with_flint():
         assert sorted((str(q), k) for q, k in factors) == sorted((str(q), k) for q, k in want)
 
 
+def test_learned_factors_and_polynomials_that_share_a_fingerprint():
+    """`learn_factors` makes a later factorization of their product one of divisions, with FLINT's answer; two
+    different polynomials with the same fingerprint (length, degrees, first and last coefficient) are told apart."""
+    from hkproof.algebra.factored import _fingerprint, learn_factors
+    x, y, e = (R.gen(v) for v in R.names)
+    pieces = [x * y + e ** 2 + 7, x ** 3 - 5 * y * e + 1]
+    learn_factors(pieces)
+    product = 4 * pieces[0] ** 2 * pieces[1]
+    content, factors = factor(product)
+    want_content, want = product.factor()
+    assert content == want_content and sorted((str(q), k) for q, k in factors) == sorted((str(q), k) for q, k in want)
+    p, q = x ** 2 + 2 * x * y + 5 * e + 3, x ** 2 + 2 * x * e + 5 * y + 3
+    assert _fingerprint(p) == _fingerprint(q) and p != q
+    assert [str(g) for g, _ in factor(p)[1]] == [str(p)] and [str(g) for g, _ in factor(q)[1]] == [str(q)]
+
+
 def test_completion_refuses_relations_that_leave_the_wrong_number_of_unknowns():
     f = kahan_map("clebsch-flow2")
     lifted = f.ring.extend(["L"])

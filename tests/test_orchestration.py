@@ -441,3 +441,19 @@ def test_scan_profiles_identical_in_a_pool_and_on_dask(capsys):
     alone = _without_times(_scan_profiles(capsys, "--jobs", "1"))
     assert _without_times(_scan_profiles(capsys, "--jobs", "2")) == alone
     assert _without_times(_scan_profiles(capsys, "--jobs", "2", "--executor", "dask")) == alone
+
+
+def test_a_refutation_message_given_as_a_callable_is_written_only_on_failure():
+    from hkproof.errors import ProofStopped
+    from hkproof.proof.status import Status as S
+    written: list[str] = []
+
+    def message() -> str:
+        written.append("text")
+        return "the big formula"
+    cert = Certificate("c", "t", "p", "s")
+    with cert.step("holds", "m", "-") as s:
+        s.require(True, message)
+    with pytest.raises(ProofStopped), cert.step("fails", "m", "-") as s:
+        s.require(False, message)
+    assert written == ["text"] and cert.steps[-1].status is S.REFUTED and "the big formula" in cert.steps[-1].detail

@@ -8,7 +8,7 @@ from typing import Mapping, Sequence
 
 import flint
 
-from hkproof.algebra.factored import cancel_common
+from hkproof.algebra.factored import cancel_common, factor, learn_factors
 from hkproof.algebra.fraction import Frac, Parity, homogenized_compose, normalize_sign
 from hkproof.algebra.linalg import lcm
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
@@ -65,7 +65,10 @@ class Substitution:
         where they divide both (where the common factor of sigma(num) and sigma(den) usually lies: the image of a
         symbol of h's denominator), without the gcd of the two big polynomials: not always in lowest terms."""
         num, den = self.apply_terms(h)
-        factors = (q for image in self.images.values() for part in (image.num, image.den) for q, _ in part.factor()[1])
+        factors = [q for image in self.images.values() for part in (image.num, image.den) for q, _ in factor(part)[1]]
+        # the images of the small factors of h's denominator, factored one by one: a later `factor` of the image's
+        # big denominator (algebra.factored.sum_of_products) then only divides
+        learn_factors(self.apply_terms(Frac(self.source, q))[0] for q, _ in factor(h.den)[1])
         return cancel_common(num, den, factors)[:2]
 
     def apply_terms(self, h: Frac) -> tuple[flint.fmpz_mpoly, flint.fmpz_mpoly]:
