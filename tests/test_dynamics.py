@@ -156,7 +156,7 @@ def test_batch_solve_projective_satisfies_the_systems_and_flags_singular_ones():
         b = np.array([[rng.randrange(p) for _ in range(n)] for _ in range(count)], dtype=np.int64)
         if n > 1:
             a[0, 1] = a[0, 0]
-        nums, den = solve_projective(a, b, p)
+        nums, den = solve_projective(np.concatenate([a, b[:, :, None]], axis=2), p)
         for t in range(count):
             rows = [[int(v) for v in row] for row in a[t]]
             for i in range(n):

@@ -9,7 +9,7 @@ This is the fast black box behind sparse reconstruction; `KahanMap.mod` is the o
 """
 from __future__ import annotations
 
-from typing import Mapping
+from typing import Mapping, Sequence
 
 import numpy as np
 
@@ -17,7 +17,8 @@ from hkproof import budget
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
 
-__all__ = ["MAX_BATCH_PRIME", "BatchKahanMap", "Projective", "mulmod", "power_table", "solve_projective"]
+__all__ = ["MAX_BATCH_PRIME", "BatchKahanMap", "dotmod", "Projective", "mulmod", "mulmod_sum", "power_table",
+           "solve_projective"]
 
 MAX_BATCH_PRIME = 2**50
 Array = np.ndarray
@@ -25,46 +26,62 @@ Projective = tuple[list[Array], Array]      # (X_1..X_n, W): the points X / W of
 
 
 def mulmod(a: Array, b: Array, p: int) -> Array:
-    """a * b mod p elementwise for residues in [0, p), p < 2^50: the quotient from float64 (off by at most one), so
-    a * b - q p, exact in wrapping int64 arithmetic, lies in (-p, 2p) and one floor remainder finishes (for the short
-    arrays of sparse reconstruction every numpy call costs microseconds: four calls, not eight). At least one of a, b
-    must be an array: numpy wraps integer arrays silently, and an errstate context around the product cost more
-    than the product on these arrays.
+    """a * b mod p elementwise for residues in [0, p), p < 2^50 (`mulmod_sum` of one product).
 
     >>> p = 2**50 - 27
     >>> int(mulmod(np.array([p - 1]), np.array([p - 2]), p)[0]) == (p - 1) * (p - 2) % p
     True
     """
+    return mulmod_sum(((a, b),), p)
+
+
+def mulmod_sum(products: Sequence[tuple[Array | int, Array]], p: int) -> Array:
+    """sum a_i * b_i mod p elementwise for a few pairs of residues in [0, p] (p itself stands for 0), p < 2^50: the quotient of the whole sum
+    from float64 (off by a few units), so the sum less q p, exact in wrapping int64 arithmetic, lies within a few p of
+    [0, p) and one floor remainder finishes (for the short arrays of sparse reconstruction every numpy call costs
+    microseconds: 5 + 5 per pair calls, not 7 per pair and 2 per sum). One of each pair must be an array: numpy
+    wraps integer arrays silently, and an errstate context around the product cost more than the product here."""
+    inverse = 1.0 / p
+    (a, b), *rest = products
     r = a * b
-    r -= (a * (1.0 / p) * b).astype(np.int64) * p
+    q = (a * inverse) * b
+    for a, b in rest:
+        r = r + a * b
+        q = q + (a * inverse) * b
+    r -= q.astype(np.int64) * p
     return r % p
 
 
-def solve_projective(a: Array, b: Array, p: int) -> tuple[Array, Array]:
-    """(N, D) with A N = D b mod p for a batch of square systems, A of shape (B, n, n) and b of shape (B, n), by
-    division-free elimination and back substitution over a common denominator; D = 0 where A is singular mod p
-    (or an unlucky pivot vanished)."""
-    a, b = a.copy(), b.copy()
-    count, n, _ = a.shape
+def dotmod(a: Array, b: Array, p: int) -> Array:
+    """sum_k a[..., k] * b[..., k] mod p for residues in [0, p], p < 2^50: 64 products at a time (the float64
+    quotient of such a sum is off by less than 2^10, so the exact remainder stays within int64)."""
+    total = None
+    for start in range(0, max(a.shape[-1], b.shape[-1]), 64):
+        x, y = a[..., start:start + 64], b[..., start:start + 64]
+        r = (x * y).sum(axis=-1)
+        r -= (((x * (1.0 / p)) * y).sum(axis=-1)).astype(np.int64) * p
+        total = r % p if total is None else (total + r % p) % p
+    return total if total is not None else np.zeros(np.broadcast_shapes(a.shape, b.shape)[:-1], dtype=np.int64)
+
+
+def solve_projective(ab: Array, p: int) -> tuple[Array, Array]:
+    """(N, D) with A N = D b mod p for a batch of square systems given as [A | b] of shape (B, n, n + 1), by
+    division-free elimination and back substitution over a common denominator; D = 0 where A is singular mod p (or
+    an unlucky pivot vanished)."""
+    count, n = ab.shape[:2]
+    ab = ab.copy()
     for k in range(n):          # every row below the pivot at once: O(n) array operations, each on O(n^2) entries
         budget.check("solving a batch of kernel systems mod p")
-        pivot = a[:, k, k].copy()
-        minus = (p - a[:, k + 1:, k]) % p
-        a[:, k + 1:, k:] = (mulmod(pivot[:, None, None], a[:, k + 1:, k:], p)
-                            + mulmod(minus[:, :, None], a[:, k, None, k:], p)) % p
-        b[:, k + 1:] = (mulmod(pivot[:, None], b[:, k + 1:], p) + mulmod(minus, b[:, k, None], p)) % p
-    nums = np.zeros((count, n), dtype=np.int64)
-    den = np.ones(count, dtype=np.int64)
+        ab[:, k + 1:, k:] = mulmod_sum(((ab[:, k, k, None, None], ab[:, k + 1:, k:]),
+                                        (p - ab[:, k + 1:, k, None], ab[:, k, None, k:])), p)
+    z = np.zeros((count, n + 1), dtype=np.int64)     # (N_1, ..., N_n, -D): row j reads sum_k ab[j, k] z_k = 0
+    z[:, n] = p - 1
     for j in range(n - 1, -1, -1):
         budget.check("solving a batch of kernel systems mod p")
-        acc = mulmod(b[:, j], den, p)
-        if j + 1 < n:       # n - j - 1 residues below 2^50 per point: their sum fits in int64
-            acc = (acc + mulmod((p - a[:, j, j + 1:]) % p, nums[:, j + 1:], p).sum(axis=1)) % p
-        u = a[:, j, j]
-        nums[:, j + 1:] = mulmod(nums[:, j + 1:], u[:, None], p)
-        nums[:, j] = acc
-        den = mulmod(den, u, p)
-    return nums, den
+        acc = (p - dotmod(ab[:, j, j + 1:], z[:, j + 1:], p)) % p
+        z[:, j + 1:] = mulmod(z[:, j + 1:], ab[:, j, j, None], p)
+        z[:, j] = acc
+    return z[:, :n], (p - z[:, n]) % p
 
 
 def power_table(values: Array, top: int, p: int) -> list[Array]:
@@ -76,7 +93,7 @@ def power_table(values: Array, top: int, p: int) -> list[Array]:
 
 
 class BatchKahanMap:
-    """f(., eps) on batches of points mod p (p < 2^31); every ring name (phase variables, eps, parameters) has one
+    """f(., eps) on batches of points mod p (p < 2^50); every ring name (phase variables, eps, parameters) has one
     residue per point."""
 
     def __init__(self, kmap: KahanMap, p: int):
@@ -96,14 +113,19 @@ class BatchKahanMap:
                 terms.append((int(c) % p, exps))
             return tuple(terms)
 
-        def compile_entry(entry: dict) -> dict:
-            return {k: compile_part(poly) for k, poly in entry.items()}
-        self.m_parts = [[compile_entry(e) for e in row] for row in m_parts]
-        self.b_parts = [compile_entry(e) for e in b_parts]
-        self.n = len(kmap.variables)
+        # the parts of [M | b] that are not zero, entry by entry (row-major): (entry, 0 for W or k + 1 for X_k, terms)
+        self.n = n = len(kmap.variables)
+        rows = [[*m_parts[i], b_parts[i]] for i in range(n)]
+        self._parts = [(i * (n + 1) + j, 0 if k is None else k + 1, compile_part(poly))
+                       for i in range(n) for j in range(n + 1) for k, poly in sorted(
+                           rows[i][j].items(), key=lambda kv: -1 if kv[0] is None else kv[0]) if not poly.is_zero()]
+        self._variable_of_part = np.array([v for _, v, _ in self._parts], dtype=np.int64)
+        self._entries = np.array(sorted({e for e, _, _ in self._parts}), dtype=np.int64)
+        self._entry_starts = np.searchsorted([e for e, _, _ in self._parts], self._entries)
 
-    def coefficients(self, values: Mapping[str, Array]) -> tuple[list[list[dict]], list[dict]]:
-        """The pieces e0, e_k of every entry of M and b at each point's eps and parameters (arrays mod p)."""
+    def coefficients(self, values: Mapping[str, Array]) -> Array:
+        """The non-zero parts of [M | b] (as affine functions of W, X_1, ..., X_n) at each point's eps and
+        parameters: an array of shape (points, parts), residues mod p."""
         p = self.p
         count = len(next(iter(values.values())))
         powers = [power_table(np.asarray(values[c], dtype=np.int64) % p, d, p)
@@ -118,28 +140,17 @@ class BatchKahanMap:
                         term = mulmod(term, table[e], p)
                 total = (total + term) % p
             return total
-        return ([[{k: evaluate(t) for k, t in entry.items()} for entry in row] for row in self.m_parts],
-                [{k: evaluate(t) for k, t in entry.items()} for entry in self.b_parts])
+        return np.stack([evaluate(terms) for _, _, terms in self._parts], axis=1).reshape(count, len(self._parts))
 
-    def step(self, point: Projective, coefficients: tuple[list[list[dict]], list[dict]]) -> Projective:
+    def step(self, point: Projective, coefficients: Array) -> Projective:
         """One step X / W -> N / D; D = 0 marks points where det M(x) = 0 mod p (or W was 0)."""
         xs, w = point
         p, n = self.p, self.n
-        m_coef, b_coef = coefficients
         count = len(w)
-
-        def affine(entry: dict) -> Array:
-            total = mulmod(entry[None], w, p) if None in entry else np.zeros(count, dtype=np.int64)
-            for k, c in entry.items():
-                if k is not None:
-                    total = (total + mulmod(c, xs[k], p)) % p
-            return total
-        a = np.empty((count, n, n), dtype=np.int64)
-        for i in range(n):
-            for j in range(n):
-                a[:, i, j] = affine(m_coef[i][j])
-        b = np.stack([affine(e) for e in b_coef], axis=1)
-        nums, den = solve_projective(a, b, p)
+        products = mulmod(coefficients, np.stack([w, *xs], axis=1)[:, self._variable_of_part], p)
+        ab = np.zeros((count, n * (n + 1)), dtype=np.int64)
+        ab[:, self._entries] = np.add.reduceat(products, self._entry_starts, axis=1) % p    # n + 1 parts at most
+        nums, den = solve_projective(ab.reshape(count, n, n + 1), p)
         return [nums[:, k] for k in range(n)], den * (w != 0)
 
     def orbit(self, values: Mapping[str, Array], steps: int) -> list[Projective]:

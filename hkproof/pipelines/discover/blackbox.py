@@ -124,7 +124,7 @@ class KernelBlackBox:
                     terms = mulmod(terms, c_pow[q][self._control_exponents[:, col]], p)
             for c, (start, stop) in enumerate(self._slices):
                 rows[:, i, c] = _sum_mod(terms[start:stop], p)
-        nums, den = solve_projective(rows[:, :, :l - 1], rows[:, :, l - 1], p)
+        nums, den = solve_projective(rows, p)
         ok &= den != 0
         self.probes += count
         return [nums[:, c] for c in range(l - 1)] + [(p - den) % p], ok
