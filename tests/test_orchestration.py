@@ -457,3 +457,21 @@ def test_a_refutation_message_given_as_a_callable_is_written_only_on_failure():
     with pytest.raises(ProofStopped), cert.step("fails", "m", "-") as s:
         s.require(False, message)
     assert written == ["text"] and cert.steps[-1].status is S.REFUTED and "the big formula" in cert.steps[-1].detail
+
+
+def test_a_finished_claim_is_reported_after_the_next_claims_are_handed_out(fresh_run):
+    """on_done (which may print a long certificate) runs once the free slot has its next claim, and every finished
+    certificate is reported exactly once."""
+    _verified_claim("t-first")
+    _verified_claim("t-second", uses=["t-first"])
+    _verified_claim("t-third", uses=["t-second"])
+    events: list[str] = []
+
+    class Logging(InProcessExecutor):
+        def submit(self, claim_id, cited):
+            events.append("submit " + claim_id)
+            return super().submit(claim_id, cited)
+    certs = run_graph(["t-first", "t-second", "t-third"], Logging(), lambda cert: events.append("done " + cert.claim_id))
+    assert events == ["submit t-first", "submit t-second", "done t-first", "submit t-third", "done t-second",
+                      "done t-third"]
+    assert all(c.status is Status.VERIFIED for c in certs.values())

@@ -452,27 +452,34 @@ def run_graph(claim_ids: Iterable[str], executor: Executor,
         pending = critical_path_first(pending, REGISTRY, expected_seconds)
     running: dict[Hashable, str] = {}
     started: dict[Hashable, float] = {}
-    while pending or running:
-        held = {REGISTRY[cid].shares for cid in running.values()}     # one claim at a time per shared intermediate
-        ready = [cid for cid in pending if all(u in done for u in REGISTRY[cid].uses)]
-        # a claim whose intermediate a free worker holds goes first (to that worker); one whose intermediate only a
-        # busy worker holds comes last, so that another claim takes the free slot while it waits for that worker
-        where = {cid: executor.holder(REGISTRY[cid].shares) if REGISTRY[cid].shares else None for cid in ready}
-        for cid in sorted(ready, key=lambda c: {"idle": 0, None: 1, "busy": 2}[where[c]]):
-            shares = REGISTRY[cid].shares
-            if len(running) >= executor.slots or (shares and shares in held):
-                continue
-            if where[cid] == "busy" and _holder_sooner(executor, shares, running, started):
-                continue
-            handle = executor.submit(cid, {u: done[u] for u in REGISTRY[cid].uses})
-            running[handle], started[handle] = cid, time.monotonic()
-            pending.remove(cid)
-            held.add(shares)
-        for handle, cert in executor.wait(list(running)):
-            cid = running.pop(handle)
-            started.pop(handle, None)
-            done[cid] = cert
-            remember([cert])
-            if cid in wanted:
-                on_done(cert)
+    finished: list[Certificate] = []   # reported to on_done once the free workers have their next claims (printing
+    try:                               # a certificate's formulas, with --jsonl, can take seconds)
+        while pending or running:
+            held = {REGISTRY[cid].shares for cid in running.values()}     # one claim at a time per shared intermediate
+            ready = [cid for cid in pending if all(u in done for u in REGISTRY[cid].uses)]
+            # a claim whose intermediate a free worker holds goes first (to that worker); one whose intermediate only
+            # a busy worker holds comes last, so that another claim takes the free slot while it waits for that worker
+            where = {cid: executor.holder(REGISTRY[cid].shares) if REGISTRY[cid].shares else None for cid in ready}
+            for cid in sorted(ready, key=lambda c: {"idle": 0, None: 1, "busy": 2}[where[c]]):
+                shares = REGISTRY[cid].shares
+                if len(running) >= executor.slots or (shares and shares in held):
+                    continue
+                if where[cid] == "busy" and _holder_sooner(executor, shares, running, started):
+                    continue
+                handle = executor.submit(cid, {u: done[u] for u in REGISTRY[cid].uses})
+                running[handle], started[handle] = cid, time.monotonic()
+                pending.remove(cid)
+                held.add(shares)
+            while finished:
+                on_done(finished.pop(0))
+            for handle, cert in executor.wait(list(running)):
+                cid = running.pop(handle)
+                started.pop(handle, None)
+                done[cid] = cert
+                remember([cert])
+                if cid in wanted:
+                    finished.append(cert)
+    finally:
+        while finished:
+            on_done(finished.pop(0))
     return {cid: done[cid] for cid in wanted}
