@@ -272,3 +272,17 @@ def test_the_gcd_after_small_factors_is_flints_gcd(monkeypatch, seed):
     got, want = linalg._gcd_after_small_factors(num, den, a), num.gcd(den)
     assert got == want or got == -want
     assert (num / got).gcd(den / got).is_one() or (num / got).gcd(den / got) == -ring.constant(1)
+
+
+def test_nmod_matrix_takes_lists_numpy_arrays_and_numpy_scalars_alike():
+    """Every form of rows the kernels mod p receive gives the same matrix (negative and big entries reduced)."""
+    import numpy as np
+
+    from hkproof.algebra.modular import nmod_matrix
+    p = 10007
+    plain = [[3, -2, 10 ** 30], [0, p + 5, 7]]
+    want = flint.nmod_mat([[3, p - 2, 10 ** 30 % p], [0, 5, 7]], p)
+    arrays = np.array([[3, p - 2, 10 ** 30 % p], [0, 5, 7]], dtype=np.int64)
+    assert nmod_matrix(plain, p) == nmod_matrix(arrays, p) == nmod_matrix(list(arrays), p) == want
+    assert nmod_matrix([[np.int64(v) for v in row] for row in arrays.tolist()], p) == want
+    assert nmod_matrix([], p).nrows() == 0
