@@ -471,7 +471,8 @@ def test_a_finished_claim_is_reported_after_the_next_claims_are_handed_out(fresh
         def submit(self, claim_id, cited):
             events.append("submit " + claim_id)
             return super().submit(claim_id, cited)
-    certs = run_graph(["t-first", "t-second", "t-third"], Logging(), lambda cert: events.append("done " + cert.claim_id))
+    certs = run_graph(["t-first", "t-second", "t-third"], Logging(),
+                      lambda cert: events.append("done " + cert.claim_id))
     assert events == ["submit t-first", "submit t-second", "done t-first", "submit t-third", "done t-second",
                       "done t-third"]
     assert all(c.status is Status.VERIFIED for c in certs.values())

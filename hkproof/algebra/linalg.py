@@ -8,13 +8,12 @@ import flint
 from hkproof import budget
 from hkproof.algebra.factored import cancel_common
 from hkproof.algebra.fraction import Frac, normalize_sign
-from hkproof.algebra.modular import rank_mod_p, residue
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
-from hkproof.errors import ShapeError, SingularSystemError, UnluckyPrimeError
+from hkproof.errors import ShapeError, SingularSystemError
 
-__all__ = ["clear_row_denominators", "cleared_system", "cramer", "cramer_polynomials", "det", "Element", "LAPLACE_MAX", "lcm",
-           "maximal_minors", "nullspace_q", "pivots_at", "PolyMatrix", "primitive_vector", "q_matrix", "rank_over_fraction_field", "rank_q",
-           "solve_by_inverse", "solve_cleared", "solve_overdetermined"]
+__all__ = ["clear_row_denominators", "cleared_system", "cramer", "cramer_polynomials", "det", "Element", "LAPLACE_MAX",
+           "lcm", "maximal_minors", "nullspace_q", "pivots_at", "PolyMatrix", "primitive_vector", "q_matrix",
+           "rank_over_fraction_field", "rank_q", "solve_by_inverse", "solve_cleared", "solve_overdetermined"]
 
 PolyMatrix = Sequence[Sequence[flint.fmpz_mpoly]]
 Element = TypeVar("Element", flint.fmpz_mpoly, flint.fmpq)

@@ -19,8 +19,8 @@ import numpy as np
 from hkproof.algebra.monomials import Exponents, columns_mod_p, exponents_upto, value_mod_p
 from hkproof.errors import UnluckyPrimeError
 
-__all__ = ["EchelonModP", "free_kernel_mod_p", "kernel_mod_p", "nmod_matrix", "polynomial_mod_p", "random_prime", "rank_mod_p",
-           "rational_fit_mod_p", "residue", "residue_or_none", "solve_mod_p"]
+__all__ = ["EchelonModP", "free_kernel_mod_p", "kernel_mod_p", "nmod_matrix", "polynomial_mod_p", "random_prime",
+           "rank_mod_p", "rational_fit_mod_p", "residue", "residue_or_none", "solve_mod_p"]
 
 Rows = Sequence[Sequence[int]] | np.ndarray      # integer rows, or a numpy array of them
 

@@ -36,9 +36,9 @@ def mulmod(a: Array, b: Array, p: int) -> Array:
 
 
 def mulmod_sum(products: Sequence[tuple[Array | int, Array]], p: int) -> Array:
-    """sum a_i * b_i mod p elementwise for a few pairs of residues in [0, p] (p itself stands for 0), p < 2^50: the quotient of the whole sum
-    from float64 (off by a few units), so the sum less q p, exact in wrapping int64 arithmetic, lies within a few p of
-    [0, p) and one floor remainder finishes (for the short arrays of sparse reconstruction every numpy call costs
+    """sum a_i * b_i mod p elementwise for a few pairs of residues in [0, p] (p itself stands for 0), p < 2^50: the
+    quotient of the whole sum from float64 (off by a few units), so the sum less q p, exact in wrapping int64
+    arithmetic, lies within a few p of [0, p) and one floor remainder finishes (for the short arrays of sparse reconstruction every numpy call costs
     microseconds: 5 + 5 per pair calls, not 7 per pair and 2 per sum). One of each pair must be an array: numpy
     wraps integer arrays silently, and an errstate context around the product cost more than the product here."""
     inverse = 1.0 / p

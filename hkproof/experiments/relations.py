@@ -20,7 +20,7 @@ from hkproof.algebra.monomials import exponents_upto, value as monomial_value
 from hkproof.algebra.ring import Rational, Ring, to_fmpq
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import HKProofError, RelationSearchError
+from hkproof.errors import RelationSearchError
 from hkproof.algebra.sampling import random_rational, random_rationals
 from hkproof.experiments.profiles import BasisFamily, ProfileProblem, parse_basis
 from hkproof.experiments.scene import make_scene
