@@ -139,6 +139,35 @@ def test_batch_mulmod_is_exact_near_the_largest_prime_and_silent():
     assert [int(v) for v in scaled] == [a[0] * y % p for y in b]
 
 
+def test_dotmod_and_mulmod_sum_against_python_integers():
+    """Sums of products mod p < 2^50 with residues near p and p itself (which stands for 0): dotmod for 0 to 200
+    products (chunks of 64), mulmod_sum for two pairs, 2-d arrays, with numpy warnings as errors."""
+    import random
+    import warnings
+
+    import numpy as np
+
+    from hkproof.dynamics.batch_map import dotmod, mulmod_sum
+    rng = random.Random(7)
+    p = 2**50 - 27
+
+    def residue() -> int:
+        return rng.choice([p, p - 1 - rng.randrange(1000), rng.randrange(p)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for m in (0, 1, 63, 64, 65, 200):
+            a = np.array([[residue() for _ in range(m)] for _ in range(6)], dtype=np.int64).reshape(2, 3, m)
+            b = np.array([[residue() for _ in range(m)] for _ in range(6)], dtype=np.int64).reshape(2, 3, m)
+            got = dotmod(a, b, p)
+            assert got.shape == (2, 3)
+            assert [int(v) for v in got.ravel()] == [
+                sum(int(x) * int(y) for x, y in zip(r, t)) % p for r, t in zip(a.reshape(6, m), b.reshape(6, m))]
+        x = [np.array([residue() for _ in range(40)], dtype=np.int64).reshape(4, 10) for _ in range(4)]
+        got = mulmod_sum(((x[0], x[1]), (x[2], x[3])), p)
+    assert [int(v) for v in got.ravel()] == [(int(a) * int(b) + int(c) * int(d)) % p
+                                             for a, b, c, d in zip(*(y.ravel() for y in x))]
+
+
 def test_batch_solve_projective_satisfies_the_systems_and_flags_singular_ones():
     """A N = D b mod p on random batches of sizes 1..7 (checked with Python's integers), D != 0 where A is
     invertible mod p (flint's determinant), D = 0 on a batch member made singular (two equal rows)."""

@@ -100,8 +100,7 @@ def nmod_matrix(rows: Rows, p: int) -> flint.nmod_mat:
             return flint.nmod_mat([row.tolist() if isinstance(row, np.ndarray) else list(row) for row in rows], p)
         except TypeError:       # entries FLINT does not take as they are (numpy scalars): one by one below
             pass
-    ncols = len(rows[0]) if len(rows) else 0
-    matrix = flint.nmod_mat(len(rows), ncols, p)
+    matrix = flint.nmod_mat(len(rows), len(rows[0]), p)
     for i, row in enumerate(rows):
         for j, v in enumerate(row.tolist() if hasattr(row, "tolist") else row):
             if v:

@@ -36,11 +36,10 @@ def mulmod(a: Array, b: Array, p: int) -> Array:
 
 
 def mulmod_sum(products: Sequence[tuple[Array | int, Array]], p: int) -> Array:
-    """sum a_i * b_i mod p elementwise for a few pairs of residues in [0, p] (p itself stands for 0), p < 2^50: the
-    quotient of the whole sum from float64 (off by a few units), so the sum less q p, exact in wrapping int64
-    arithmetic, lies within a few p of [0, p) and one floor remainder finishes (for the short arrays of sparse reconstruction every numpy call costs
-    microseconds: 5 + 5 per pair calls, not 7 per pair and 2 per sum). One of each pair must be an array: numpy
-    wraps integer arrays silently, and an errstate context around the product cost more than the product here."""
+    """sum a_i * b_i mod p elementwise for a few pairs of residues in [0, p] (p itself stands for 0), p < 2^50,
+    finished by `_remainder` (for the short arrays of sparse reconstruction every numpy call costs microseconds:
+    5 + 5 per pair calls, not 7 per pair and 2 per sum). One of each pair must be an array: numpy wraps integer
+    arrays silently, and an errstate context around the product cost more than the product here."""
     inverse = 1.0 / p
     (a, b), *rest = products
     r = a * b
@@ -48,20 +47,26 @@ def mulmod_sum(products: Sequence[tuple[Array | int, Array]], p: int) -> Array:
     for a, b in rest:
         r = r + a * b
         q = q + (a * inverse) * b
-    r -= q.astype(np.int64) * p
-    return r % p
+    return _remainder(r, q, p)
 
 
 def dotmod(a: Array, b: Array, p: int) -> Array:
-    """sum_k a[..., k] * b[..., k] mod p for residues in [0, p], p < 2^50: 64 products at a time (the float64
-    quotient of such a sum is off by less than 2^10, so the exact remainder stays within int64)."""
+    """sum_k a[..., k] * b[..., k] mod p for residues in [0, p], p < 2^50: 64 products at a time, each chunk
+    finished by `_remainder` (the float64 quotient of such a sum is off by less than 2^10)."""
     total = None
     for start in range(0, max(a.shape[-1], b.shape[-1]), 64):
         x, y = a[..., start:start + 64], b[..., start:start + 64]
-        r = (x * y).sum(axis=-1)
-        r -= (((x * (1.0 / p)) * y).sum(axis=-1)).astype(np.int64) * p
-        total = r % p if total is None else (total + r % p) % p
+        r = _remainder((x * y).sum(axis=-1), ((x * (1.0 / p)) * y).sum(axis=-1), p)
+        total = r if total is None else (total + r) % p
     return total if total is not None else np.zeros(np.broadcast_shapes(a.shape, b.shape)[:-1], dtype=np.int64)
+
+
+def _remainder(exact: Array, quotient: Array, p: int) -> Array:
+    """S mod p from `exact`, S wrapped to int64, and `quotient`, a float64 estimate of S / p off by less than 2^12:
+    S - floor(quotient) p is exact in wrapping int64 arithmetic and within 2^13 p of [0, p) (inside int64 for
+    p < 2^50), so one floor remainder finishes."""
+    exact -= quotient.astype(np.int64) * p
+    return exact % p
 
 
 def solve_projective(ab: Array, p: int) -> tuple[Array, Array]:

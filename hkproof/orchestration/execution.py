@@ -453,7 +453,12 @@ def run_graph(claim_ids: Iterable[str], executor: Executor,
     running: dict[Hashable, str] = {}
     started: dict[Hashable, float] = {}
     finished: list[Certificate] = []   # reported to on_done once the free workers have their next claims (printing
-    try:                               # a certificate's formulas, with --jsonl, can take seconds)
+                                       # a certificate's formulas, with --jsonl, can take seconds)
+
+    def report() -> None:
+        while finished:
+            on_done(finished.pop(0))
+    try:
         while pending or running:
             held = {REGISTRY[cid].shares for cid in running.values()}     # one claim at a time per shared intermediate
             ready = [cid for cid in pending if all(u in done for u in REGISTRY[cid].uses)]
@@ -470,8 +475,7 @@ def run_graph(claim_ids: Iterable[str], executor: Executor,
                 running[handle], started[handle] = cid, time.monotonic()
                 pending.remove(cid)
                 held.add(shares)
-            while finished:
-                on_done(finished.pop(0))
+            report()
             for handle, cert in executor.wait(list(running)):
                 cid = running.pop(handle)
                 started.pop(handle, None)
@@ -480,6 +484,5 @@ def run_graph(claim_ids: Iterable[str], executor: Executor,
                 if cid in wanted:
                     finished.append(cert)
     finally:
-        while finished:
-            on_done(finished.pop(0))
+        report()
     return {cid: done[cid] for cid in wanted}
