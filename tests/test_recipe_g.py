@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 
 import pytest
 
@@ -39,12 +40,20 @@ def test_non_integrals_refuted(euler, expr):
 
 def test_certificate_is_checked_by_expansion(euler):
     cert, residual = eliminate(euler, delta_polynomial(euler, Frac.parse(euler.ring, C1)))
-    assert residual.is_zero() and cert.check()
+    assert residual.is_zero() and cert.check() and cert.combination is not None
+    flat = MembershipCertificate(cert.target, cert.generators, cert.cofactors, cert.multiplier, cert.power)
+    assert flat.check()                                     # lambda = adj(M)^T q expanded: the same identity
     bad = list(cert.cofactors)
     bad[0] = bad[0] + 1
     assert not MembershipCertificate(cert.target, cert.generators, bad, cert.multiplier, cert.power).check()
     assert not MembershipCertificate(cert.target, cert.generators, cert.cofactors, cert.multiplier,
                                      cert.power + 1).check()
+    weights = list(cert.weights)
+    weights[1] = weights[1] + 1
+    assert not replace(cert, weights=weights).check()
+    combination = [list(row) for row in cert.combination]
+    combination[2][0] = combination[2][0] + 1
+    assert not replace(cert, combination=combination).check()
 
 
 def test_residual_is_the_substitution_defect(euler):

@@ -11,25 +11,46 @@ __all__ = ["groebner_basis", "in_ideal", "MembershipCertificate"]
 
 @dataclass
 class MembershipCertificate:
-    """multiplier**power * target = sum cofactors[i] * generators[i], to be checked by plain expansion."""
+    """multiplier**power * target = sum_j weights[j] * G_j with G_j = sum_i combination[j][i] * generators[i], to be
+    checked by plain expansion; the cofactors of the generators are lambda_i = sum_j weights[j] * combination[j][i].
+    Without `combination` the weights are the cofactors (G = the generators). Any polynomial combination gives a
+    valid certificate: the identity alone puts multiplier**power * target in the ideal of the generators."""
 
     target: flint.fmpz_mpoly
     generators: Sequence[flint.fmpz_mpoly]
-    cofactors: Sequence[flint.fmpz_mpoly]
+    weights: Sequence[flint.fmpz_mpoly]
     multiplier: flint.fmpz_mpoly
     power: int
+    combination: Sequence[Sequence[flint.fmpz_mpoly]] | None = None
+
+    def combined(self) -> list[flint.fmpz_mpoly]:
+        """G_j = sum_i combination[j][i] * generators[i] (the generators themselves without a combination)."""
+        if self.combination is None:
+            return list(self.generators)
+        zero = self.target.context().constant(0)
+        return [sum((a * g for a, g in zip(row, self.generators, strict=True) if not a.is_zero()), zero)
+                for row in self.combination]
 
     def check(self) -> bool:
         """Expand both sides and compare: the only step the conclusion rests on."""
         total = self.target.context().constant(0)
-        for lam, g in zip(self.cofactors, self.generators, strict=True):
-            total += lam * g
+        for w, g in zip(self.weights, self.combined(), strict=True):
+            total += w * g
         return total == self.multiplier ** self.power * self.target
 
     @property
+    def cofactors(self) -> list[flint.fmpz_mpoly]:
+        """lambda_i = sum_j weights[j] * combination[j][i], expanded (large: for export, not for the check)."""
+        if self.combination is None:
+            return list(self.weights)
+        zero = self.target.context().constant(0)
+        return [sum((w * row[i] for w, row in zip(self.weights, self.combination, strict=True) if not row[i].is_zero()),
+                    zero) for i in range(len(self.generators))]
+
+    @property
     def terms(self) -> int:
-        """Total number of terms in the cofactors (the certificate's size)."""
-        return sum(len(c) for c in self.cofactors)
+        """Terms of the weights and of the combination (the certificate's size as checked)."""
+        return sum(len(w) for w in self.weights) + sum(len(a) for row in self.combination or () for a in row)
 
 
 def groebner_basis(generators: Sequence[flint.fmpz_mpoly],

@@ -84,5 +84,5 @@ def _run_recipe_g(f: KahanMap, h: Frac, expr: str, fixed: Mapping[str, object],
                     **res.to_dict(), "verdict": label})
     text = (f"{label}: {expr} is {'an' if ok else 'not an'} integral of the Kahan map of "
             f"{f.field.name} (recipe (G) in {ring}; certificate det M^{res.power} * delta = sum lambda_i E_i, "
-            f"{res.cofactor_terms} cofactor terms)")
+            f"lambda = adj(M)^T q, {res.certificate_terms} terms in q and adj(M))")
     return Result(payload, text, exit_code(res.status)), res.certificate

@@ -3,10 +3,11 @@
 The Kahan equations E = M(x) x~ - b(x) are linear in x~. With A = adj M and Delta = det M, A E = Delta x~ - N
 (N = A b), so x~_j = N_j / Delta modulo the ideal after multiplying by Delta. Writing Delta^d delta as a
 polynomial H(x, Delta x~) (d = degree of delta in x~) and telescoping H(Delta x~) - H(N) with divided
-differences gives explicit cofactors: Delta^d delta = sum_i lambda_i E_i + H(N), and H(N) = Delta^d delta(x, N/Delta)
-is the substitution residual. When it vanishes the certificate Delta^d delta = sum lambda_i E_i is checked by
-plain expansion. It proves: wherever Delta(x) != 0 (the Kahan equations have the unique solution x~ = f(x)),
-delta(x, f(x)) = 0, i.e. c(f(x)) = c(x) wherever q(x) q(f(x)) != 0 -- c is an integral of f.
+differences gives explicit cofactors in factored form: Delta^d delta = sum_j q_j (A E)_j + H(N), i.e.
+lambda = A^T q, and H(N) = Delta^d delta(x, N/Delta) is the substitution residual. When it vanishes the certificate
+Delta^d delta = sum_j q_j (A E)_j is checked by plain expansion (the six (A E)_j are small; lambda itself, 36
+products of q and A, is expanded only for export). It proves: wherever Delta(x) != 0 (the Kahan equations have the
+unique solution x~ = f(x)), delta(x, f(x)) = 0, i.e. c(f(x)) = c(x) wherever q(x) q(f(x)) != 0 -- c is an integral of f.
 """
 from __future__ import annotations
 
@@ -25,8 +26,8 @@ from hkproof.proof.status import Status
 __all__ = ["adjugate_data", "delta_polynomial", "eliminate", "groebner_membership", "recipe_g", "RecipeGResult",
            "WHAT_IT_PROVES"]
 
-WHAT_IT_PROVES = ("Delta^k * delta = sum_i lambda_i E_i in Z[x, x~, eps, params] (checked by expansion), "
-                  "Delta = det M; "
+WHAT_IT_PROVES = ("Delta^k * delta = sum_i lambda_i E_i in Z[x, x~, eps, params] with lambda = adj(M)^T q "
+                  "(checked by expansion as sum_j q_j (adj(M) E)_j), Delta = det M; "
                   "hence on the open set Delta(x) != 0, where x~ = f(x) is the unique solution of the Kahan equations, "
                   "p(f(x)) q(x) = p(x) q(f(x)), i.e. c o f = c wherever q(x) q(f(x)) != 0")
 
@@ -62,7 +63,8 @@ def _tilde_degree(p: flint.fmpz_mpoly, tilde_idx: list[int]) -> int:
 
 
 def eliminate(kmap: KahanMap, target: flint.fmpz_mpoly) -> tuple[MembershipCertificate, flint.fmpz_mpoly]:
-    """(certificate, residual) with Delta^d target = sum lambda_i E_i + residual, residual in Z[x, eps, params].
+    """(certificate, residual) with Delta^d target = sum_j q_j (A E)_j + residual, A = adj M, residual in
+    Z[x, eps, params] (the certificate's weights are q, its combination A).
 
     The certificate is valid (check() is True) iff the residual is zero.
     """
@@ -91,20 +93,16 @@ def eliminate(kmap: KahanMap, target: flint.fmpz_mpoly) -> tuple[MembershipCerti
     gens = list(s.gens())
     # telescoping: H(u) - H(v) = sum_j (u_j - v_j) Q_j, Q_j = [H(v_<j, u_j, u_>j) - H(v_<j, v_j, u_>j)] / (u_j - v_j)
     back = [t.gen(nm) for nm in t.names] + [delta * t.gen(x) for x in tilde] + list(nums) + [delta]
-    cofactors = [t.constant(0)] * n
+    weights = []
     current = h
     for j in range(n):
         args = list(gens)
         args[len(t.names) + j] = v[j]
         nxt = current.compose(*args)
-        q_j = (current - nxt) / (u[j] - v[j])
-        q_back = q_j.compose(*back, ctx=t.ctx)
-        for i in range(n):
-            if not adj[j][i].is_zero():
-                cofactors[i] = cofactors[i] + q_back * adj[j][i]
+        weights.append(((current - nxt) / (u[j] - v[j])).compose(*back, ctx=t.ctx))
         current = nxt
     residual = current.compose(*back, ctx=t.ctx)
-    cert = MembershipCertificate(target, list(kmap.equations), cofactors, delta, d)
+    cert = MembershipCertificate(target, list(kmap.equations), weights, delta, d, adj)
     return cert, residual
 
 
@@ -114,13 +112,14 @@ class RecipeGResult:
 
     status: Status
     power: int
-    cofactor_terms: int
+    certificate_terms: int
     residual_terms: int
     seconds: dict
     certificate: MembershipCertificate | None = None      # the checked identity, when verified
 
     def to_dict(self) -> dict:
-        return {"verdict": self.status.label, "multiplier": f"det M ^ {self.power}", "cofactor_terms": self.cofactor_terms,
+        return {"verdict": self.status.label, "multiplier": f"det M ^ {self.power}",
+                "certificate_terms": self.certificate_terms,
                 "residual_terms": self.residual_terms, "seconds": {k: round(x, 4) for k, x in self.seconds.items()},
                 "proves": WHAT_IT_PROVES if self.status is Status.VERIFIED else
                 "delta(x, f(x)) = residual / Delta^k is not identically zero: c o f != c"}
@@ -139,8 +138,8 @@ def recipe_g(kmap: KahanMap, c: Frac) -> RecipeGResult:
     checked = time.perf_counter()
     if not ok:
         raise AssertionError("recipe (G): the cofactor identity failed to expand to Delta^k delta (internal error)")
-    return RecipeGResult(Status.VERIFIED, cert.power, cert.terms, 0, {"cofactors": built - start, "check": checked - built},
-                         cert)
+    return RecipeGResult(Status.VERIFIED, cert.power, cert.terms, 0,
+                         {"cofactors": built - start, "check": checked - built}, cert)
 
 
 def groebner_membership(kmap: KahanMap, c: Frac, power: int = 0,

@@ -324,7 +324,7 @@ def prove_second_flow(cert: Certificate, claimed: Mapping[str, str]) -> None:
 @claim("flow-second-recipe-g", GROUP, "Second flow: L is an integral by recipe (G), with a cofactor certificate",
        "sec. 6, theorem on the second flow; sec. 4, recipe (G)",
        "delta = L_num(x~) L_den(x) - L_num(x) L_den(x~) satisfies det M^2 delta = sum lambda_i E_i in "
-       "Z[x, x~, eps, w] with explicit cofactors, so L o f = L where det M != 0.",
+       "Z[x, x~, eps, w] with explicit cofactors lambda = adj(M)^T q, so L o f = L where det M != 0.",
        claimed={"L": SECOND["L"]}, uses=["flow-second-theorem"])
 def prove_second_flow_recipe_g(cert: Certificate, claimed: Mapping[str, str]) -> None:
     f = kahan_map(FLOW2)
@@ -336,7 +336,8 @@ def prove_second_flow_recipe_g(cert: Certificate, claimed: Mapping[str, str]) ->
                    "checked by expansion", f.field.tilde_ring) as s:
         res = recipe_g(f, big_l)
         s.require(res.status is Status.VERIFIED, "delta(x, x~) for L is not in the Kahan ideal (times det M^k)")
-        s.note(f"det M^{res.power} delta = sum lambda_i E_i with {res.cofactor_terms} cofactor terms; {WHAT_IT_PROVES}")
+        s.note(f"det M^{res.power} delta = sum lambda_i E_i, lambda = adj(M)^T q, with {res.certificate_terms} terms "
+               f"in q and adj(M); {WHAT_IT_PROVES}")
 
 
 def _continuous_limit(cert: Certificate, f: KahanMap, claimed: Mapping[str, str], known: dict[str, Frac],
