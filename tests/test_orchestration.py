@@ -6,7 +6,10 @@ import json
 import flint
 import pytest
 
+from hkproof.algebra.fraction import Frac
+from hkproof.algebra.ring import get_ring
 from hkproof.cli import main
+from hkproof.errors import HKProofError
 from hkproof.orchestration import registry
 from hkproof.orchestration.execution import DaskExecutor, InProcessExecutor, ProcessPoolExecutor, run_graph
 from hkproof.orchestration.graph import CitationCycleError, in_dependency_order
@@ -75,6 +78,36 @@ def test_undeclared_citation_is_refused(fresh_run):
         assert cert.status is Status.UNKNOWN
         assert "not declared" in cert.error
     assert registry.cached("et-first-hk-basis") is None  # refused before anything was proven
+
+
+def _claim_with_value(claim_id: str, uses=()) -> None:
+    """A verified claim recording the exact value x1 + 1 (formula 'v'), reading the value 'v' of each claim it cites."""
+    @claim(claim_id, "test", claim_id, "-", "-", uses=uses)
+    def prove(cert: Certificate, given) -> None:
+        r = get_ring(("x1",))
+        for u in uses:
+            assert require_proven(cert, u).values["v"] == Frac.parse(r, "x1 + 1")
+        with cert.step("v", "-", "-"):
+            cert.formula("v", Frac.parse(r, "x1 + 1"))
+
+
+@pytest.mark.parametrize("values", [True, False])
+def test_values_come_back_only_where_read(fresh_run, values):
+    """Without `values`, a worker keeps the exact values of a claim nobody in the run cites (its formula then says so
+    when read, and it stays out of the run's cache); a cited claim's values always come back."""
+    _claim_with_value("t-cited")
+    _claim_with_value("t-citing", uses=["t-cited"])
+    with ProcessPoolExecutor(2) as executor:
+        certs = run_graph(["t-cited", "t-citing"], executor, values=values)
+    assert all(c.status is Status.VERIFIED for c in certs.values())
+    assert certs["t-cited"].formulas["v"] == "x1 + 1"
+    assert certs["t-citing"].values_withheld is not values
+    if values:
+        assert certs["t-citing"].formulas["v"] == "x1 + 1" and registry.cached("t-citing") is certs["t-citing"]
+    else:
+        with pytest.raises(HKProofError, match="stayed with the worker"):
+            certs["t-citing"].formulas["v"]
+        assert registry.cached("t-citing") is None and registry.cached("t-cited") is certs["t-cited"]
 
 
 # -- one certificate cache per run ------------------------------------------------------------------------------------
@@ -468,7 +501,7 @@ def test_a_finished_claim_is_reported_after_the_next_claims_are_handed_out(fresh
     events: list[str] = []
 
     class Logging(InProcessExecutor):
-        def submit(self, claim_id, cited):
+        def submit(self, claim_id, cited, values=True):
             events.append("submit " + claim_id)
             return super().submit(claim_id, cited)
     certs = run_graph(["t-first", "t-second", "t-third"], Logging(),

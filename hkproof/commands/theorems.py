@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from typing import Callable, Sequence
 
 from hkproof.algebra.printing import to_json
@@ -52,7 +53,8 @@ def run_prove(args: argparse.Namespace) -> Result:
     target = certificate_target(args)
     claims = select(ids=args.ids, groups=args.group, include_slow=not args.no_slow)
     done: list[Certificate] = []
-    payload, closing, code = prove_claims(claims, args, done.append)  # certificates are printed as they complete
+    keep = done.append if target is not None else None     # certificates are printed as they complete
+    payload, closing, code = prove_claims(claims, args, keep)
     if target is not None:                  # the document is built only for a file to write
         closing += write_certificate(target, theorem_document(done), payload)
     return Result(payload, closing, code)
@@ -70,7 +72,8 @@ def streaming(args: argparse.Namespace) -> Callable[[Certificate], None]:
 
 def prove_claims(claims: Sequence[Claim], args: argparse.Namespace,
                  keep: Callable[[Certificate], None] | None = None) -> tuple[dict, str, int]:
-    """Prove, streaming each certificate (and handing it to `keep`); with --json the JSON document (`Run.document`:
+    """Prove, streaming each certificate (and handing it to `keep`, which gets every exact value; a text run without
+    `keep` brings back only the values a cited claim needs); with --json the JSON document (`Run.document`:
     the summary record and the certificates, one shape whether interrupted or not; else an empty payload, so that
     the formulas of a text run are never written out), the closing text (summary; with --jsonl a JSON line), and
     the exit code (0 all succeeded, 1 some did not, 4 a budget ran out, 130 interrupted)."""
@@ -83,7 +86,8 @@ def prove_claims(claims: Sequence[Claim], args: argparse.Namespace,
         show(cert)
         if keep is not None:
             keep(cert)
-    run = execute(claims, run_options(args), completed)
+    formulas = bool(args.json or getattr(args, "jsonl", False) or keep is not None)   # a text run prints none
+    run = execute(claims, replace(run_options(args), values=formulas), completed)
     if run.interrupted and args.json:
         print(run.summary().strip(), file=sys.stderr)
     closing = to_json(run.summary_record()) if getattr(args, "jsonl", False) else run.summary()

@@ -52,14 +52,18 @@ T = TypeVar("T")
 
 
 def prove_citing(claim_id: str, cited: Mapping[str, Certificate], seconds: float | None = None,
-                 spread: bool = False) -> Certificate:
+                 spread: bool = False, values: bool = True) -> Certificate:
     """A worker's task: the run's cache seeded with the certificates `claim_id` cites, then the claim proven once
     (within `seconds`, if given); with `spread` (a Dask worker) the parts of its computations are tasks of the same
-    cluster (`DaskSpread`)."""
+    cluster (`DaskSpread`); without `values` its certificate travels back without its exact values
+    (`Certificate.withhold_values`)."""
     load_all()
     remember(cited.values())
     with spread_on(DaskSpread()) if spread else nullcontext():
-        return get_claim(claim_id).prove(seconds=seconds)
+        cert = get_claim(claim_id).prove(seconds=seconds)
+    if not values:
+        cert.withhold_values()
+    return cert
 
 
 def _timed_part(fn: Callable[[int], T], k: int, budget: Budget) -> tuple[T, float]:
@@ -117,7 +121,9 @@ class Executor:
     slots = 1
     seconds: float | None = None
 
-    def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
+    def submit(self, claim_id: str, cited: Mapping[str, Certificate], values: bool = True) -> Hashable:
+        """Start proving `claim_id` with the certificates it cites; without `values` its certificate may come back
+        without its exact values (a worker in another process does not pack them)."""
         raise NotImplementedError
 
     def wait(self, handles: Sequence[Hashable]) -> list[tuple[Hashable, Certificate]]:
@@ -150,7 +156,7 @@ class InProcessExecutor(Executor):
         self._done: dict[Hashable, Certificate] = {}
         self._handles = itertools.count()
 
-    def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
+    def submit(self, claim_id: str, cited: Mapping[str, Certificate], values: bool = True) -> Hashable:
         handle = next(self._handles)
         self._done[handle] = get_claim(claim_id).prove(seconds=self.seconds)
         return handle
@@ -177,8 +183,8 @@ def _serve(conn: Connection, parent_end: Connection | None = None, share: int | 
             return
         if task is None:
             return
-        claim_id, cited, seconds = task
-        cert = prove_citing(claim_id, cited, seconds)
+        claim_id, cited, seconds, values = task
+        cert = prove_citing(claim_id, cited, seconds, values=values)
         try:
             conn.send(cert)
         except OSError:     # the parent is gone
@@ -239,7 +245,7 @@ class ProcessPoolExecutor(Executor):
         self._idle: list[_Worker] = []
         self._busy: list[_Worker] = []
 
-    def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
+    def submit(self, claim_id: str, cited: Mapping[str, Certificate], values: bool = True) -> Hashable:
         # every worker is in _busy or _idle whenever an interrupt can take effect, so that `close` stops it: an
         # interrupt raised while one was being started would leave it waiting for a task, holding the output pipe
         shares = get_claim(claim_id).shares
@@ -250,13 +256,13 @@ class ProcessPoolExecutor(Executor):
                 self._idle.remove(worker)
             self._busy.append(worker)
             try:
-                worker.conn.send((claim_id, dict(cited), self.seconds))
+                worker.conn.send((claim_id, dict(cited), self.seconds, values))
             except OSError:  # the worker died while idle
                 self._busy.remove(worker)
                 self._discard(worker)
                 worker = _Worker(self.share)
                 self._busy.append(worker)
-                worker.conn.send((claim_id, dict(cited), self.seconds))
+                worker.conn.send((claim_id, dict(cited), self.seconds, values))
             if shares:
                 worker.shared.add(shares)
             worker.task = _Task(claim_id, worker)
@@ -324,8 +330,8 @@ class DaskExecutor(Executor):
         self.slots = max(1, sum(self._client.nthreads().values()))
         self._claims: dict[Hashable, str] = {}
 
-    def submit(self, claim_id: str, cited: Mapping[str, Certificate]) -> Hashable:
-        future = self._client.submit(prove_citing, claim_id, dict(cited), self.seconds, True,
+    def submit(self, claim_id: str, cited: Mapping[str, Certificate], values: bool = True) -> Hashable:
+        future = self._client.submit(prove_citing, claim_id, dict(cited), self.seconds, True, values,
                                      key=f"prove-{claim_id}-{uuid.uuid4().hex}")
         self._claims[future] = claim_id
         return future
@@ -432,11 +438,13 @@ def _holder_sooner(executor: Executor, shares: str, running: Mapping[Hashable, s
 
 
 def run_graph(claim_ids: Iterable[str], executor: Executor,
-              on_done: Callable[[Certificate], None] = lambda cert: None) -> dict[str, Certificate]:
+              on_done: Callable[[Certificate], None] = lambda cert: None, values: bool = True) -> dict[str, Certificate]:
     """Prove `claim_ids` and the claims they cite, each at most once per run (the run's cache), dependencies first,
     up to `executor.slots` at a time (the longest chains of citations first, `critical_path_first`; claims sharing
     an intermediate one after the other, so that the worker that computed it proves the next); `on_done` sees each
-    certificate of `claim_ids` as it completes. Every certificate of an unperturbed claim goes into the run's cache."""
+    certificate of `claim_ids` as it completes. Every certificate of an unperturbed claim goes into the run's cache,
+    except one whose exact values stayed with its worker: without `values` only the claims that another claim of the
+    run cites bring their values back."""
     load_all()
     wanted = list(dict.fromkeys(claim_ids))
     order = in_dependency_order(wanted, REGISTRY)
@@ -448,6 +456,7 @@ def run_graph(claim_ids: Iterable[str], executor: Executor,
             if cid in wanted:
                 on_done(cert)
     pending = [cid for cid in order if cid not in done]
+    cited = {u for cid in pending for u in REGISTRY[cid].uses}
     if executor.slots > 1:       # the longest chains of expected seconds start first
         pending = critical_path_first(pending, REGISTRY, expected_seconds)
     running: dict[Hashable, str] = {}
@@ -471,7 +480,7 @@ def run_graph(claim_ids: Iterable[str], executor: Executor,
                     continue
                 if where[cid] == "busy" and _holder_sooner(executor, shares, running, started):
                     continue
-                handle = executor.submit(cid, {u: done[u] for u in REGISTRY[cid].uses})
+                handle = executor.submit(cid, {u: done[u] for u in REGISTRY[cid].uses}, values or cid in cited)
                 running[handle], started[handle] = cid, time.monotonic()
                 pending.remove(cid)
                 held.add(shares)
@@ -480,7 +489,8 @@ def run_graph(claim_ids: Iterable[str], executor: Executor,
                 cid = running.pop(handle)
                 started.pop(handle, None)
                 done[cid] = cert
-                remember([cert])
+                if not cert.values_withheld:
+                    remember([cert])
                 if cid in wanted:
                     finished.append(cert)
     finally:

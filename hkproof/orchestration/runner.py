@@ -20,12 +20,15 @@ __all__ = ["Run", "RunOptions", "certificate_payload", "execute"]
 @dataclass(frozen=True)
 class RunOptions:
     """Where the claims run (the certificates do not depend on it): `jobs` at once, on the `executor` ("process":
-    local worker processes, "dask": Dask distributed, a LocalCluster unless `scheduler` gives an address)."""
+    local worker processes, "dask": Dask distributed, a LocalCluster unless `scheduler` gives an address); with
+    `values` False a certificate no claim of the run cites comes back without its exact values, whose formulas
+    cannot then be read (for runs that print statuses only)."""
 
     jobs: int = 1
     executor: str = "process"
     scheduler: str | None = None
     seconds: float | None = None     # the budget of each claim's proof (None: no limit)
+    values: bool = True              # every certificate's exact values come back (False: only those a claim cites)
 
 
 @dataclass
@@ -107,7 +110,7 @@ def execute(claims: Sequence[Claim], options: RunOptions = RunOptions(),
     try:
         with interrupts_live():     # a signal held before the run (while the command line was read) stops it here
             executor = make_executor(options.executor, options.jobs, options.scheduler, tasks, options.seconds)
-            run_graph(ids, executor, done)
+            run_graph(ids, executor, done, options.values)
     except KeyboardInterrupt as exc:
         run.interrupted, run.interrupted_by = True, interrupt_label(exc)
     finally:

@@ -12,7 +12,7 @@ import flint
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.printing import latex, markdown_table
 from hkproof.algebra.ring import Ring
-from hkproof.errors import BudgetExhausted, ProofStopped, Refuted
+from hkproof.errors import BudgetExhausted, HKProofError, ProofStopped, Refuted
 from hkproof.proof.status import Status
 
 if TYPE_CHECKING:
@@ -26,13 +26,18 @@ class Formulas(MutableMapping[str, str]):
     """A certificate's formulas by name: a text recorded with its exact value is written out from that value when
     first read (the text of a big solution costs seconds, and a run that prints no formulas never reads it)."""
 
-    def __init__(self, values: Mapping[str, Frac], texts: Mapping[str, str | None] | None = None):
+    def __init__(self, values: Mapping[str, Frac], texts: Mapping[str, str | None] | None = None,
+                 withheld: frozenset[str] = frozenset()):
         self._values = values
         self._texts: dict[str, str | None] = texts.unwritten() if isinstance(texts, Formulas) else dict(texts or {})
+        self.withheld = withheld     # formulas whose values stayed with the worker (Certificate.withhold_values)
 
     def __getitem__(self, name: str) -> str:
         text = self._texts[name]
         if text is None:
+            if name in self.withheld:
+                raise HKProofError(f"the formula {name} stayed with the worker that proved it: this run asked for "
+                                   "no exact values of the claim (RunOptions.values)")
             text = self._texts[name] = str(self._values[name])
         return text
 
@@ -250,11 +255,24 @@ class Certificate:
                 "notes": list(self.notes), "error": self.error, "cites": list(self.cites),
                 **({"fixed": dict(self.fixed)} if self.fixed else {})}
 
+    def withhold_values(self) -> None:
+        """Drop the exact values before this certificate is sent back from a worker to a run that reads none of them
+        (packing a big one costs seconds): the formulas written out from them can no longer be read here."""
+        unwritten = self.formulas.unwritten()       # type: ignore[attr-defined]  # see __post_init__
+        self.values = {}
+        self.formulas = Formulas(self.values, unwritten, frozenset(k for k, v in unwritten.items() if v is None))
+
+    @property
+    def values_withheld(self) -> bool:
+        """Whether `withhold_values` dropped values that formulas were to be written from."""
+        return bool(self.formulas.withheld)         # type: ignore[attr-defined]  # see __post_init__
+
     def __getstate__(self) -> dict:
         """Pickled (for a worker process or a Dask worker) with its exact values packed as exponent bytes and
         integer coefficients; values that arrived pickled are passed on without unpacking or packing them again."""
         state = dict(self.__dict__)
         state["formulas"] = self.formulas.unwritten()     # type: ignore[attr-defined]  # see __post_init__
+        state["withheld"] = self.formulas.withheld        # type: ignore[attr-defined]
         values = self.values
         seen: list[tuple[flint.fmpz_mpoly, tuple]] = []
         state["values"] = values.packed() if isinstance(values, PackedValues) else \
@@ -262,9 +280,10 @@ class Certificate:
         return state
 
     def __setstate__(self, state: dict) -> None:
+        withheld = state.pop("withheld", frozenset())
         self.__dict__.update(state)
         self.values = PackedValues(state["values"])
-        self.formulas = Formulas(self.values, state["formulas"])
+        self.formulas = Formulas(self.values, state["formulas"], withheld)
 
     def to_sympy(self) -> dict[str, sympy.Expr]:
         """The formulas found that carry exact values, as sympy expressions in the system's own names."""
