@@ -98,8 +98,10 @@ def stages(with_f2: bool) -> tuple[list[tuple[str, float, str]], dict]:
             q, t = timed(lambda: homogenized_compose(r, p, X, nums, delta)[0])
             rows.append((f"f^2 plain compose: {key}", t, f"{len(q)} terms"))
             polys[key] = q
-        g, t = timed(lambda: interpolated_gcd(kmap, delta, nums[3], OMEGA_POINTS, w_form_degree, CYCLIC_SHIFT))
-        rows.append(("f^2 common factor g (gcds at 6 numeric w and their index-shift orbits, interpolation)", t, f"{len(g)} terms"))
+        g, t = timed(lambda: interpolated_gcd(kmap, delta, nums[3], OMEGA_POINTS, w_form_degree, CYCLIC_SHIFT,
+                                              TRANSLATION))
+        rows.append((f"f^2 common factor g (gcds at {len(OMEGA_POINTS)} numeric w, their index-shift orbits moved to "
+                     "w3 = 0, interpolation)", t, f"{len(g)} terms"))
         (_, rem), t = timed(lambda: divmod(polys["Delta_h(N, Delta)"], g))
         rows.append(("f^2: exact division Delta_h / g", t, "remainder 0" if rem.is_zero() else "NOT exact"))
     return rows, polys

@@ -11,6 +11,8 @@ from hkproof.dynamics.catalogue import kahan_map
 from hkproof.errors import HKProofError, SingularSystemError
 from hkproof.hk.second_iterate import interpolated_gcd, plain_composition
 from hkproof.hk.symmetries import SignedPermutation
+from hkproof.hk.translation import ParameterTranslation
+from hkproof.dynamics.field import QuadraticField
 
 
 def _points(n: int, seed: int = 1) -> list[tuple[int, int, int]]:
@@ -42,6 +44,29 @@ def test_interpolated_gcd_with_the_cyclic_symmetry_needs_one_gcd_per_orbit():
                               tuple((f"a{k % 3 + 1}", f"a{k}") for k in (1, 2, 3)))
     with pytest.raises(HKProofError, match="unlucky"):
         interpolated_gcd(f, delta, delta, _points(20), sum, wrong)
+
+
+def test_interpolated_gcd_on_the_slice_of_a_parameter_translation():
+    """The Euler top in inertia differences, x1' = (a2 - a3) x2 x3 (cyclic), is invariant under a -> a + c: samples
+    moved to the slice a3 = 0 fix every coefficient with forms in (a1, a2), so 4 gcds and their orbits (12 points)
+    give Delta_h(N, Delta) where 20 gcds are needed without the translation; a translation that does not shift
+    every parameter is refused, and too few points stay refused."""
+    field = QuadraticField("euler-top-differences", ("x1", "x2", "x3"), ("a1", "a2", "a3"),
+                           ("(a2 - a3)*x2*x3", "(a3 - a1)*x3*x1", "(a1 - a2)*x1*x2"), "test")
+    f = kahan_map(field)
+    _, delta = f.explicit
+    shift = SignedPermutation(tuple((f"x{k}", f"x{k % 3 + 1}", 1) for k in (1, 2, 3)),
+                              tuple((f"a{k}", f"a{k % 3 + 1}") for k in (1, 2, 3)))
+    translation = ParameterTranslation(("a1", "a2", "a3"), "a3")
+    assert shift.commutes(f) and translation.field_is_invariant(field)
+    exact = plain_composition(f, {"d": delta})[0]["d"]
+    assert interpolated_gcd(f, delta, delta, _points(4), sum, shift, translation) == exact
+    with pytest.raises(SingularSystemError):
+        interpolated_gcd(f, delta, delta, _points(4), sum, shift)
+    with pytest.raises(SingularSystemError):
+        interpolated_gcd(f, delta, delta, _points(1), sum, shift, translation)
+    with pytest.raises(HKProofError, match="must shift exactly"):
+        interpolated_gcd(f, delta, delta, _points(3), sum, shift, ParameterTranslation(("a1", "a2"), "a2"))
 
 
 def test_interpolated_gcd_refuses_unlucky_and_too_few_points():

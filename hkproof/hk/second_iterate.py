@@ -6,7 +6,7 @@ from typing import Callable, Mapping, Sequence
 
 import flint
 
-from hkproof.algebra.fraction import homogenized_compose
+from hkproof.algebra.fraction import Frac, homogenized_compose
 from hkproof.algebra.linalg import solve_overdetermined
 from hkproof.algebra.ring import Rational, Ring, get_ring, to_fmpq
 from hkproof.dynamics.field import EPS
@@ -14,6 +14,7 @@ from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError
 from hkproof.hk.expansion import support_degrees
 from hkproof.hk.symmetries import SignedPermutation
+from hkproof.hk.translation import ParameterTranslation
 
 __all__ = ["interpolated_gcd", "orbit_samples", "plain_composition"]
 
@@ -33,7 +34,8 @@ def plain_composition(kmap: KahanMap, polys: Mapping[str, flint.fmpz_mpoly]
 
 def interpolated_gcd(kmap: KahanMap, a: flint.fmpz_mpoly, b: flint.fmpz_mpoly,
                      points: Sequence[Sequence[Rational]], form_degree: Callable[[tuple[int, ...]], int],
-                     symmetry: SignedPermutation | None = None) -> flint.fmpz_mpoly:
+                     symmetry: SignedPermutation | None = None, translation: ParameterTranslation | None = None
+                     ) -> flint.fmpz_mpoly:
     """A candidate for g = gcd(a_h(N, Delta), b_h(N, Delta)) normalized by g(x, 0) = 1 (sec. 6.2, Table "f2"),
     from gcds at eps = 1 and the parameters at `points`; the caller proves it by exact division.
 
@@ -42,7 +44,10 @@ def interpolated_gcd(kmap: KahanMap, a: flint.fmpz_mpoly, b: flint.fmpz_mpoly,
     of x^e in g is a form of degree form_degree(e) in the parameters, fixed by its values at the points.
     With `symmetry` (a signed permutation sigma under which g is invariant, as the common factor of a map that
     commutes with sigma is), each gcd at a point w also gives g at the points of w's orbit, x relabeled: one gcd
-    per orbit (`orbit_samples`).
+    per orbit (`orbit_samples`). With `translation` (a shift of every parameter under which g is invariant, as the
+    common factor of an invariant map is), each sample is moved to the slice w_pivot = 0 and the forms are
+    interpolated in the other parameters only: k + 1 unknowns for a form of degree k in two parameters, against
+    (k + 1)(k + 2)/2 in three, so fewer gcds; the candidate is then lifted off the slice.
     """
     r, phase, params = kmap.ring, kmap.variables, kmap.field.parameters
     small = get_ring(tuple(phase))
@@ -66,13 +71,22 @@ def interpolated_gcd(kmap: KahanMap, a: flint.fmpz_mpoly, b: flint.fmpz_mpoly,
         samples.append(g * constant)
     if symmetry is not None:
         points, samples = orbit_samples(symmetry, small, params, points, samples)
+    names, out = tuple(params), r
+    if translation is not None:
+        if translation.velocity or set(translation.names) != set(params):
+            raise HKProofError(f"the translation {translation} must shift exactly the parameters {list(params)}")
+        k = params.index(translation.pivot)
+        names, out = tuple(n for n in params if n != translation.pivot), translation.slice_ring(r)
+        moved = {tuple(to_fmpq(w[i]) - to_fmpq(w[k]) for i in range(len(params)) if i != k): g
+                 for w, g in zip(points, samples, strict=True)}
+        points, samples = list(moved), list(moved.values())
     coefficients = [g.to_dict() for g in samples]
     monomials = {m for g in coefficients for m in g}
     data: dict[tuple[int, ...], int] = {}
     systems: dict[int, flint.fmpq_mat] = {}          # one per form degree
     for m in monomials:
         k = form_degree(m)
-        forms = _exponents(len(params), k)
+        forms = _exponents(len(names), k)
         if k not in systems:
             systems[k] = flint.fmpq_mat([[_power(w, e) for e in forms] for w in points])
         system = systems[k]
@@ -82,9 +96,10 @@ def interpolated_gcd(kmap: KahanMap, a: flint.fmpz_mpoly, b: flint.fmpz_mpoly,
                 raise HKProofError(f"interpolation of the gcd failed at the monomial {m} (unlucky points)")
             if coefficient != 0:
                 data[m + (sum(m),) + e] = int(coefficient.p)
-    order = tuple(phase) + (EPS,) + tuple(params)
-    place = [order.index(n) if n in order else None for n in r.names]
-    return r.ctx.from_dict({tuple(0 if i is None else key[i] for i in place): c for key, c in data.items()})
+    order = tuple(phase) + (EPS,) + names
+    place = [order.index(n) if n in order else None for n in out.names]
+    g = out.ctx.from_dict({tuple(0 if i is None else key[i] for i in place): c for key, c in data.items()})
+    return g if translation is None else translation.lift(Frac(out, g), r).num
 
 
 def orbit_samples(symmetry: SignedPermutation, small: Ring, params: Sequence[str],

@@ -23,7 +23,8 @@ ROWS = ("denominator", "p1", "p2", "p3", "m1", "m2", "m3")
 PRINTED_TABLE = ("27 24 24 24 12 12 12; 27 25 24 24 12 12 12; 27 24 25 24 12 12 12; 27 24 24 25 12 12 12; "
                  "33 28 28 28 15 14 14; 33 28 28 28 14 15 14; 33 28 28 28 14 14 15")
 PRINTED_P1 = (64056, 1647595)  # monomials in (m, p) and terms of the p1-numerator, sec. 6.2
-OMEGA_POINTS = ((1, 2, 5), (1, 3, 7), (2, 3, 11), (1, 4, 9), (3, 5, 13), (2, 7, 3))  # with their orbits: 18 points
+OMEGA_POINTS = ((1, 2, 5), (1, 3, 7))  # with their orbits 6 points, moved to the slice w3 = 0: forms of degree <= 4
+# in (w1, w2) have at most 5 coefficients
 
 
 PLAIN_F2 = "the plain composition f o f of the Clebsch map"     # Claim.shares of the claims reading it
@@ -152,10 +153,11 @@ def prove_f2_reduced(cert: Certificate, claimed: Mapping[str, str]) -> None:
     with cert.step("Delta divides M1(N, Delta)", "exact division, on the slice w3 = 0", small.ring) as s:
         m1, rem = divmod(plain["m1"], small.explicit[1])
         s.require(rem.is_zero(), "Delta does not divide M1(N, Delta)")
-    with cert.step("candidate g: gcds at numeric w, interpolated in w", "gcd over Z[m, p, eps] at 6 points w, "
-                   "each carried to two more by the index shift (dc-map-symmetries); weighted homogeneity fixes "
-                   "the w-degree of each coefficient", r) as s:
-        g = interpolated_gcd(f, delta, nums[3], OMEGA_POINTS, w_form_degree, CYCLIC_SHIFT)
+    with cert.step("candidate g: gcds at numeric w, interpolated in w", f"gcd over Z[m, p, eps] at {len(OMEGA_POINTS)} "
+                   "points w, each carried to two more by the index shift (dc-map-symmetries) and moved to the slice "
+                   "w3 = 0 by the translation w -> w + c; weighted homogeneity fixes the w-degree of each "
+                   "coefficient", r) as s:
+        g = interpolated_gcd(f, delta, nums[3], OMEGA_POINTS, w_form_degree, CYCLIC_SHIFT, TRANSLATION)
         s.note(f"candidate with {len(g)} terms; only a candidate until the next step")
     with cert.step("g is the gcd", "g invariant under w -> w + c (exact); exact divisions and coprimality of the "
                    "quotients on the slice w3 = 0", r) as s:
