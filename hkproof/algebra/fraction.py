@@ -346,8 +346,11 @@ class ModularFrac:
         self.num, self.den = (ctx.from_dict({m: int(c) % p for m, c in poly.to_dict().items() if int(c) % p})
                               for poly in (h.num, h.den))
         self._derivatives: list[tuple[flint.nmod_mpoly, flint.nmod_mpoly]] | None = None
+        self._polynomial = self.den.is_one()    # a polynomial (a monomial of a basis, mostly): no division
 
     def __call__(self, point: Sequence[int]) -> int | None:
+        if self._polynomial:
+            return int(self.num(*point))
         d = int(self.den(*point))
         return None if d == 0 else int(self.num(*point)) * pow(d, -1, self.p) % self.p
 

@@ -20,7 +20,7 @@ from typing import Sequence
 import flint
 
 from hkproof import budget
-from hkproof.algebra.fraction import Frac
+from hkproof.algebra.fraction import Frac, ModularFrac
 from hkproof.algebra.modular import kernel_mod_p, random_prime, rank_mod_p
 from hkproof.algebra.monomials import Exponents, text
 from hkproof.errors import HKProofError, UnluckyPrimeError
@@ -56,6 +56,14 @@ class ModularScene:
         self.map = ctx.kmap.mod(p, controls)
         self.names = ctx.kmap.ring.names
         self.phase = [self.names.index(v) for v in ctx.kmap.variables]
+        self._reduced: dict[int, tuple[Frac, ModularFrac]] = {}     # by id: each function object reduced once
+
+    def reduced(self, h: Frac) -> ModularFrac:
+        """h mod p, reduced once per scene and function object (the tables of one scene evaluate the same basis
+        functions many times; the object is kept with it, so that its id is not reused)."""
+        if id(h) not in self._reduced:
+            self._reduced[id(h)] = (h, h.mod_p(self.p))
+        return self._reduced[id(h)][1]
 
     def ring_point(self, x: Sequence[int]) -> list[int]:
         values = dict(zip(self.ctx.kmap.variables, x, strict=True)) | self.controls
@@ -71,7 +79,7 @@ class ModularScene:
 
     def table(self, functions: Sequence[Frac], orbit: Sequence[Sequence[int]]) -> list[list[int]]:
         """phi_k(f^i x) mod p, row i, column k (HKProofError where a function has a pole)."""
-        mods = [h.mod_p(self.p) for h in functions]
+        mods = [self.reduced(h) for h in functions]
         out = []
         for y in orbit:
             at = self.ring_point(y)
