@@ -38,7 +38,7 @@ EXPECTED_SECONDS = {
     "atlas-zhukovsky-volterra-1-liouville-arnold": 10, "dc-nambu-poisson": 10, "dc-f2-plain": 10, "dc-f2-reduced": 5,
     "atlas-kirchhoff-integrals": 9, "flow-second-theta": 6, "flow-second-l-relations-found": 4,
     "atlas-so4-euler-top-chart": 5, "flow-second-recipe-g": 2, "flow-theta-all": 2, "atlas-lagrange-top-integrals": 4,
-    "dc345-relations-found": 3, "dc345-step5": 3, "flow-general-map": 2, "atlas-volterra-4-liouville-arnold": 2,
+    "dc345-relations-found": 3, "dc345-step5": 3, "atlas-volterra-4-liouville-arnold": 2,
     "atlas-gaudin-2-integrals": 2, "flow-second-relations-found": 3, "atlas-kirchhoff-kernels": 9, "dc345-alpha": 2,
     "dc345-max-basis": 2}
 SLOW_SECONDS = 30

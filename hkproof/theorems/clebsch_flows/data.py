@@ -14,7 +14,7 @@ from hkproof.errors import HKProofError
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.hk.transport import Substitution
 
-__all__ = ["B_OF_YZ", "C_OF_YZ", "CYCLIC", "e_names", "GENERAL", "map_components_under", "PHI0", "REDUCTION",
+__all__ = ["B_OF_YZ", "C_OF_YZ", "CYCLIC", "e_names", "GENERAL", "field_under", "PHI0", "REDUCTION",
            "REDUCTION_Z0", "substitution", "yz_map", "yz_map_at_z0"]
 
 GENERAL = "clebsch-general"
@@ -58,9 +58,11 @@ def _under(source: Ring, functions: Sequence[Frac], images: Mapping[str, str], t
     return out
 
 
-def map_components_under(kmap: KahanMap, images: Mapping[str, str], target: Ring) -> list[Frac]:
-    """The explicit components N_j / Delta of `kmap` with parameters replaced by polynomials, in lowest terms."""
-    return _under(kmap.ring, kmap.components(), images, target)
+def field_under(kmap: KahanMap, images: Mapping[str, str], target: Ring) -> list[Frac]:
+    """The right-hand sides of `kmap`'s vector field with parameters replaced by polynomials, in lowest terms. Equal
+    to a target map's field, they make the Kahan equations equal (polarization commutes with the substitution), so
+    the explicit maps N / Delta too wherever the target's Delta is non-zero (Cramer's rule commutes with it)."""
+    return _under(kmap.field.ring, list(kmap.field.rhs), images, target)
 
 
 def e_names() -> tuple[str, ...]:

@@ -49,7 +49,7 @@ from hkproof.theorems.clebsch_flows.data import (
     REDUCTION,
     REDUCTION_Z0,
     e_names,
-    map_components_under,
+    field_under,
     substitution,
     yz_map,
     yz_map_at_z0,
@@ -123,8 +123,8 @@ def prove_general_map(cert: Certificate, claimed: Mapping[str, str]) -> None:
     for flow, name in (("flow1", "clebsch"), ("flow2", FLOW2)):
         target = kahan_map(name)
         with cert.step(f"{name} is the general map at b = {claimed[flow + '_b']}",
-                       "eq. \"c thru b\" at b; explicit components composed and compared, lowest terms",
-                       target.ring) as s:
+                       "eq. \"c thru b\" at b; the vector field at b compared exactly, lowest terms: equal fields give "
+                       "equal Kahan equations and (Delta of the target non-zero) equal explicit maps", target.ring) as s:
             bs = parse_matrix(target, f"[{claimed[flow + '_b']}]")[0]
             cs = parse_matrix(target, f"[{claimed[flow + '_c']}]")[0]
             s.require(len(bs) == 3 and len(cs) == 3, f"b and c of {flow} need three entries each, got "
@@ -134,15 +134,18 @@ def prove_general_map(cert: Certificate, claimed: Mapping[str, str]) -> None:
                 c_k = named(target, C_THRU_B[f"c{k + 1}"], values)
                 s.require_equal(c_k, cs[k], f"c{k + 1} at the {flow} values of b")
             images = {f"b{k + 1}": str(bs[k]) for k in range(3)}
-            for got, want_c, v in zip(map_components_under(f, images, target.ring), target.components(), f.variables, strict=True):
-                s.require_equal(got, want_c, f"{v}~ of the general map at the {flow} b")
+            for got, want, v in zip(field_under(f, images, target.ring), target.field.rhs, f.variables, strict=True):
+                s.require_equal(got, want.to_ring(target.ring), f"d{v}/dt of the general field at the {flow} b")
+            s.require(not target.explicit[1].is_zero(), f"the Kahan map of {name} has Delta = 0")
     g = yz_map()
     with cert.step("b = s + y w + z (-w_j w_k): the polynomial family c_k = y + z w_k, independent of s",
-                   "explicit components composed; Vandermonde det of (1, w_k, -w_i w_j) non-zero",
+                   "the vector field at b compared exactly (equal fields, equal Kahan maps); Vandermonde det of "
+                   "(1, w_k, -w_i w_j) non-zero",
                    g.ring.extend(["s"])) as s:
         ts = g.ring.extend(["s"])
-        for got, want_c, v in zip(map_components_under(f, B_OF_YZ, ts), g.components(), f.variables, strict=True):
-            s.require_equal(got, want_c.to_ring(ts), f"{v}~ under b = s + y w - z w_i w_j")
+        for got, want, v in zip(field_under(f, B_OF_YZ, ts), g.field.rhs, f.variables, strict=True):
+            s.require_equal(got, want.to_ring(ts), f"d{v}/dt under b = s + y w - z w_i w_j")
+        s.require(not g.explicit[1].is_zero(), "the Kahan map of the (y, z) family has Delta = 0")
         vdm = Frac.parse(g.ring, "(w1 - w2)*(w2 - w3)*(w3 - w1)")
         rows = [[Frac(g.ring, 1), Frac.parse(g.ring, f"w{i + 1}"), Frac.parse(g.ring, f"-w{j + 1}*w{k + 1}")]
                 for i, j, k in CYCLIC]
