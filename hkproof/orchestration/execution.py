@@ -438,8 +438,8 @@ def _holder_sooner(executor: Executor, shares: str, running: Mapping[Hashable, s
     return left < max(expected_seconds(c) for c in REGISTRY.values() if c.shares == shares)
 
 
-def run_graph(claim_ids: Iterable[str], executor: Executor,
-              on_done: Callable[[Certificate], None] = lambda cert: None, values: bool = True) -> dict[str, Certificate]:
+def run_graph(claim_ids: Iterable[str], executor: Executor, on_done: Callable[[Certificate], None] = lambda cert: None,
+              values: bool = True) -> dict[str, Certificate]:
     """Prove `claim_ids` and the claims they cite, each at most once per run (the run's cache), dependencies first,
     up to `executor.slots` at a time (the longest chains of citations first, `critical_path_first`; claims sharing
     an intermediate one after the other, so that the worker that computed it proves the next); `on_done` sees each

@@ -123,8 +123,9 @@ def prove_general_map(cert: Certificate, claimed: Mapping[str, str]) -> None:
     for flow, name in (("flow1", "clebsch"), ("flow2", FLOW2)):
         target = kahan_map(name)
         with cert.step(f"{name} is the general map at b = {claimed[flow + '_b']}",
-                       "eq. \"c thru b\" at b; the vector field at b compared exactly, lowest terms: equal fields give "
-                       "equal Kahan equations and (Delta of the target non-zero) equal explicit maps", target.ring) as s:
+                       "eq. \"c thru b\" at b; the vector field at b compared exactly, lowest terms: equal fields "
+                       "give equal Kahan equations and (Delta of the target non-zero) equal explicit maps",
+                       target.ring) as s:
             bs = parse_matrix(target, f"[{claimed[flow + '_b']}]")[0]
             cs = parse_matrix(target, f"[{claimed[flow + '_c']}]")[0]
             s.require(len(bs) == 3 and len(cs) == 3, f"b and c of {flow} need three entries each, got "
