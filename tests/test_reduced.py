@@ -2,10 +2,12 @@
 from __future__ import annotations
 
 import flint
+import pytest
 
 from hkproof.algebra import Frac
 from hkproof.dynamics import kahan_map
-from hkproof.hk.reduced import Relation, block_rows_at, kernel_coordinates, prove_by_evenness
+from hkproof.hk.reduced import (Relation, block_rows_at, kernel_coordinates, linear_combination_equals,
+                                prove_by_evenness)
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 
@@ -90,3 +92,18 @@ def test_system_at_stacks_the_rows_of_every_iterate_and_the_relations():
     orbit = orbit_points(F, point, (0, 1))
     expected, expected_rhs = block_rows_at([first, second], [orbit[0], orbit[1]])
     assert rows == expected + [[flint.fmpq(1, 7), 1, 0]] and rhs == expected_rhs + [1]
+
+
+def test_linear_combination_with_a_given_common_multiple():
+    """A common multiple of the values' denominators given once (as for the relations of one candidate) gives the
+    same verdicts as the lcm computed each time; a polynomial that is not a multiple is refused, never used."""
+    r = kahan_map("euler-top").ring
+    values = [Frac.parse(r, t) for t in ("x1/(x2 + x3)", "x2/((x2 + x3)*(1 + eps))", "1/(1 + eps)")]
+    coefficients = [Frac.parse(r, t) for t in ("1 + eps", "-(x2 + x3)", "a1")]
+    rhs = Frac.parse(r, "(1 + eps)*x1/(x2 + x3) + (a1 - x2)/(1 + eps)")
+    multiple = Frac.parse(r, "(x2 + x3)*(1 + eps)*(1 - eps)").num
+    for claimed, holds in ((rhs, True), (rhs + 1, False)):
+        assert linear_combination_equals(coefficients, values, claimed) is holds
+        assert linear_combination_equals(coefficients, values, claimed, multiple) is holds
+    with pytest.raises(Exception):
+        linear_combination_equals(coefficients, values, rhs, Frac.parse(r, "x2 + x3").num)

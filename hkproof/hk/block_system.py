@@ -23,6 +23,7 @@ from typing import Callable, Mapping, Sequence
 import flint
 
 from hkproof.algebra.fraction import Frac
+from hkproof.algebra.linalg import lcm
 from hkproof.algebra.ring import Rational
 from hkproof.algebra.sampling import random_point
 from hkproof.dynamics.kahan import KahanMap
@@ -204,8 +205,10 @@ def verify_candidate(cert: Certificate, system: BlockSystem, names: Sequence[str
                    "bound; the route of each row is noted)" +
                    ("; the rows of the carried blocks as images under a symmetry of f (checked)" if carried else ""),
                    ring) as s:
+        multiple = lcm([a.den for a in candidate])     # one lcm of the candidate's denominators for every relation
         for k, rel in enumerate(system.relations):
-            s.require(linear_combination_equals(rel.coefficients, candidate, rel.rhs), f"relation {k + 1} fails")
+            s.require(linear_combination_equals(rel.coefficients, candidate, rel.rhs, multiple),
+                      f"relation {k + 1} fails")
         for b, basis in enumerate(system.bases):
             block = [candidate[k] for k in system.block(b)]
             for i in system.iterates:

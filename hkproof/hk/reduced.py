@@ -64,16 +64,21 @@ def solve_reduced_system(kmap: KahanMap, basis: Sequence[Frac], target: Frac, it
 def check_solution(kmap: KahanMap, basis: Sequence[Frac], target: Frac, iterates: Sequence[int],
                    relations: Sequence[Relation], solution: Sequence[Frac]) -> bool:
     """Substitute the solution back into every equation of the system (exactly)."""
+    multiple = lcm([a.den for a in solution])          # one lcm of the solution's denominators for every equation
     for i in iterates:
         r, b = hk_row(kmap, basis, target, i)
-        if not linear_combination_equals(r, solution, b):
+        if not linear_combination_equals(r, solution, b, multiple):
             return False
-    return all(linear_combination_equals(rel.coefficients, solution, rel.rhs) for rel in relations)
+    return all(linear_combination_equals(rel.coefficients, solution, rel.rhs, multiple) for rel in relations)
 
 
-def linear_combination_equals(coefficients: Sequence[Frac], values: Sequence[Frac], rhs: Frac) -> bool:
-    """sum c_k v_k == rhs exactly: one common denominator lcm(c dens) lcm(v dens), no gcd of big numerators."""
-    lc, lv = lcm([c.den for c in coefficients]), lcm([v.den for v in values])
+def linear_combination_equals(coefficients: Sequence[Frac], values: Sequence[Frac], rhs: Frac,
+                              values_multiple: flint.fmpz_mpoly | None = None) -> bool:
+    """sum c_k v_k == rhs exactly: one common denominator lcm(c dens) lcm(v dens), no gcd of big numerators.
+    `values_multiple`, a common multiple of the values' denominators, spares the lcm to a caller that checks many
+    combinations of the same values (the relations of one candidate)."""
+    lc = lcm([c.den for c in coefficients])
+    lv = values_multiple if values_multiple is not None else lcm([v.den for v in values])
     common = lc * lv
     g = rhs.den.gcd(common)
     extra = rhs.den / g

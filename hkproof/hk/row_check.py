@@ -133,7 +133,8 @@ def check_solution_by_rows(kmap: KahanMap, basis: Sequence[Frac], target: Frac, 
     """`hk.reduced.check_solution` with the rows checked by `row_holds` (the relations by substitution)."""
     if not all(row_holds(kmap, basis, target, i, solution) for i in iterates):
         return False
-    return all(linear_combination_equals(rel.coefficients, solution, rel.rhs) for rel in relations)
+    multiple = lcm([a.den for a in solution])
+    return all(linear_combination_equals(rel.coefficients, solution, rel.rhs, multiple) for rel in relations)
 
 
 def _x_coefficients(kmap: KahanMap, phi: Frac) -> dict[Exponents, Frac]:

@@ -4,7 +4,7 @@ from __future__ import annotations
 from typing import Mapping, Sequence
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.linalg import rank_q
+from hkproof.algebra.linalg import lcm, rank_q
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.errors import ParseError
@@ -179,9 +179,10 @@ def prove_max_basis(cert: Certificate, claimed: Mapping[str, str]) -> None:
         d = [recall(b2, k, r) for k in ("d7", "d8", "d9")]
         for j in range(6):
             column = [vectors[name][j] for name in ("Phi1", "Phi2", "Phi3")]
-            s.require(linear_combination_equals([Frac(r, 1)] * 3, column, recall(th, f"g{j + 1}", r)),
+            multiple = lcm([a.den for a in column])
+            s.require(linear_combination_equals([Frac(r, 1)] * 3, column, recall(th, f"g{j + 1}", r), multiple),
                       f"g{j + 1} != alpha_{j + 1} + beta_{j + 1} + gamma_{j + 1}")
-            s.require(linear_combination_equals(d, column, Frac(r, int(j < 3))),
+            s.require(linear_combination_equals(d, column, Frac(r, int(j < 3)), multiple),
                       f"(d7, d8, d9) misses the column {j + 1} of (M1 | M2)")
         s.note("Theta's vector = the sum of the Phi1, Phi2, Phi3 vectors; Psi's = -(d7, d8, d9) combination of them "
                "(the normalization (d7, d8, d9) M1 = (1, 1, 1) and (d7, d8, d9) M2 = 0 of the paper)")
