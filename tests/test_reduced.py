@@ -4,10 +4,12 @@ from __future__ import annotations
 import flint
 import pytest
 
+from hkproof.errors import ShapeError
+
 from hkproof.algebra import Frac
 from hkproof.dynamics import kahan_map
-from hkproof.hk.reduced import (Relation, block_rows_at, kernel_coordinates, linear_combination_equals,
-                                prove_by_evenness)
+from hkproof.hk.reduced import (OverCommonDenominator, Relation, block_rows_at, kernel_coordinates,
+                                linear_combination_equals, prove_by_evenness)
 from hkproof.proof.certificate import Certificate, ProofStopped
 from hkproof.proof.status import Status
 
@@ -94,16 +96,16 @@ def test_system_at_stacks_the_rows_of_every_iterate_and_the_relations():
     assert rows == expected + [[flint.fmpq(1, 7), 1, 0]] and rhs == expected_rhs + [1]
 
 
-def test_linear_combination_with_a_given_common_multiple():
-    """A common multiple of the values' denominators given once (as for the relations of one candidate) gives the
-    same verdicts as the lcm computed each time; a polynomial that is not a multiple is refused, never used."""
+def test_linear_combination_over_a_given_common_denominator():
+    """Values put over one common denominator once (as for the relations of one candidate) give the same verdicts
+    as when each check does it; numerators of other values are refused."""
     r = kahan_map("euler-top").ring
     values = [Frac.parse(r, t) for t in ("x1/(x2 + x3)", "x2/((x2 + x3)*(1 + eps))", "1/(1 + eps)")]
     coefficients = [Frac.parse(r, t) for t in ("1 + eps", "-(x2 + x3)", "a1")]
     rhs = Frac.parse(r, "(1 + eps)*x1/(x2 + x3) + (a1 - x2)/(1 + eps)")
-    multiple = Frac.parse(r, "(x2 + x3)*(1 + eps)*(1 - eps)").num
+    common = OverCommonDenominator.of(values)
     for claimed, holds in ((rhs, True), (rhs + 1, False)):
         assert linear_combination_equals(coefficients, values, claimed) is holds
-        assert linear_combination_equals(coefficients, values, claimed, multiple) is holds
-    with pytest.raises(Exception):
-        linear_combination_equals(coefficients, values, rhs, Frac.parse(r, "x2 + x3").num)
+        assert linear_combination_equals(coefficients, values, claimed, common) is holds
+    with pytest.raises(ShapeError):
+        linear_combination_equals(coefficients, values, rhs, OverCommonDenominator.of(values[:2]))

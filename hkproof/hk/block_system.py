@@ -23,13 +23,13 @@ from typing import Callable, Mapping, Sequence
 import flint
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.linalg import lcm
 from hkproof.algebra.ring import Rational
 from hkproof.algebra.sampling import random_point
 from hkproof.dynamics.kahan import KahanMap
 from hkproof.errors import HKProofError, SingularPointError
 from hkproof.hk.independence import sample_point
 from hkproof.hk.reduced import (
+    OverCommonDenominator,
     Relation,
     det_at_point,
     even_components,
@@ -205,9 +205,9 @@ def verify_candidate(cert: Certificate, system: BlockSystem, names: Sequence[str
                    "bound; the route of each row is noted)" +
                    ("; the rows of the carried blocks as images under a symmetry of f (checked)" if carried else ""),
                    ring) as s:
-        multiple = lcm([a.den for a in candidate])     # one lcm of the candidate's denominators for every relation
+        common = OverCommonDenominator.of(candidate)   # the candidate over one denominator for every relation
         for k, rel in enumerate(system.relations):
-            s.require(linear_combination_equals(rel.coefficients, candidate, rel.rhs, multiple),
+            s.require(linear_combination_equals(rel.coefficients, candidate, rel.rhs, common),
                       f"relation {k + 1} fails")
         for b, basis in enumerate(system.bases):
             block = [candidate[k] for k in system.block(b)]

@@ -11,13 +11,13 @@ from hkproof.algebra.linalg import cramer, lcm, nullspace_q
 from hkproof.algebra.ring import Rational, to_fmpq
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.errors import HKProofError
+from hkproof.errors import HKProofError, ShapeError
 from hkproof.hk.independence import sample_point
 from hkproof.proof.certificate import Certificate
 from hkproof.proof.export import prop_even_step, relation_data
 
 __all__ = ["block_rows_at", "check_solution", "det_at_point", "even_components", "hk_row", "kernel_coordinates",
-           "linear_combination_equals", "orbit_points", "prop_even_hypotheses", "prove_by_evenness", "Relation",
+           "linear_combination_equals", "orbit_points", "OverCommonDenominator", "prop_even_hypotheses", "prove_by_evenness", "Relation",
            "SolutionCheck", "solve_reduced_system", "system_at", "verify_by_evenness"]
 
 SolutionCheck = Callable[..., bool]
@@ -64,30 +64,47 @@ def solve_reduced_system(kmap: KahanMap, basis: Sequence[Frac], target: Frac, it
 def check_solution(kmap: KahanMap, basis: Sequence[Frac], target: Frac, iterates: Sequence[int],
                    relations: Sequence[Relation], solution: Sequence[Frac]) -> bool:
     """Substitute the solution back into every equation of the system (exactly)."""
-    multiple = lcm([a.den for a in solution])          # one lcm of the solution's denominators for every equation
+    common = OverCommonDenominator.of(solution)        # the solution over one denominator for every equation
     for i in iterates:
         r, b = hk_row(kmap, basis, target, i)
-        if not linear_combination_equals(r, solution, b, multiple):
+        if not linear_combination_equals(r, solution, b, common):
             return False
-    return all(linear_combination_equals(rel.coefficients, solution, rel.rhs, multiple) for rel in relations)
+    return all(linear_combination_equals(rel.coefficients, solution, rel.rhs, common) for rel in relations)
+
+
+@dataclass(frozen=True)
+class OverCommonDenominator:
+    """Values written once over a common multiple of their denominators (`multiple`, and each value's numerator
+    times multiple / its denominator), for a caller that checks many combinations of the same values: the lcm and
+    the scaled numerators of a candidate's 18 components cost seconds when each relation recomputes them. Build it
+    with `of` (the fields must be consistent: nothing checks them again)."""
+
+    multiple: flint.fmpz_mpoly
+    numerators: tuple[flint.fmpz_mpoly, ...]
+
+    @classmethod
+    def of(cls, values: Sequence[Frac]) -> OverCommonDenominator:
+        multiple = lcm([v.den for v in values])
+        return cls(multiple, tuple(v.num * (multiple / v.den) for v in values))
 
 
 def linear_combination_equals(coefficients: Sequence[Frac], values: Sequence[Frac], rhs: Frac,
-                              values_multiple: flint.fmpz_mpoly | None = None) -> bool:
+                              common: OverCommonDenominator | None = None) -> bool:
     """sum c_k v_k == rhs exactly: one common denominator lcm(c dens) lcm(v dens), no gcd of big numerators.
-    `values_multiple`, a common multiple of the values' denominators, spares the lcm to a caller that checks many
-    combinations of the same values (the relations of one candidate)."""
+    `common`: the values already over one denominator (`OverCommonDenominator.of(values)`)."""
     lc = lcm([c.den for c in coefficients])
-    lv = values_multiple if values_multiple is not None else lcm([v.den for v in values])
-    common = lc * lv
-    g = rhs.den.gcd(common)
+    over = common if common is not None else OverCommonDenominator.of(values)
+    if len(over.numerators) != len(values):
+        raise ShapeError(f"{len(values)} values but {len(over.numerators)} numerators over their common denominator")
+    both = lc * over.multiple
+    g = rhs.den.gcd(both)
     extra = rhs.den / g
-    total = -rhs.num * (common / g)
-    for c, v in zip(coefficients, values, strict=True):
+    total = -rhs.num * (both / g)
+    for c, v, scaled_v in zip(coefficients, values, over.numerators, strict=True):
         if c.is_zero() or v.is_zero():
             continue
-        scaled_c, scaled_v = c.num * (lc / c.den), v.num * (lv / v.den)   # each over its common denominator,
-        if len(scaled_c) <= len(scaled_v):                                 # then one big product
+        scaled_c = c.num * (lc / c.den)                    # each over its common denominator, then one big product
+        if len(scaled_c) <= len(scaled_v):
             total += (scaled_c * extra) * scaled_v
         else:
             total += scaled_c * (scaled_v * extra)

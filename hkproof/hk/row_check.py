@@ -21,7 +21,7 @@ from hkproof.algebra.ring import cores, flint_threads
 from hkproof.budget import current, parallel_parts, spread_slots
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
-from hkproof.hk.reduced import Relation, hk_row, linear_combination_equals
+from hkproof.hk.reduced import OverCommonDenominator, Relation, hk_row, linear_combination_equals
 
 __all__ = ["check_solution_by_rows", "decide_identity", "phase_coefficients", "row_holds", "RouteCosts", "RowCheck",
            "Route"]
@@ -133,8 +133,8 @@ def check_solution_by_rows(kmap: KahanMap, basis: Sequence[Frac], target: Frac, 
     """`hk.reduced.check_solution` with the rows checked by `row_holds` (the relations by substitution)."""
     if not all(row_holds(kmap, basis, target, i, solution) for i in iterates):
         return False
-    multiple = lcm([a.den for a in solution])
-    return all(linear_combination_equals(rel.coefficients, solution, rel.rhs, multiple) for rel in relations)
+    common = OverCommonDenominator.of(solution)
+    return all(linear_combination_equals(rel.coefficients, solution, rel.rhs, common) for rel in relations)
 
 
 def _x_coefficients(kmap: KahanMap, phi: Frac) -> dict[Exponents, Frac]:

@@ -4,14 +4,14 @@ from __future__ import annotations
 from typing import Mapping, Sequence
 
 from hkproof.algebra.fraction import Frac
-from hkproof.algebra.linalg import lcm, rank_q
+from hkproof.algebra.linalg import rank_q
 from hkproof.dynamics.catalogue import kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.errors import ParseError
 from hkproof.hk.block_system import BlockSystem, check_block, prove_block
 from hkproof.hk.expansion import homogeneous_eps_pieces
 from hkproof.hk.independence import sample_point
-from hkproof.hk.reduced import Relation, linear_combination_equals
+from hkproof.hk.reduced import OverCommonDenominator, Relation, linear_combination_equals
 from hkproof.orchestration.registry import claim, require_proven
 from hkproof.proof.certificate import Certificate
 from hkproof.theorems._clebsch import SYSTEM, TRANSLATION, X, named, recall, record
@@ -179,10 +179,10 @@ def prove_max_basis(cert: Certificate, claimed: Mapping[str, str]) -> None:
         d = [recall(b2, k, r) for k in ("d7", "d8", "d9")]
         for j in range(6):
             column = [vectors[name][j] for name in ("Phi1", "Phi2", "Phi3")]
-            multiple = lcm([a.den for a in column])
-            s.require(linear_combination_equals([Frac(r, 1)] * 3, column, recall(th, f"g{j + 1}", r), multiple),
+            common = OverCommonDenominator.of(column)
+            s.require(linear_combination_equals([Frac(r, 1)] * 3, column, recall(th, f"g{j + 1}", r), common),
                       f"g{j + 1} != alpha_{j + 1} + beta_{j + 1} + gamma_{j + 1}")
-            s.require(linear_combination_equals(d, column, Frac(r, int(j < 3)), multiple),
+            s.require(linear_combination_equals(d, column, Frac(r, int(j < 3)), common),
                       f"(d7, d8, d9) misses the column {j + 1} of (M1 | M2)")
         s.note("Theta's vector = the sum of the Phi1, Phi2, Phi3 vectors; Psi's = -(d7, d8, d9) combination of them "
                "(the normalization (d7, d8, d9) M1 = (1, 1, 1) and (d7, d8, d9) M2 = 0 of the paper)")
