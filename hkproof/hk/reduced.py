@@ -17,8 +17,8 @@ from hkproof.proof.certificate import Certificate
 from hkproof.proof.export import prop_even_step, relation_data
 
 __all__ = ["block_rows_at", "check_solution", "det_at_point", "even_components", "hk_row", "kernel_coordinates",
-           "linear_combination_equals", "orbit_points", "OverCommonDenominator", "prop_even_hypotheses", "prove_by_evenness", "Relation",
-           "SolutionCheck", "solve_reduced_system", "system_at", "verify_by_evenness"]
+           "linear_combination_equals", "orbit_points", "OverCommonDenominator", "prop_even_hypotheses",
+           "prove_by_evenness", "Relation", "SolutionCheck", "solve_reduced_system", "system_at", "verify_by_evenness"]
 
 SolutionCheck = Callable[..., bool]
 SUBSTITUTION = "substitution back into every equation"

@@ -75,9 +75,9 @@ def interpolated_gcd(kmap: KahanMap, a: flint.fmpz_mpoly, b: flint.fmpz_mpoly,
     if translation is not None:
         if translation.velocity or set(translation.names) != set(params):
             raise HKProofError(f"the translation {translation} must shift exactly the parameters {list(params)}")
-        k = params.index(translation.pivot)
+        pivot = params.index(translation.pivot)
         names, out = tuple(n for n in params if n != translation.pivot), translation.slice_ring(r)
-        moved = {tuple(to_fmpq(w[i]) - to_fmpq(w[k]) for i in range(len(params)) if i != k): g
+        moved = {tuple(to_fmpq(w[i]) - to_fmpq(w[pivot]) for i in range(len(params)) if i != pivot): g
                  for w, g in zip(points, samples, strict=True)}
         points, samples = list(moved), list(moved.values())
     coefficients = [g.to_dict() for g in samples]

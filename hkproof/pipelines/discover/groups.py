@@ -112,7 +112,7 @@ def integral_bases(ctx: SearchContext, monomials: Sequence[Exponents], circuits:
     orbit, tangents = mod.map.tangent_orbit([rng.randrange(1, p) for _ in kmap.variables], steps)
     values = mod.table(functions, orbit)
     at = mod.ring_point(orbit[0])
-    known_grads = [g for g in (h.mod_p(p).gradient(at, mod.phase) for h in known) if g is not None]
+    known_grads = [g for g in (mod.reduced(h).gradient(at, mod.phase) for h in known) if g is not None]
     base_rank = rank_mod_p(known_grads, p) if known_grads else 0
     m = len(monomials)
     out: list[IntegralBasis] = []
@@ -149,7 +149,7 @@ def _coordinate_gradients(mod: ModularScene, basis: Sequence[Frac], orbit: Seque
     """Gradients mod p of the coordinates of recipe (B) for basis functions given as fractions (candidates'
     `recipe_b_gradients`: grad phi at f^i(x), through the tangent map D(f^i)(x))."""
     p, l, nphase = mod.p, len(basis), len(mod.phase)
-    mods = [h.mod_p(p) for h in basis]
+    mods = [mod.reduced(h) for h in basis]     # the objects `table` reduced: their derivatives are kept with them
     values = [[int(mods[k](mod.ring_point(orbit[i])) or 0) for k in range(l)] for i in range(l - 1)]
 
     def point_gradient(k: int, i: int) -> list[int]:
