@@ -11,7 +11,7 @@ from hkproof.algebra.sampling import random_point
 from hkproof.algebra.formula import indexed, rename
 from hkproof.algebra.fraction import Frac
 from hkproof.algebra.linalg import cramer, nullspace_q, rank_over_fraction_field
-from hkproof.algebra.ring import Rational
+from hkproof.algebra.ring import Rational, Ring
 from hkproof.dynamics.catalogue import get_system, kahan_map
 from hkproof.dynamics.field import EPS
 from hkproof.dynamics.kahan import KahanMap
@@ -130,9 +130,7 @@ def prove_general_map(cert: Certificate, claimed: Mapping[str, str]) -> None:
             cs = parse_matrix(target, f"[{claimed[flow + '_c']}]")[0]
             s.require(len(bs) == 3 and len(cs) == 3, f"b and c of {flow} need three entries each, got "
                       f"{len(bs)} and {len(cs)}")
-            values = {f"b{k + 1}": bs[k] for k in range(3)}
-            for k in range(3):
-                c_k = named(target, C_THRU_B[f"c{k + 1}"], values)
+            for k, c_k in enumerate(_c_through_b(target.ring, {f"b{j + 1}": bs[j] for j in range(3)})):
                 s.require_equal(c_k, cs[k], f"c{k + 1} at the {flow} values of b")
             images = {f"b{k + 1}": str(bs[k]) for k in range(3)}
             for got, want, v in zip(field_under(f, images, target.ring), target.field.rhs, f.variables, strict=True):
@@ -140,10 +138,12 @@ def prove_general_map(cert: Certificate, claimed: Mapping[str, str]) -> None:
             s.require(not target.explicit[1].is_zero(), f"the Kahan map of {name} has Delta = 0")
     g = yz_map()
     with cert.step("b = s + y w + z (-w_j w_k): the polynomial family c_k = y + z w_k, independent of s",
-                   "the vector field at b compared exactly (equal fields, equal Kahan maps); Vandermonde det of "
-                   "(1, w_k, -w_i w_j) non-zero",
+                   "eq. \"c thru b\" at b; the vector field at b compared exactly (equal fields, equal Kahan "
+                   "maps); Vandermonde det of (1, w_k, -w_i w_j) non-zero",
                    g.ring.extend(["s"])) as s:
         ts = g.ring.extend(["s"])
+        for k, c_k in enumerate(_c_through_b(ts, {b: Frac.parse(ts, text) for b, text in B_OF_YZ.items()})):
+            s.require_equal(c_k, Frac.parse(ts, C_OF_YZ[k]), f"c{k + 1} under b = s + y w - z w_i w_j")
         for got, want, v in zip(field_under(f, B_OF_YZ, ts), g.field.rhs, f.variables, strict=True):
             s.require_equal(got, want.to_ring(ts), f"d{v}/dt under b = s + y w - z w_i w_j")
         s.require(not g.explicit[1].is_zero(), "the Kahan map of the (y, z) family has Delta = 0")
@@ -153,6 +153,11 @@ def prove_general_map(cert: Certificate, claimed: Mapping[str, str]) -> None:
         s.require(rank_over_fraction_field(rows) == 3 and not vdm.is_zero(), "(s, y, z) -> b is not invertible")
         s.note("(s, y, z) -> b is a linear bijection over Q(w) (w distinct), so identities proven with y, z, w "
                "symbolic hold with b symbolic; s (a multiple of the Casimir H3 in H) does not enter the map")
+
+
+def _c_through_b(ring: Ring, b: Mapping[str, Frac]) -> list[Frac]:
+    """c_1, c_2, c_3 by eq. "c thru b" at the given b_1, b_2, b_3."""
+    return [Frac.parse(ring, C_THRU_B[f"c{k + 1}"], dict(b)) for k in range(3)]
 
 
 # ---------------------------------------------------------------- the flow reduction -----------------------------
